@@ -1,0 +1,42 @@
+// GLSL program loading for Seiche: files from a shader directory, `#include "file"`
+// expanded recursively, and compiler messages mapped back to the file and line they
+// came from ("shaders/fluid/density.comp:42: error: ..."), whatever the driver's format.
+//
+// Only needs a current GL 4.3 context and libepoxy. Used by the fluid core and the engine.
+#ifndef PBF_GLSL_H
+#define PBF_GLSL_H
+
+#include <epoxy/gl.h>
+#include <stddef.h>
+
+#define PBF_GLSL_MAX_FILES 32
+#define PBF_GLSL_MAX_INCLUDE_DEPTH 8
+
+/// One stage of a program: the GL stage (GL_VERTEX_SHADER, GL_COMPUTE_SHADER, ...) and
+/// the file, relative to the shader directory ("fluid/predict.comp").
+typedef struct pbf_glsl_stage {
+    GLenum type;
+    const char *file;
+} pbf_glsl_stage;
+
+/// Builds a program from `count` stages found under `shader_dir`. `defines` (may be
+/// NULL) is inserted after each file's `#version` line, e.g. "#define FOO 1\n".
+/// Returns the program, or 0 with a message in `err` that names the file and line:
+/// "shaders/fluid/predict.comp:12: error: ..." (the directory's last component is kept).
+GLuint pbf_glsl_build(const char *shader_dir, const pbf_glsl_stage *stages, int count,
+                      const char *defines, char *err, size_t err_size);
+
+/// Expands the includes of one file into a single source string (malloc'd, caller frees),
+/// with `#line` directives whose source-string numbers index `files` (also malloc'd
+/// strings, to be freed by pbf_glsl_free_files). Exposed for tests.
+char *pbf_glsl_preprocess(const char *shader_dir, const char *file, const char *defines,
+                          char *files[PBF_GLSL_MAX_FILES], int *file_count,
+                          char *err, size_t err_size);
+void pbf_glsl_free_files(char *files[PBF_GLSL_MAX_FILES], int file_count);
+
+/// Rewrites a driver info log so that each "N:L(C): msg" (Mesa) or "N(L) : msg"
+/// (NVIDIA) becomes "shaders/<file>:L: msg". Output is truncated to out_size.
+void pbf_glsl_map_log(const char *log, char *const *files, int file_count,
+                      const char *shown_root, char *out, size_t out_size);
+
+#endif
