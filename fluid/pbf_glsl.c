@@ -149,7 +149,11 @@ static int expand(pp_state *st, text *out, const char *rel, const char *from, in
         size_t n = eol ? (size_t)(eol - p) : strlen(p);
         const char *q = p;
         while (q < p + n && isspace((unsigned char)*q)) q++;
-        if (strncmp(q, "#include", 8) == 0) {
+        const char *angle = strncmp(q, "#include", 8) == 0 ? strchr(q, '<') : NULL;
+        if (angle && angle < p + n && !memchr(q, '"', (size_t)(angle - q))) {
+            // A system include belongs to the C side of a shared header: GLSL has none.
+            ok = text_printf(out, "// (C only) %.*s\n", (int)(p + n - q), q);
+        } else if (strncmp(q, "#include", 8) == 0) {
             const char *a = strchr(q, '"');
             const char *b = a ? strchr(a + 1, '"') : NULL;
             if (!a || !b || b > p + n) {

@@ -1,0 +1,222 @@
+// Seiche fluid: Position Based Fluids (Macklin & Mueller 2013) on OpenGL 4.3 compute.
+//
+// This is the module another engine embeds. It needs a current OpenGL 4.3+ core
+// context (made by the host) and libepoxy; nothing else: no window system, no Lua, no
+// physics engine. All particle data stays on the GPU; the host draws straight from
+// pbf_world_gpu_buffers() and reads small metrics late, without stalling.
+//
+// Units are SI throughout: metres, seconds, kilograms, kg/m^3.
+//
+//     pbf_world_def def = pbf_default_world_def();
+//     def.capacity = 100000;
+//     pbf_world *w = pbf_world_create(&def, err, sizeof err);   // NULL + message on error
+//     pbf_world_set_container(w, lo, hi, true);
+//     pbf_block_def b = pbf_default_block_def(); ... pbf_world_add_block(w, &b);
+//     each frame: pbf_world_step(w, 1.0f / 60.0f);
+//
+// Every function that takes input checks it and returns PBF_OK or an error whose message
+// (pbf_world_last_error) names the field, the value given and what is allowed.
+#ifndef PBF_H
+#define PBF_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pbf_world pbf_world;
+
+typedef enum pbf_result {
+    PBF_OK = 0,
+    PBF_ERR_INVALID_ARG,  ///< a parameter is out of range; see pbf_world_last_error
+    PBF_ERR_CAPACITY,     ///< more particles than the world's capacity
+    PBF_ERR_STALE_ID,     ///< a collider id that was removed
+    PBF_ERR_GL,           ///< a GL resource or shader failed
+    PBF_ERR_OUT_OF_MEMORY,
+} pbf_result;
+
+/// The solver's stages, in the order the step runs them. Each is timed on the GPU.
+typedef enum pbf_stage {
+    PBF_STAGE_PREDICT = 0, ///< external forces, damping, predicted position
+    PBF_STAGE_GRID_COUNT,  ///< cell of each particle, particles per cell
+    PBF_STAGE_GRID_SCAN,   ///< exclusive prefix sum over cells
+    PBF_STAGE_GRID_SCATTER,///< slot of each particle in cell order
+    PBF_STAGE_GRID_SORT,   ///< order inside each cell made deterministic
+    PBF_STAGE_REORDER,     ///< particle data gathered into cell order
+    PBF_STAGE_NEIGHBOURS,  ///< neighbour list of each particle (once per substep)
+    PBF_STAGE_DENSITY,     ///< density and lambda (per iteration)
+    PBF_STAGE_DELTA,       ///< position correction, boundaries, collisions (per iteration)
+    PBF_STAGE_VELOCITY,    ///< v = (x* - x) / dt
+    PBF_STAGE_VORTICITY,   ///< curl of the velocity field
+    PBF_STAGE_VISCOSITY,   ///< vorticity confinement and XSPH viscosity
+    PBF_STAGE_METRICS,     ///< density statistics reduced on the GPU (once per step)
+    PBF_STAGE_COUNT
+} pbf_stage;
+
+/// Short stage name as used in metrics columns ("density" -> "density_ms").
+const char *pbf_stage_name(pbf_stage stage);
+
+/// Solver parameters. Every field has a unit and a range; pbf_params_validate checks them.
+typedef struct pbf_params {
+    float particle_radius;  ///< m, (0.0005, 1]; particles sit 2 radii apart at rest
+    float kernel_radius;    ///< h, m; (2 * particle_radius, 10 * particle_radius]
+    float rest_density;     ///< rho0, kg/m^3, [1, 100000]
+    int iterations;         ///< density solver iterations per substep, [1, 100]
+    int substeps;           ///< substeps per step, [1, 64]
+    float relaxation;       ///< epsilon in lambda, relative to sum |grad C|^2 of a filled
+                            ///< neighbourhood (dimensionless), [0, 100]
+    float sor;              ///< over-relaxation factor on each correction, (0, 2)
+    float scorr_k;          ///< artificial pressure strength k (dimensionless), [0, 1]
+    float scorr_n;          ///< artificial pressure exponent n, [1, 8]
+    float scorr_dq;         ///< artificial pressure reference distance dq as a fraction of h, (0, 1)
+    float vorticity;        ///< vorticity confinement epsilon, m/s (acceleration per unit curl), [0, 10]
+    float viscosity;        ///< XSPH viscosity c (dimensionless), [0, 1]
+    float gravity[3];       ///< m/s^2, finite, each |g| <= 1000
+    float damping;          ///< linear velocity damping, 1/s, [0, 100]
+    float max_speed;        ///< velocity clamp, m/s, (0, 1000]
+} pbf_params;
+
+/// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).
+pbf_params pbf_default_params(void);
+/// The parameters of the 2025 OpenGL reproduction in ../shared/seed (h = 2.5 r,
+/// 3 iterations, rho0 = 125, vorticity 0.008, XSPH 0.01, s_corr k = 0.1, n = 4).
+pbf_params pbf_seed_params(void);
+/// Checks every field; on error writes "pbf_params.<field> must be <rule> (got <value>)".
+pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size);
+
+typedef void pbf_log_fn(void *user, int level, const char *message); ///< level: 0 debug .. 3 error
+
+typedef struct pbf_world_def {
+    pbf_params params;
+    uint32_t capacity;      ///< maximum live particles, [1, 2^26]
+    uint32_t max_neighbours;///< neighbour list length per particle, [8, 512]; 0 is not
+                            ///< allowed: the default sizes it from kernel_radius / spacing
+    float domain_min[3];    ///< m: the neighbour grid covers [min, max]; particles are
+    float domain_max[3];    ///< kept inside it (it acts as the outermost wall)
+    const char *shader_dir; ///< directory holding fluid/*.comp (default: SEICHE_SHADER_DIR
+                            ///< from the environment, else the one the build recorded)
+    pbf_log_fn *log;        ///< NULL: messages go nowhere (errors still come back as results)
+    void *log_user;
+} pbf_world_def;
+
+pbf_world_def pbf_default_world_def(void);
+/// A neighbour list length that holds twice a rest neighbourhood for these parameters.
+uint32_t pbf_suggest_max_neighbours(const pbf_params *params);
+
+/// Creates a world in the current GL context. Returns NULL and a message on bad
+/// parameters, missing GL 4.3 compute, or a shader that fails (file:line in the message).
+pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size);
+void pbf_world_destroy(pbf_world *world);
+
+const char *pbf_world_last_error(const pbf_world *world);
+const pbf_params *pbf_world_params(const pbf_world *world);
+/// Changes parameters between steps (validated; on error nothing changes).
+pbf_result pbf_world_set_params(pbf_world *world, const pbf_params *params);
+
+/// An axis-aligned container: floor, four walls and optionally a lid, as boundaries
+/// that contribute density (no stacking). Must lie inside the domain.
+pbf_result pbf_world_set_container(pbf_world *world, const float min[3], const float max[3],
+                                   bool closed_top);
+
+void pbf_world_remove_container(pbf_world *world);
+
+/// A block of particles on a lattice of spacing 2 * particle_radius filling [min, max].
+typedef struct pbf_block_def {
+    float min[3], max[3];   ///< m, inside the domain, min < max
+    float velocity[3];      ///< m/s initial velocity
+} pbf_block_def;
+pbf_block_def pbf_default_block_def(void);
+/// Adds the block; returns the number of particles added through `added` (may be NULL).
+pbf_result pbf_world_add_block(pbf_world *world, const pbf_block_def *block, uint32_t *added);
+/// Adds particles at given positions (xyz triples, m) and velocities (may be NULL).
+pbf_result pbf_world_add_particles(pbf_world *world, const float *positions, const float *velocities,
+                                   uint32_t count);
+/// Removes every particle (capacity and parameters stay).
+void pbf_world_clear(pbf_world *world);
+
+uint32_t pbf_world_particle_count(const pbf_world *world);
+uint32_t pbf_world_capacity(const pbf_world *world);
+/// Mass of one particle (rest_density * (2 r)^3), kg.
+float pbf_world_particle_mass(const pbf_world *world);
+
+/// Advances by dt seconds ((0, 1]), in params.substeps substeps. Everything runs on the
+/// GPU; nothing is read back here.
+pbf_result pbf_world_step(pbf_world *world, float dt);
+
+/// ---- colliders: the generic boundary interface (the container uses it too) ----------
+typedef enum pbf_collider_type {
+    PBF_SHAPE_PLANE = 0,  ///< size: normal xyz, offset w (fluid on the +normal side)
+    PBF_SHAPE_BOX,        ///< size: half extents xyz, m
+    PBF_SHAPE_SPHERE,     ///< size: radius x, m
+    PBF_SHAPE_CAPSULE,    ///< size: radius x, half height y (local Y axis), m
+    PBF_SHAPE_CYLINDER,   ///< size: radius x, half height y (local Y axis), m
+} pbf_collider_type;
+
+typedef struct pbf_collider_id {
+    uint16_t index1;     ///< slot + 1; 0 is the null id
+    uint16_t generation;
+} pbf_collider_id;
+
+typedef struct pbf_collider_def {
+    pbf_collider_type type;
+    float size[4];
+    float position[3];   ///< m
+    float rotation[4];   ///< unit quaternion x, y, z, w
+    bool two_way;        ///< accumulate the fluid's force and torque on it
+} pbf_collider_def;
+pbf_collider_def pbf_default_collider_def(void);
+
+pbf_result pbf_world_add_collider(pbf_world *world, const pbf_collider_def *def, pbf_collider_id *out);
+pbf_result pbf_world_remove_collider(pbf_world *world, pbf_collider_id id);
+bool pbf_collider_is_valid(const pbf_world *world, pbf_collider_id id);
+/// Sets the pose the collider reaches at the end of the next step (the previous one is
+/// kept for sweeping), its velocities and its centre of mass (torque is taken about it).
+pbf_result pbf_world_set_collider_pose(pbf_world *world, pbf_collider_id id, const float position[3],
+                                       const float rotation[4], const float linear_velocity[3],
+                                       const float angular_velocity[3], const float center_of_mass[3]);
+/// Force (N) and torque (N m) the fluid exerted on a two-way collider over the latest
+/// step whose results have reached the CPU (one or two steps of latency).
+pbf_result pbf_world_collider_force(pbf_world *world, pbf_collider_id id, float force[3], float torque[3]);
+
+/// ---- measurements ---------------------------------------------------------------------
+typedef struct pbf_step_stats {
+    uint64_t step;            ///< 0-based index of the step these numbers belong to
+    double time;              ///< s, simulated time at the end of that step
+    uint32_t particles;
+    float rest_density;       ///< kg/m^3
+    float density_avg;        ///< kg/m^3, mean over particles (boundary share included)
+    float density_max;
+    uint32_t nan_count;       ///< particles with a non-finite position or velocity
+    uint32_t outside_count;   ///< particles outside the domain
+    uint32_t overflow_count;  ///< particles with more neighbours than their list holds
+    double stage_ms[PBF_STAGE_COUNT]; ///< GPU time per stage (all substeps and iterations)
+    double step_ms;           ///< GPU time of the whole step (sum of stages but metrics)
+} pbf_step_stats;
+
+/// Returns up to `max` completed step records, oldest first, each once. With `wait`, waits
+/// for every step issued so far (use at the end of a run); otherwise never blocks.
+int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wait);
+
+/// ---- GPU buffers for drawing ---------------------------------------------------------
+typedef struct pbf_gpu_buffers {
+    unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1]
+    unsigned velocities;  ///< SSBO of vec4: xyz m/s
+    unsigned draw_indirect; ///< DrawArraysIndirectCommand {4, particles, 0, 0}
+    uint32_t count;
+} pbf_gpu_buffers;
+pbf_gpu_buffers pbf_world_gpu_buffers(const pbf_world *world);
+
+/// ---- slow paths for tests and tools (download the particle state) --------------------
+/// Copies up to max particles in id order: positions and velocities as xyzw (may be NULL).
+uint32_t pbf_world_read_particles(pbf_world *world, float *positions, float *velocities,
+                                  uint32_t *ids, uint32_t max);
+/// 64-bit FNV-1a hash of positions and velocities in id order, bit exact.
+uint64_t pbf_world_state_hash(pbf_world *world);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,91 @@
+// Solver parameters: defaults, the seed preset, validation. See pbf.h for units/ranges.
+#include "fluid/pbf.h"
+
+#include <math.h>
+#include <stdio.h>
+
+pbf_params pbf_default_params(void)
+{
+    pbf_params p;
+    p.particle_radius = 0.0125f; // 2.5 cm spacing
+    p.kernel_radius = 0.05f;     // h = 2 spacings: about 30 neighbours
+    p.rest_density = 1000.0f;
+    p.iterations = 3;
+    p.substeps = 2;
+    p.relaxation = 0.01f;
+    p.sor = 1.0f;
+    p.scorr_k = 0.0f; // the unilateral constraint already prevents clustering
+    p.scorr_n = 4.0f;
+    p.scorr_dq = 0.2f;
+    p.vorticity = 0.01f;
+    p.viscosity = 0.01f;
+    p.gravity[0] = 0.0f;
+    p.gravity[1] = -9.81f;
+    p.gravity[2] = 0.0f;
+    p.damping = 0.0f;
+    p.max_speed = 20.0f;
+    return p;
+}
+
+pbf_params pbf_seed_params(void)
+{
+    pbf_params p = pbf_default_params();
+    p.kernel_radius = 2.5f * p.particle_radius;
+    p.rest_density = 125.0f;
+    p.iterations = 3;
+    p.substeps = 1;
+    p.vorticity = 0.008f;
+    p.viscosity = 0.01f;
+    p.scorr_k = 0.1f;
+    p.scorr_n = 4.0f;
+    p.scorr_dq = 0.2f;
+    return p;
+}
+
+#define CHECK(cond, field, fmt, value, rule)                                                  \
+    do {                                                                                      \
+        if (!(cond)) {                                                                        \
+            if (err && err_size) snprintf(err, err_size, "pbf_params.%s must be %s (got " fmt ")", \
+                                          field, rule, value);                                \
+            return PBF_ERR_INVALID_ARG;                                                       \
+        }                                                                                     \
+    } while (0)
+
+pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
+{
+    float r = p->particle_radius;
+    CHECK(isfinite(r) && r > 0.0005f && r <= 1.0f, "particle_radius", "%g", (double)r,
+          "in (0.0005, 1] m");
+    char rule[96];
+    snprintf(rule, sizeof rule, "in (%g, %g] m (more than one spacing 2r, at most 10 r)",
+             (double)(2.0f * r), (double)(10.0f * r));
+    CHECK(isfinite(p->kernel_radius) && p->kernel_radius > 2.0f * r && p->kernel_radius <= 10.0f * r,
+          "kernel_radius", "%g", (double)p->kernel_radius, rule);
+    CHECK(isfinite(p->rest_density) && p->rest_density >= 1.0f && p->rest_density <= 100000.0f,
+          "rest_density", "%g", (double)p->rest_density, "in [1, 100000] kg/m^3");
+    CHECK(p->iterations >= 1 && p->iterations <= 100, "iterations", "%d", p->iterations, "in [1, 100]");
+    CHECK(p->substeps >= 1 && p->substeps <= 64, "substeps", "%d", p->substeps, "in [1, 64]");
+    CHECK(isfinite(p->relaxation) && p->relaxation >= 0.0f && p->relaxation <= 100.0f, "relaxation",
+          "%g", (double)p->relaxation, "in [0, 100]");
+    CHECK(isfinite(p->sor) && p->sor > 0.0f && p->sor < 2.0f, "sor", "%g", (double)p->sor, "in (0, 2)");
+    CHECK(isfinite(p->scorr_k) && p->scorr_k >= 0.0f && p->scorr_k <= 1.0f, "scorr_k", "%g",
+          (double)p->scorr_k, "in [0, 1]");
+    CHECK(isfinite(p->scorr_n) && p->scorr_n >= 1.0f && p->scorr_n <= 8.0f, "scorr_n", "%g",
+          (double)p->scorr_n, "in [1, 8]");
+    CHECK(isfinite(p->scorr_dq) && p->scorr_dq > 0.0f && p->scorr_dq < 1.0f, "scorr_dq", "%g",
+          (double)p->scorr_dq, "in (0, 1) (a fraction of kernel_radius)");
+    CHECK(isfinite(p->vorticity) && p->vorticity >= 0.0f && p->vorticity <= 10.0f, "vorticity", "%g",
+          (double)p->vorticity, "in [0, 10] m/s");
+    CHECK(isfinite(p->viscosity) && p->viscosity >= 0.0f && p->viscosity <= 1.0f, "viscosity", "%g",
+          (double)p->viscosity, "in [0, 1]");
+    static const char *const gname[3] = { "gravity[0]", "gravity[1]", "gravity[2]" };
+    for (int k = 0; k < 3; k++)
+        CHECK(isfinite(p->gravity[k]) && fabsf(p->gravity[k]) <= 1000.0f, gname[k], "%g",
+              (double)p->gravity[k], "finite and in [-1000, 1000] m/s^2");
+    CHECK(isfinite(p->damping) && p->damping >= 0.0f && p->damping <= 100.0f, "damping", "%g",
+          (double)p->damping, "in [0, 100] 1/s");
+    CHECK(isfinite(p->max_speed) && p->max_speed > 0.0f && p->max_speed <= 1000.0f, "max_speed", "%g",
+          (double)p->max_speed, "in (0, 1000] m/s");
+    if (err && err_size) err[0] = 0;
+    return PBF_OK;
+}

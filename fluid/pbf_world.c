@@ -1,0 +1,1182 @@
+// The fluid world: GPU buffers, programs and the step. See pbf.h and docs/solver.md.
+//
+// Design in short. Particle data lives in ping-pong pairs of SSBOs (position, velocity,
+// predicted position, id). Each substep rebuilds a uniform grid of cell size h by a
+// counting sort (count, exclusive scan, scatter, per-cell sort for determinism) and
+// gathers the particles into cell order, so the 27 neighbour cells are 9 contiguous
+// runs. The density solver is Jacobi: density+lambda, then correction into the other
+// predicted-position buffer. Boundaries (container planes and colliders) add their share
+// of density through a closed-form half-space volume V(d) and its gradient, so particles
+// at walls reach rest density instead of piling up. Each dispatch is followed by a GL
+// timestamp; timestamps, metrics and collider forces of a step are read back through a
+// ring of fences, never waiting on the GPU unless asked.
+#include "fluid/pbf.h"
+#include "fluid/pbf_glsl.h"
+#include "shaders/fluid/pbf_shared.h"
+
+#include <epoxy/gl.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+_Static_assert(sizeof(pbf_gpu_params) == 288, "pbf_gpu_params must match the std140 block");
+_Static_assert(sizeof(pbf_gpu_params) % 16 == 0, "std140 block size");
+_Static_assert(sizeof(pbf_gpu_collider) == 144, "pbf_gpu_collider std430 layout");
+_Static_assert(sizeof(pbf_gpu_reduce) == 32, "pbf_gpu_reduce std430 layout");
+_Static_assert(sizeof(pbf_gpu_metrics) == 32, "pbf_gpu_metrics std430 layout");
+
+#ifndef SEICHE_SHADER_DIR
+#define SEICHE_SHADER_DIR "shaders"
+#endif
+
+#define RING 8
+#define PBF_PI 3.14159265358979323846
+#define MAX_SCAN_LEVELS 6
+
+enum program_id {
+    PROG_PREDICT,
+    PROG_GRID_COUNT,
+    PROG_SCAN_BLOCK,
+    PROG_SCAN_ADD,
+    PROG_GRID_SCATTER,
+    PROG_GRID_SORT,
+    PROG_REORDER,
+    PROG_NEIGHBOURS,
+    PROG_DENSITY,
+    PROG_DELTA,
+    PROG_VELOCITY,
+    PROG_VORTICITY,
+    PROG_VISCOSITY,
+    PROG_METRICS,
+    PROG_METRICS_FINAL,
+    PROG_COUNT
+};
+
+static const char *const program_files[PROG_COUNT] = {
+    "fluid/predict.comp",   "fluid/grid_count.comp", "fluid/scan_block.comp",
+    "fluid/scan_add.comp",  "fluid/grid_scatter.comp", "fluid/grid_sort.comp",
+    "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp",
+    "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
+    "fluid/metrics.comp",   "fluid/metrics_final.comp",
+};
+
+static const char *const stage_names[PBF_STAGE_COUNT] = {
+    "predict", "grid_count", "grid_scan", "grid_scatter", "grid_sort", "reorder", "neighbours",
+    "density", "delta", "velocity", "vorticity", "viscosity", "metrics",
+};
+
+const char *pbf_stage_name(pbf_stage stage)
+{
+    return (unsigned)stage < PBF_STAGE_COUNT ? stage_names[stage] : "?";
+}
+
+typedef struct collider_slot {
+    bool used;
+    uint16_t generation;
+    int gpu_index; // index in the uploaded array, -1 when not uploaded
+    pbf_gpu_collider gpu;
+} collider_slot;
+
+typedef struct stats_slot {
+    bool pending;
+    uint64_t step;
+    double time;
+    uint32_t count;
+    GLsync fence;
+    int nq;
+    GLuint *queries;    // nq timestamps; query 0 is the start
+    uint8_t *stage_of;  // stage of the interval ending at query k
+    int substeps;
+    int collider_slot_of[PBF_MAX_COLLIDERS]; // gpu index -> slot, -1 none
+    int colliders;
+} stats_slot;
+
+struct pbf_world {
+    pbf_params params;
+    uint32_t capacity;
+    uint32_t max_neighbours;
+    uint32_t count;
+    uint32_t next_id;
+    float domain_min[3], domain_max[3];
+    char shader_dir[512];
+    pbf_log_fn *log;
+    void *log_user;
+    char error[512];
+
+    // derived
+    float spacing, mass, mass_density, epsilon, lattice_grad2;
+    float grid_origin[3];
+    uint32_t grid_dims[3], cells;
+
+    GLuint programs[PROG_COUNT];
+    GLint u_scan_n[2], u_groups, u_frame;
+    GLuint pos[2], vel[2], pred[2], ids[2];
+    int cur_pos, cur_vel, cur_pred, cur_ids;
+    GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, scan, colliders, forces,
+        reduce, metrics, draw, params_ubo, nb_list, nb_count;
+    bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed
+    GLint ssbo_align;
+    struct { GLintptr offset; uint32_t n; } scan_level[MAX_SCAN_LEVELS];
+    int scan_levels;
+    GLintptr scan_dummy;
+
+    collider_slot slots[PBF_MAX_COLLIDERS];
+    uint32_t gpu_colliders;
+    bool colliders_dirty;
+    float planes[PBF_MAX_PLANES][4];
+    int plane_count;
+
+    stats_slot ring[RING];
+    int ring_head;   // next slot to fill
+    int max_queries;
+    uint64_t step_index;
+    double time;
+
+    // latest forces read back, per slot (N, N m)
+    float force[PBF_MAX_COLLIDERS][6];
+    uint64_t force_step[PBF_MAX_COLLIDERS];
+};
+
+static pbf_result fail(pbf_world *w, pbf_result r, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(w->error, sizeof w->error, fmt, ap);
+    va_end(ap);
+    if (w->log) w->log(w->log_user, 3, w->error);
+    return r;
+}
+
+const char *pbf_world_last_error(const pbf_world *world) { return world->error; }
+
+uint32_t pbf_suggest_max_neighbours(const pbf_params *p)
+{
+    // Twice the neighbours of a rest lattice (compression headroom), a multiple of 8.
+    double q = p->kernel_radius / (2.0 * p->particle_radius);
+    double n = 2.0 * 4.18879 * q * q * q + 16.0;
+    uint32_t k = ((uint32_t)n + 7u) & ~7u;
+    return k < 8u ? 8u : k > 512u ? 512u : k;
+}
+
+pbf_world_def pbf_default_world_def(void)
+{
+    pbf_world_def d;
+    memset(&d, 0, sizeof d);
+    d.params = pbf_default_params();
+    d.capacity = 65536;
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.domain_min[0] = d.domain_min[1] = d.domain_min[2] = 0.0f;
+    d.domain_max[0] = 1.0f;
+    d.domain_max[1] = 1.0f;
+    d.domain_max[2] = 1.0f;
+    const char *env = getenv("SEICHE_SHADER_DIR");
+    d.shader_dir = env && *env ? env : SEICHE_SHADER_DIR;
+    return d;
+}
+
+// ---- derived constants --------------------------------------------------------------
+
+static double poly6(double r2, double h)
+{
+    double d = h * h - r2;
+    return d > 0.0 ? 315.0 / (64.0 * PBF_PI * pow(h, 9)) * d * d * d : 0.0;
+}
+
+static double spiky_grad_mag(double r, double h)
+{
+    if (r <= 0.0 || r >= h) return 0.0;
+    return 45.0 / (PBF_PI * pow(h, 6)) * (h - r) * (h - r);
+}
+
+// Sums over a cubic lattice of the given spacing around a particle at a lattice site:
+// sum W (self included) and sum |grad W|^2.
+static void lattice_sums(double spacing, double h, double *sum_w, double *sum_g2)
+{
+    int n = (int)ceil(h / spacing) + 1;
+    double sw = 0.0, sg = 0.0;
+    for (int z = -n; z <= n; z++)
+        for (int y = -n; y <= n; y++)
+            for (int x = -n; x <= n; x++) {
+                double r2 = spacing * spacing * (double)(x * x + y * y + z * z);
+                sw += poly6(r2, h);
+                double g = spiky_grad_mag(sqrt(r2), h);
+                sg += g * g;
+            }
+    *sum_w = sw;
+    *sum_g2 = sg;
+}
+
+static void derive(pbf_world *w)
+{
+    const pbf_params *p = &w->params;
+    w->spacing = 2.0f * p->particle_radius;
+    double sw, sg2;
+    lattice_sums(w->spacing, p->kernel_radius, &sw, &sg2);
+    w->mass = p->rest_density * w->spacing * w->spacing * w->spacing;
+    w->mass_density = (float)(p->rest_density / sw);
+    double k = w->mass_density / p->rest_density;
+    w->lattice_grad2 = (float)(k * k * sg2);
+    w->epsilon = p->relaxation * w->lattice_grad2;
+}
+
+static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
+{
+    float h = w->params.kernel_radius;
+    uint64_t total = 1;
+    for (int k = 0; k < 3; k++) {
+        w->grid_origin[k] = w->domain_min[k] - h;
+        double n = ceil((double)(w->domain_max[k] - w->domain_min[k]) / h) + 2.0;
+        w->grid_dims[k] = (uint32_t)n;
+        total *= w->grid_dims[k];
+    }
+    if (total > (1u << 27)) {
+        snprintf(err, err_size,
+                 "pbf_world_def.domain needs %llu grid cells of size kernel_radius %g m; at most %u allowed "
+                 "(shrink the domain or enlarge the kernel)",
+                 (unsigned long long)total, (double)h, 1u << 27);
+        return PBF_ERR_INVALID_ARG;
+    }
+    w->cells = (uint32_t)total;
+    return PBF_OK;
+}
+
+// ---- GL resources ---------------------------------------------------------------------
+
+static GLuint make_buffer(GLsizeiptr size)
+{
+    GLuint b;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, size > 0 ? size : 16, NULL, GL_DYNAMIC_DRAW);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    return b;
+}
+
+static GLintptr align_up(GLintptr x, GLint a) { return (x + a - 1) / a * a; }
+
+static void free_grid(pbf_world *w)
+{
+    GLuint bufs[] = { w->cell_start, w->cell_fill, w->scan };
+    glDeleteBuffers(3, bufs);
+    w->cell_start = w->cell_fill = w->scan = 0;
+}
+
+static pbf_result alloc_grid(pbf_world *w)
+{
+    w->cell_start = make_buffer((GLsizeiptr)(w->cells + 1) * 4);
+    w->cell_fill = make_buffer((GLsizeiptr)w->cells * 4);
+    // Scan levels: level 0 is cell_start itself; the block sums of level l are level l+1.
+    uint32_t n = w->cells + 1;
+    GLintptr off = 0;
+    w->scan_levels = 0;
+    w->scan_level[0].offset = 0;
+    w->scan_level[0].n = n;
+    int l = 0;
+    while (n > PBF_SCAN_BLOCK) {
+        n = (n + PBF_SCAN_BLOCK - 1) / PBF_SCAN_BLOCK;
+        l++;
+        if (l >= MAX_SCAN_LEVELS) return PBF_ERR_INVALID_ARG;
+        w->scan_level[l].offset = off;
+        w->scan_level[l].n = n;
+        off = align_up(off + (GLintptr)n * 4, w->ssbo_align);
+    }
+    w->scan_levels = l + 1;
+    w->scan_dummy = off;
+    w->scan = make_buffer(off + 64);
+    return PBF_OK;
+}
+
+static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
+{
+    for (int i = 0; i < PROG_COUNT; i++) {
+        pbf_glsl_stage st = { GL_COMPUTE_SHADER, program_files[i] };
+        w->programs[i] = pbf_glsl_build(w->shader_dir, &st, 1, NULL, err, err_size);
+        if (!w->programs[i]) return PBF_ERR_GL;
+    }
+    w->u_scan_n[0] = glGetUniformLocation(w->programs[PROG_SCAN_BLOCK], "scan_n");
+    w->u_scan_n[1] = glGetUniformLocation(w->programs[PROG_SCAN_ADD], "scan_n");
+    w->u_groups = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "groups");
+    w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
+    return PBF_OK;
+}
+
+static void stats_alloc(pbf_world *w)
+{
+    const pbf_params *p = &w->params;
+    int per_substep = 4 + 2 * MAX_SCAN_LEVELS + 2 + 2 * p->iterations + 3;
+    int need = 1 + per_substep * p->substeps + 4;
+    if (need <= w->max_queries) return;
+    for (int s = 0; s < RING; s++) {
+        stats_slot *r = &w->ring[s];
+        if (r->queries) glDeleteQueries(r->nq > 0 ? w->max_queries : w->max_queries, r->queries);
+        free(r->queries);
+        free(r->stage_of);
+        r->queries = calloc((size_t)need, sizeof(GLuint));
+        r->stage_of = calloc((size_t)need, 1);
+        glGenQueries(need, r->queries);
+    }
+    w->max_queries = need;
+}
+
+pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size)
+{
+    char scratch[8];
+    if (!err) {
+        err = scratch;
+        err_size = sizeof scratch;
+    }
+    err[0] = 0;
+    if (!def) {
+        snprintf(err, err_size, "pbf_world_create: def must not be NULL");
+        return NULL;
+    }
+    if (pbf_params_validate(&def->params, err, err_size) != PBF_OK) return NULL;
+    if (def->capacity < 1 || def->capacity > (1u << 26)) {
+        snprintf(err, err_size, "pbf_world_def.capacity must be in [1, %u] (got %u)", 1u << 26, def->capacity);
+        return NULL;
+    }
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(def->domain_min[k]) || !isfinite(def->domain_max[k]) ||
+            !(def->domain_max[k] > def->domain_min[k])) {
+            snprintf(err, err_size, "pbf_world_def.domain_max[%d] must be finite and greater than domain_min[%d] "
+                     "(got min %g, max %g)", k, k, (double)def->domain_min[k], (double)def->domain_max[k]);
+            return NULL;
+        }
+    }
+    if (def->max_neighbours < 8 || def->max_neighbours > 512) {
+        snprintf(err, err_size, "pbf_world_def.max_neighbours must be in [8, 512] (got %u; pbf_suggest_max_neighbours "
+                 "gives %u for these parameters)", def->max_neighbours, pbf_suggest_max_neighbours(&def->params));
+        return NULL;
+    }
+    if ((uint64_t)def->capacity * def->max_neighbours * 4u > (1ull << 34)) {
+        snprintf(err, err_size, "pbf_world_def.capacity %u x max_neighbours %u needs %llu MiB of neighbour lists; "
+                 "at most 16384 MiB allowed", def->capacity, def->max_neighbours,
+                 (unsigned long long)((uint64_t)def->capacity * def->max_neighbours * 4u >> 20));
+        return NULL;
+    }
+    if (!def->shader_dir || !*def->shader_dir) {
+        snprintf(err, err_size, "pbf_world_def.shader_dir must name the directory holding fluid/*.comp (got %s)",
+                 def->shader_dir ? "\"\"" : "NULL");
+        return NULL;
+    }
+    if (epoxy_gl_version() < 43 && !epoxy_has_gl_extension("GL_ARB_compute_shader")) {
+        snprintf(err, err_size, "pbf_world_create: the current GL context is %d.%d; Seiche needs OpenGL 4.3 compute shaders",
+                 epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+        return NULL;
+    }
+    pbf_world *w = calloc(1, sizeof *w);
+    if (!w) {
+        snprintf(err, err_size, "pbf_world_create: out of memory");
+        return NULL;
+    }
+    w->params = def->params;
+    w->capacity = def->capacity;
+    w->max_neighbours = def->max_neighbours;
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    w->flush_timestamps = renderer && strstr(renderer, "llvmpipe");
+    memcpy(w->domain_min, def->domain_min, sizeof w->domain_min);
+    memcpy(w->domain_max, def->domain_max, sizeof w->domain_max);
+    snprintf(w->shader_dir, sizeof w->shader_dir, "%s", def->shader_dir);
+    w->log = def->log;
+    w->log_user = def->log_user;
+    derive(w);
+    glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &w->ssbo_align);
+    if (w->ssbo_align < 4) w->ssbo_align = 4;
+    if (grid_layout(w, err, err_size) != PBF_OK || build_programs(w, err, err_size) != PBF_OK) {
+        pbf_world_destroy(w);
+        return NULL;
+    }
+    GLsizeiptr cap = w->capacity;
+    for (int k = 0; k < 2; k++) {
+        w->pos[k] = make_buffer(cap * 16);
+        w->vel[k] = make_buffer(cap * 16);
+        w->pred[k] = make_buffer(cap * 16);
+        w->ids[k] = make_buffer(cap * 4);
+    }
+    w->cell_of = make_buffer(cap * 4);
+    w->sorted = make_buffer(cap * 4);
+    w->lambda = make_buffer(cap * 8);
+    w->omega = make_buffer(cap * 16);
+    w->nb_list = make_buffer(cap * (GLsizeiptr)w->max_neighbours * 4);
+    w->nb_count = make_buffer(cap * 4);
+    w->colliders = make_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider));
+    w->forces = make_buffer((GLsizeiptr)(1 + RING) * PBF_MAX_COLLIDERS * 8 * 4);
+    w->reduce = make_buffer(((cap + PBF_WG - 1) / PBF_WG) * (GLsizeiptr)sizeof(pbf_gpu_reduce));
+    w->metrics = make_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics));
+    w->draw = make_buffer(16);
+    glGenBuffers(1, &w->params_ubo);
+    glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
+    glBufferData(GL_UNIFORM_BUFFER, sizeof(pbf_gpu_params), NULL, GL_DYNAMIC_DRAW);
+    if (alloc_grid(w) != PBF_OK) {
+        snprintf(err, err_size, "pbf_world_create: grid of %u cells needs too many scan levels", w->cells);
+        pbf_world_destroy(w);
+        return NULL;
+    }
+    uint32_t cmd[4] = { 4, 0, 0, 0 };
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->draw);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
+    stats_alloc(w);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        snprintf(err, err_size, "pbf_world_create: GL error 0x%x while allocating buffers for %u particles "
+                 "(out of GPU memory?)", e, w->capacity);
+        pbf_world_destroy(w);
+        return NULL;
+    }
+    return w;
+}
+
+void pbf_world_destroy(pbf_world *w)
+{
+    if (!w) return;
+    for (int i = 0; i < PROG_COUNT; i++)
+        if (w->programs[i]) glDeleteProgram(w->programs[i]);
+    GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
+                      w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega,
+                      w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
+                      w->nb_list, w->nb_count };
+    glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
+    free_grid(w);
+    for (int s = 0; s < RING; s++) {
+        if (w->ring[s].queries) glDeleteQueries(w->max_queries, w->ring[s].queries);
+        if (w->ring[s].fence) glDeleteSync(w->ring[s].fence);
+        free(w->ring[s].queries);
+        free(w->ring[s].stage_of);
+    }
+    free(w);
+}
+
+const pbf_params *pbf_world_params(const pbf_world *world) { return &world->params; }
+uint32_t pbf_world_particle_count(const pbf_world *world) { return world->count; }
+uint32_t pbf_world_capacity(const pbf_world *world) { return world->capacity; }
+float pbf_world_particle_mass(const pbf_world *world) { return world->mass; }
+
+pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
+{
+    char err[256];
+    if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    bool regrid = p->kernel_radius != w->params.kernel_radius;
+    pbf_params old = w->params;
+    w->params = *p;
+    if (regrid) {
+        if (grid_layout(w, err, sizeof err) != PBF_OK) {
+            w->params = old;
+            grid_layout(w, err, sizeof err);
+            return fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+        }
+        free_grid(w);
+        alloc_grid(w);
+    }
+    derive(w);
+    stats_alloc(w);
+    return PBF_OK;
+}
+
+// ---- particles --------------------------------------------------------------------------
+
+pbf_block_def pbf_default_block_def(void)
+{
+    pbf_block_def b;
+    memset(&b, 0, sizeof b);
+    b.max[0] = b.max[1] = b.max[2] = 0.1f;
+    return b;
+}
+
+static float colour_of(const pbf_world *w, float y)
+{
+    float t = (y - w->domain_min[1]) / (w->domain_max[1] - w->domain_min[1]);
+    return t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
+}
+
+static pbf_result upload(pbf_world *w, const float *pos4, const float *vel4, uint32_t n)
+{
+    GLintptr off = (GLintptr)w->count;
+    uint32_t *ids = malloc((size_t)n * 4);
+    if (!ids) return fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
+    for (uint32_t i = 0; i < n; i++) ids[i] = w->next_id + i;
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pos[w->cur_pos]);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, pos4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pred[w->cur_pred]);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, pos4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->vel[w->cur_vel]);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, vel4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->ids[w->cur_ids]);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 4, (GLsizeiptr)n * 4, ids);
+    free(ids);
+    w->count += n;
+    w->next_id += n;
+    uint32_t cmd[4] = { 4, w->count, 0, 0 };
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->draw);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
+    return PBF_OK;
+}
+
+static bool inside_domain(const pbf_world *w, const float *x)
+{
+    for (int k = 0; k < 3; k++)
+        if (!(x[k] >= w->domain_min[k] && x[k] <= w->domain_max[k])) return false;
+    return true;
+}
+
+pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
+{
+    if (!positions && n > 0) return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
+    if (n > w->capacity - w->count)
+        return fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
+                    n, w->count, w->capacity);
+    for (uint32_t i = 0; i < n; i++) {
+        if (!inside_domain(w, positions + 3 * i))
+            return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions[%u] = (%g, %g, %g) must be finite "
+                        "and inside the domain", i, (double)positions[3 * i], (double)positions[3 * i + 1],
+                        (double)positions[3 * i + 2]);
+        if (velocities)
+            for (int k = 0; k < 3; k++)
+                if (!isfinite(velocities[3 * i + k]))
+                    return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: velocities[%u] must be finite", i);
+    }
+    float *p4 = malloc((size_t)n * 16 + 16), *v4 = malloc((size_t)n * 16 + 16);
+    if (!p4 || !v4) {
+        free(p4);
+        free(v4);
+        return fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++) {
+            p4[4 * i + k] = positions[3 * i + k];
+            v4[4 * i + k] = velocities ? velocities[3 * i + k] : 0.0f;
+        }
+        p4[4 * i + 3] = colour_of(w, positions[3 * i + 1]);
+        v4[4 * i + 3] = 0.0f;
+    }
+    pbf_result r = upload(w, p4, v4, n);
+    free(p4);
+    free(v4);
+    return r;
+}
+
+pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *added)
+{
+    static const char *const axis = "xyz";
+    if (added) *added = 0;
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(b->min[k]) || !isfinite(b->max[k]) || !(b->max[k] > b->min[k]))
+            return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.max.%c must be finite and greater than min.%c (got min %g, max %g)",
+                        axis[k], axis[k], (double)b->min[k], (double)b->max[k]);
+        if (b->min[k] < w->domain_min[k] || b->max[k] > w->domain_max[k])
+            return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.%c range [%g, %g] must lie inside the domain [%g, %g]",
+                        axis[k], (double)b->min[k], (double)b->max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
+        if (!isfinite(b->velocity[k]))
+            return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.velocity.%c must be finite (got %g)", axis[k], (double)b->velocity[k]);
+    }
+    float s = w->spacing;
+    uint32_t n[3];
+    uint64_t total = 1;
+    for (int k = 0; k < 3; k++) {
+        double c = floor((double)(b->max[k] - b->min[k]) / s + 1e-4);
+        n[k] = c < 1.0 ? 1u : (uint32_t)c;
+        total *= n[k];
+    }
+    if (total > w->capacity - w->count)
+        return fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
+                    (unsigned long long)total, w->capacity - w->count, w->capacity);
+    float *p4 = malloc((size_t)total * 16), *v4 = malloc((size_t)total * 16);
+    if (!p4 || !v4) {
+        free(p4);
+        free(v4);
+        return fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_block: out of memory");
+    }
+    size_t i = 0;
+    for (uint32_t z = 0; z < n[2]; z++)
+        for (uint32_t y = 0; y < n[1]; y++)
+            for (uint32_t x = 0; x < n[0]; x++, i++) {
+                float *p = p4 + 4 * i, *v = v4 + 4 * i;
+                p[0] = b->min[0] + s * (0.5f + (float)x);
+                p[1] = b->min[1] + s * (0.5f + (float)y);
+                p[2] = b->min[2] + s * (0.5f + (float)z);
+                p[3] = colour_of(w, p[1]);
+                v[0] = b->velocity[0];
+                v[1] = b->velocity[1];
+                v[2] = b->velocity[2];
+                v[3] = 0.0f;
+            }
+    pbf_result r = upload(w, p4, v4, (uint32_t)total);
+    free(p4);
+    free(v4);
+    if (r == PBF_OK && added) *added = (uint32_t)total;
+    return r;
+}
+
+void pbf_world_clear(pbf_world *w)
+{
+    w->count = 0;
+    uint32_t cmd[4] = { 4, 0, 0, 0 };
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->draw);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
+}
+
+// ---- colliders --------------------------------------------------------------------------
+
+pbf_collider_def pbf_default_collider_def(void)
+{
+    pbf_collider_def d;
+    memset(&d, 0, sizeof d);
+    d.type = PBF_SHAPE_BOX;
+    d.size[0] = d.size[1] = d.size[2] = 0.1f;
+    d.rotation[3] = 1.0f;
+    d.two_way = true;
+    return d;
+}
+
+static collider_slot *get_slot(pbf_world *w, pbf_collider_id id, const char *fn)
+{
+    if (id.index1 == 0 || id.index1 > PBF_MAX_COLLIDERS) {
+        fail(w, PBF_ERR_STALE_ID, "%s: collider id is null or out of range (index1 %u)", fn, id.index1);
+        return NULL;
+    }
+    collider_slot *s = &w->slots[id.index1 - 1];
+    if (!s->used || s->generation != id.generation) {
+        fail(w, PBF_ERR_STALE_ID, "%s: collider id is stale (index %u, generation %u): attempt to use a removed collider",
+             fn, id.index1 - 1, id.generation);
+        return NULL;
+    }
+    return s;
+}
+
+bool pbf_collider_is_valid(const pbf_world *w, pbf_collider_id id)
+{
+    if (id.index1 == 0 || id.index1 > PBF_MAX_COLLIDERS) return false;
+    const collider_slot *s = &w->slots[id.index1 - 1];
+    return s->used && s->generation == id.generation;
+}
+
+static bool finite_n(const float *v, int n)
+{
+    for (int k = 0; k < n; k++)
+        if (!isfinite(v[k])) return false;
+    return true;
+}
+
+static float bounding_radius(const pbf_collider_def *d)
+{
+    const float *z = d->size;
+    switch (d->type) {
+    case PBF_SHAPE_PLANE: return 1e30f;
+    case PBF_SHAPE_BOX: return sqrtf(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
+    case PBF_SHAPE_SPHERE: return z[0];
+    case PBF_SHAPE_CAPSULE: return z[0] + z[1];
+    case PBF_SHAPE_CYLINDER: return sqrtf(z[0] * z[0] + z[1] * z[1]);
+    }
+    return 1e30f;
+}
+
+pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_collider_id *out)
+{
+    if (out) *out = (pbf_collider_id){ 0, 0 };
+    if ((unsigned)d->type > PBF_SHAPE_CYLINDER)
+        return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.type must be a pbf_collider_type 0..4 (got %d)", (int)d->type);
+    if (!finite_n(d->size, 4) || !finite_n(d->position, 3) || !finite_n(d->rotation, 4))
+        return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size/position/rotation must be finite");
+    int need = d->type == PBF_SHAPE_BOX ? 3 : d->type == PBF_SHAPE_SPHERE ? 1 : d->type == PBF_SHAPE_PLANE ? 0 : 2;
+    for (int k = 0; k < need; k++)
+        if (!(d->size[k] > 0.0f))
+            return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size[%d] must be > 0 m (got %g)", k, (double)d->size[k]);
+    float qn = sqrtf(d->rotation[0] * d->rotation[0] + d->rotation[1] * d->rotation[1] +
+                     d->rotation[2] * d->rotation[2] + d->rotation[3] * d->rotation[3]);
+    if (fabsf(qn - 1.0f) > 1e-3f)
+        return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.rotation must be a unit quaternion (got length %g)", (double)qn);
+    int free_slot = -1;
+    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
+        if (!w->slots[i].used) {
+            free_slot = i;
+            break;
+        }
+    if (free_slot < 0) return fail(w, PBF_ERR_CAPACITY, "pbf_world_add_collider: all %d colliders in use", PBF_MAX_COLLIDERS);
+    collider_slot *s = &w->slots[free_slot];
+    s->used = true;
+    s->generation++;
+    pbf_gpu_collider *g = &s->gpu;
+    memset(g, 0, sizeof *g);
+    g->position = (pbf_float4){ d->position[0], d->position[1], d->position[2], 0.0f };
+    g->rotation = (pbf_float4){ d->rotation[0], d->rotation[1], d->rotation[2], d->rotation[3] };
+    g->prev_position = g->position;
+    g->prev_rotation = g->rotation;
+    g->center_of_mass = g->position;
+    if (d->type == PBF_SHAPE_PLANE) {
+        float nl = sqrtf(d->size[0] * d->size[0] + d->size[1] * d->size[1] + d->size[2] * d->size[2]);
+        if (!(nl > 0.0f)) {
+            s->used = false;
+            return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size xyz (plane normal) must be non-zero");
+        }
+        g->params = (pbf_float4){ d->size[0] / nl, d->size[1] / nl, d->size[2] / nl, d->size[3] };
+    } else {
+        g->params = (pbf_float4){ d->size[0], d->size[1], d->size[2], d->size[3] };
+    }
+    g->info = (pbf_uint4){ (uint32_t)d->type, d->two_way ? 1u : 0u, 0u, 0u };
+    g->position.w = bounding_radius(d);
+    memset(w->force[free_slot], 0, sizeof w->force[free_slot]);
+    w->colliders_dirty = true;
+    if (out) *out = (pbf_collider_id){ (uint16_t)(free_slot + 1), s->generation };
+    return PBF_OK;
+}
+
+pbf_result pbf_world_remove_collider(pbf_world *w, pbf_collider_id id)
+{
+    collider_slot *s = get_slot(w, id, "pbf_world_remove_collider");
+    if (!s) return PBF_ERR_STALE_ID;
+    s->used = false;
+    w->colliders_dirty = true;
+    return PBF_OK;
+}
+
+pbf_result pbf_world_set_collider_pose(pbf_world *w, pbf_collider_id id, const float position[3],
+                                       const float rotation[4], const float linear_velocity[3],
+                                       const float angular_velocity[3], const float center_of_mass[3])
+{
+    collider_slot *s = get_slot(w, id, "pbf_world_set_collider_pose");
+    if (!s) return PBF_ERR_STALE_ID;
+    if (!finite_n(position, 3) || !finite_n(rotation, 4) || (linear_velocity && !finite_n(linear_velocity, 3)) ||
+        (angular_velocity && !finite_n(angular_velocity, 3)) || (center_of_mass && !finite_n(center_of_mass, 3)))
+        return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_collider_pose: position, rotation and velocities must be finite");
+    pbf_gpu_collider *g = &s->gpu;
+    g->prev_position = g->position;
+    g->prev_rotation = g->rotation;
+    g->position = (pbf_float4){ position[0], position[1], position[2], g->position.w };
+    g->rotation = (pbf_float4){ rotation[0], rotation[1], rotation[2], rotation[3] };
+    if (linear_velocity) g->linear_velocity = (pbf_float4){ linear_velocity[0], linear_velocity[1], linear_velocity[2], 0 };
+    if (angular_velocity) g->angular_velocity = (pbf_float4){ angular_velocity[0], angular_velocity[1], angular_velocity[2], 0 };
+    g->center_of_mass = center_of_mass ? (pbf_float4){ center_of_mass[0], center_of_mass[1], center_of_mass[2], 0 } : g->position;
+    w->colliders_dirty = true;
+    return PBF_OK;
+}
+
+pbf_result pbf_world_collider_force(pbf_world *w, pbf_collider_id id, float force[3], float torque[3])
+{
+    collider_slot *s = get_slot(w, id, "pbf_world_collider_force");
+    if (!s) return PBF_ERR_STALE_ID;
+    int i = (int)(s - w->slots);
+    for (int k = 0; k < 3; k++) {
+        if (force) force[k] = w->force[i][k];
+        if (torque) torque[k] = w->force[i][3 + k];
+    }
+    return PBF_OK;
+}
+
+pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float max[3], bool closed_top)
+{
+    static const char *const axis = "xyz";
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(min[k]) || !isfinite(max[k]) || !(max[k] > min[k]))
+            return fail(w, PBF_ERR_INVALID_ARG, "container.max.%c must be finite and greater than min.%c (got min %g, max %g)",
+                        axis[k], axis[k], (double)min[k], (double)max[k]);
+        if (min[k] < w->domain_min[k] || max[k] > w->domain_max[k])
+            return fail(w, PBF_ERR_INVALID_ARG, "container.%c range [%g, %g] must lie inside the domain [%g, %g]",
+                        axis[k], (double)min[k], (double)max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
+    }
+    // Inward normals: floor, walls (-x, +x, -z, +z), lid.
+    const float planes[PBF_MAX_PLANES][4] = {
+        { 0, 1, 0, min[1] },  { 1, 0, 0, min[0] },  { -1, 0, 0, -max[0] },
+        { 0, 0, 1, min[2] },  { 0, 0, -1, -max[2] }, { 0, -1, 0, -max[1] },
+    };
+    w->plane_count = closed_top ? 6 : 5;
+    memcpy(w->planes, planes, sizeof planes);
+    return PBF_OK;
+}
+
+void pbf_world_remove_container(pbf_world *w) { w->plane_count = 0; }
+
+static void upload_colliders(pbf_world *w)
+{
+    pbf_gpu_collider tmp[PBF_MAX_COLLIDERS];
+    uint32_t n = 0;
+    for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
+        w->slots[i].gpu_index = -1;
+        if (!w->slots[i].used) continue;
+        w->slots[i].gpu_index = (int)n;
+        tmp[n++] = w->slots[i].gpu;
+    }
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->colliders);
+    if (n) glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * (GLsizeiptr)sizeof(pbf_gpu_collider), tmp);
+    w->gpu_colliders = n;
+    w->colliders_dirty = false;
+}
+
+// ---- the step -----------------------------------------------------------------------------
+
+static void bind_particles(pbf_world *w)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_POS, w->pos[w->cur_pos]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_POS_OUT, w->pos[w->cur_pos ^ 1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_VEL, w->vel[w->cur_vel]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_VEL_OUT, w->vel[w->cur_vel ^ 1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_PRED, w->pred[w->cur_pred]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_PRED_OUT, w->pred[w->cur_pred ^ 1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ID, w->ids[w->cur_ids]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ID_OUT, w->ids[w->cur_ids ^ 1]);
+}
+
+static void bind_all(pbf_world *w)
+{
+    bind_particles(w);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL, w->cell_of);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL_START, w->cell_start);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL_FILL, w->cell_fill);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_SORTED, w->sorted);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LAMBDA, w->lambda);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_OMEGA, w->omega);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_COLLIDERS, w->colliders);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_FORCES, w->forces, 0, PBF_MAX_COLLIDERS * 8 * 4);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_REDUCE, w->reduce);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_METRICS, w->metrics);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_LIST, w->nb_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_COUNT, w->nb_count);
+    glBindBufferBase(GL_UNIFORM_BUFFER, PBF_U_PARAMS, w->params_ubo);
+}
+
+static void write_params(pbf_world *w, float dt, int substep, int slot)
+{
+    const pbf_params *p = &w->params;
+    pbf_gpu_params g;
+    memset(&g, 0, sizeof g);
+    double h = p->kernel_radius;
+    g.gravity = (pbf_float4){ p->gravity[0], p->gravity[1], p->gravity[2], 0 };
+    g.grid_origin = (pbf_float4){ w->grid_origin[0], w->grid_origin[1], w->grid_origin[2], 0 };
+    g.grid_dims = (pbf_uint4){ w->grid_dims[0], w->grid_dims[1], w->grid_dims[2], w->cells };
+    g.domain_min = (pbf_float4){ w->domain_min[0], w->domain_min[1], w->domain_min[2], 0 };
+    g.domain_max = (pbf_float4){ w->domain_max[0], w->domain_max[1], w->domain_max[2], 0 };
+    for (int k = 0; k < w->plane_count; k++)
+        g.planes[k] = (pbf_float4){ w->planes[k][0], w->planes[k][1], w->planes[k][2], w->planes[k][3] };
+    g.plane_count = (uint32_t)w->plane_count;
+    g.max_neighbours = w->max_neighbours;
+    g.dt = dt;
+    g.inv_dt = 1.0f / dt;
+    g.h = (float)h;
+    g.inv_cell = (float)(1.0 / h);
+    g.poly6 = (float)(315.0 / (64.0 * PBF_PI * pow(h, 9)));
+    g.spiky_grad = (float)(-45.0 / (PBF_PI * pow(h, 6)));
+    g.rest_density = p->rest_density;
+    g.inv_rest_density = 1.0f / p->rest_density;
+    g.mass_density = w->mass_density;
+    g.mass = w->mass;
+    g.epsilon = w->epsilon;
+    g.omega = p->sor;
+    g.scorr_k = p->scorr_k;
+    g.scorr_n = p->scorr_n;
+    double dq = p->scorr_dq * h;
+    g.scorr_inv_wdq = (float)(1.0 / poly6(dq * dq, h));
+    g.vorticity = p->vorticity;
+    g.viscosity = p->viscosity;
+    g.damping = p->damping;
+    g.max_speed = p->max_speed;
+    g.radius = p->particle_radius;
+    g.count = w->count;
+    g.collider_count = w->gpu_colliders;
+    g.metrics_slot = (uint32_t)slot;
+    g.substep = (uint32_t)substep;
+    glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof g, &g);
+}
+
+typedef struct step_ctx {
+    pbf_world *w;
+    stats_slot *slot;
+} step_ctx;
+
+static void mark(step_ctx *s, pbf_stage stage)
+{
+    stats_slot *r = s->slot;
+    if (r->nq >= s->w->max_queries) return;
+    if (getenv("PBF_FINISH_EACH")) glFinish();
+    glQueryCounter(r->queries[r->nq], GL_TIMESTAMP);
+    if (s->w->flush_timestamps) glFlush();
+    r->stage_of[r->nq] = (uint8_t)stage;
+    r->nq++;
+}
+
+static void dispatch(step_ctx *s, int prog, uint32_t groups, pbf_stage stage)
+{
+    if (groups > 0) {
+        glUseProgram(s->w->programs[prog]);
+        glDispatchCompute(groups, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    mark(s, stage);
+}
+
+static uint32_t groups_for(uint32_t n, uint32_t wg) { return (n + wg - 1) / wg; }
+
+static void run_scan(step_ctx *s)
+{
+    pbf_world *w = s->w;
+    for (int l = 0; l < w->scan_levels; l++) {
+        GLuint data_buf = l == 0 ? w->cell_start : w->scan;
+        GLintptr data_off = l == 0 ? 0 : w->scan_level[l].offset;
+        uint32_t n = w->scan_level[l].n;
+        GLintptr sums_off = l + 1 < w->scan_levels ? w->scan_level[l + 1].offset : w->scan_dummy;
+        uint32_t blocks = groups_for(n, PBF_SCAN_BLOCK);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_SCAN_DATA, data_buf, data_off, (GLsizeiptr)n * 4);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_SCAN_SUMS, w->scan, sums_off, (GLsizeiptr)blocks * 4);
+        glUseProgram(w->programs[PROG_SCAN_BLOCK]);
+        glUniform1ui(w->u_scan_n[0], n);
+        glDispatchCompute(blocks, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    for (int l = w->scan_levels - 2; l >= 0; l--) {
+        GLuint data_buf = l == 0 ? w->cell_start : w->scan;
+        GLintptr data_off = l == 0 ? 0 : w->scan_level[l].offset;
+        uint32_t n = w->scan_level[l].n;
+        uint32_t blocks = groups_for(n, PBF_SCAN_BLOCK);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_SCAN_DATA, data_buf, data_off, (GLsizeiptr)n * 4);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_SCAN_SUMS, w->scan, w->scan_level[l + 1].offset, (GLsizeiptr)blocks * 4);
+        glUseProgram(w->programs[PROG_SCAN_ADD]);
+        glUniform1ui(w->u_scan_n[1], n);
+        glDispatchCompute(blocks, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    mark(s, PBF_STAGE_GRID_SCAN);
+}
+
+static void substep(step_ctx *s, float dt, int sub, int slot)
+{
+    pbf_world *w = s->w;
+    const pbf_params *p = &w->params;
+    uint32_t pg = groups_for(w->count, PBF_WG);
+    write_params(w, dt, sub, slot);
+    bind_all(w);
+    dispatch(s, PROG_PREDICT, pg, PBF_STAGE_PREDICT);
+
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_start);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_fill);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    dispatch(s, PROG_GRID_COUNT, pg, PBF_STAGE_GRID_COUNT);
+    run_scan(s);
+    bind_all(w);
+    dispatch(s, PROG_GRID_SCATTER, pg, PBF_STAGE_GRID_SCATTER);
+    dispatch(s, PROG_GRID_SORT, groups_for(w->cells, PBF_WG), PBF_STAGE_GRID_SORT);
+    dispatch(s, PROG_REORDER, pg, PBF_STAGE_REORDER);
+    w->cur_pos ^= 1;
+    w->cur_vel ^= 1;
+    w->cur_pred ^= 1;
+    w->cur_ids ^= 1;
+    bind_particles(w);
+    dispatch(s, PROG_NEIGHBOURS, pg, PBF_STAGE_NEIGHBOURS);
+
+    for (int it = 0; it < p->iterations; it++) {
+        dispatch(s, PROG_DENSITY, pg, PBF_STAGE_DENSITY);
+        dispatch(s, PROG_DELTA, pg, PBF_STAGE_DELTA);
+        w->cur_pred ^= 1;
+        bind_particles(w);
+    }
+    dispatch(s, PROG_VELOCITY, pg, PBF_STAGE_VELOCITY);
+    if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
+        dispatch(s, PROG_VORTICITY, pg, PBF_STAGE_VORTICITY);
+        dispatch(s, PROG_VISCOSITY, pg, PBF_STAGE_VISCOSITY);
+        w->cur_vel ^= 1;
+        bind_particles(w);
+    }
+}
+
+static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
+{
+    memset(out, 0, sizeof *out);
+    out->step = r->step;
+    out->time = r->time;
+    out->particles = r->count;
+    out->rest_density = w->params.rest_density;
+    GLuint64 prev = 0;
+    for (int q = 0; q < r->nq; q++) {
+        GLuint64 t = 0;
+        glGetQueryObjectui64v(r->queries[q], GL_QUERY_RESULT, &t);
+        if (q > 0) {
+            double ms = (double)(t - prev) * 1e-6;
+            out->stage_ms[r->stage_of[q]] += ms;
+            if (r->stage_of[q] != PBF_STAGE_METRICS) out->step_ms += ms;
+        }
+        prev = t;
+    }
+    int slot = (int)(r - w->ring);
+    pbf_gpu_metrics m;
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->metrics);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)slot * (GLintptr)sizeof m, sizeof m, &m);
+    out->density_avg = m.density_avg;
+    out->density_max = m.density_max;
+    out->nan_count = m.nan_count;
+    out->outside_count = m.outside_count;
+    out->overflow_count = m.overflow_count;
+    if (r->colliders > 0) {
+        int32_t f[PBF_MAX_COLLIDERS * 8];
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
+        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)(1 + slot) * PBF_MAX_COLLIDERS * 8 * 4,
+                           (GLsizeiptr)r->colliders * 8 * 4, f);
+        for (int g = 0; g < r->colliders; g++) {
+            int sl = r->collider_slot_of[g];
+            if (sl < 0 || w->force_step[sl] > r->step + 1) continue;
+            for (int k = 0; k < 3; k++) {
+                w->force[sl][k] = (float)(f[g * 8 + k] / PBF_FORCE_SCALE / r->substeps);
+                w->force[sl][3 + k] = (float)(f[g * 8 + 4 + k] / PBF_FORCE_SCALE / r->substeps);
+            }
+            w->force_step[sl] = r->step + 1;
+        }
+    }
+}
+
+int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
+{
+    int n = 0;
+    for (int k = 0; k < RING; k++) {
+        // oldest pending first
+        int idx = (w->ring_head + k) % RING;
+        stats_slot *r = &w->ring[idx];
+        if (!r->pending) continue;
+        GLenum st = glClientWaitSync(r->fence, GL_SYNC_FLUSH_COMMANDS_BIT, wait ? 10000000000ull : 0);
+        if (st != GL_ALREADY_SIGNALED && st != GL_CONDITION_SATISFIED) break;
+        pbf_step_stats tmp;
+        read_slot(w, r, &tmp);
+        if (n < max && out) out[n] = tmp;
+        if (n < max || !out) n++;
+        glDeleteSync(r->fence);
+        r->fence = NULL;
+        r->pending = false;
+        if (out && n >= max) break;
+    }
+    return n;
+}
+
+pbf_result pbf_world_step(pbf_world *w, float dt)
+{
+    if (!(dt > 0.0f && dt <= 1.0f))
+        return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
+    const pbf_params *p = &w->params;
+    int slot_index = w->ring_head;
+    stats_slot *slot = &w->ring[slot_index];
+    if (slot->pending) {
+        // The GPU is RING steps behind: wait for the oldest record rather than lose it.
+        // Its numbers stay available to the next poll.
+        glClientWaitSync(slot->fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10000000000ull);
+        pbf_step_stats discard;
+        read_slot(w, slot, &discard);
+        glDeleteSync(slot->fence);
+        slot->pending = false;
+    }
+    if (w->colliders_dirty) upload_colliders(w);
+    slot->nq = 0;
+    slot->step = w->step_index;
+    slot->count = w->count;
+    slot->substeps = p->substeps;
+    slot->colliders = (int)w->gpu_colliders;
+    for (int i = 0; i < PBF_MAX_COLLIDERS; i++) slot->collider_slot_of[i] = -1;
+    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
+        if (w->slots[i].used && w->slots[i].gpu_index >= 0) slot->collider_slot_of[w->slots[i].gpu_index] = i;
+    step_ctx s = { w, slot };
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
+    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32I, 0, PBF_MAX_COLLIDERS * 8 * 4, GL_RED_INTEGER, GL_INT, NULL);
+    mark(&s, PBF_STAGE_PREDICT);
+    float sub_dt = dt / (float)p->substeps;
+    for (int k = 0; k < p->substeps; k++) substep(&s, sub_dt, k, slot_index);
+    // Metrics of the final state.
+    uint32_t pg = groups_for(w->count, PBF_WG);
+    if (w->count > 0) {
+        dispatch(&s, PROG_METRICS, pg, PBF_STAGE_METRICS);
+        glUseProgram(w->programs[PROG_METRICS_FINAL]);
+        glUniform1ui(w->u_groups, pg);
+        glUniform1ui(w->u_frame, (GLuint)w->step_index);
+        dispatch(&s, PROG_METRICS_FINAL, 1, PBF_STAGE_METRICS);
+    }
+    glBindBuffer(GL_COPY_READ_BUFFER, w->forces);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces);
+    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0,
+                        (GLintptr)(1 + slot_index) * PBF_MAX_COLLIDERS * 8 * 4, PBF_MAX_COLLIDERS * 8 * 4);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    w->time += dt;
+    slot->time = w->time;
+    slot->fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    slot->pending = true;
+    w->ring_head = (w->ring_head + 1) % RING;
+    w->step_index++;
+    for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
+        // The pose given for this step becomes the previous pose of the next.
+        if (!w->slots[i].used) continue;
+        w->slots[i].gpu.prev_position = w->slots[i].gpu.position;
+        w->slots[i].gpu.prev_rotation = w->slots[i].gpu.rotation;
+    }
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) return fail(w, PBF_ERR_GL, "pbf_world_step: GL error 0x%x", e);
+    return PBF_OK;
+}
+
+pbf_gpu_buffers pbf_world_gpu_buffers(const pbf_world *w)
+{
+    pbf_gpu_buffers b = { w->pos[w->cur_pos], w->vel[w->cur_vel], w->draw, w->count };
+    return b;
+}
+
+// ---- downloads (tests, tools) ---------------------------------------------------------------
+
+typedef struct id_index {
+    uint32_t id, slot;
+} id_index;
+
+static int cmp_id(const void *a, const void *b)
+{
+    uint32_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
+    return x < y ? -1 : x > y;
+}
+
+uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
+{
+    uint32_t n = w->count;
+    if (n == 0) return 0;
+    float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
+    uint32_t *id = malloc((size_t)n * 4);
+    id_index *order = malloc((size_t)n * sizeof *order);
+    if (!p || !v || !id || !order) {
+        free(p);
+        free(v);
+        free(id);
+        free(order);
+        return 0;
+    }
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pos[w->cur_pos]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, p);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->vel[w->cur_vel]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, v);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->ids[w->cur_ids]);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 4, id);
+    for (uint32_t i = 0; i < n; i++) order[i] = (id_index){ id[i], i };
+    qsort(order, n, sizeof *order, cmp_id);
+    uint32_t m = n < max ? n : max;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t s = order[i].slot;
+        if (positions) memcpy(positions + 4 * i, p + 4 * s, 16);
+        if (velocities) memcpy(velocities + 4 * i, v + 4 * s, 16);
+        if (ids) ids[i] = order[i].id;
+    }
+    free(p);
+    free(v);
+    free(id);
+    free(order);
+    return m;
+}
+
+uint64_t pbf_world_state_hash(pbf_world *w)
+{
+    uint32_t n = w->count;
+    float *p = malloc((size_t)n * 16 + 16), *v = malloc((size_t)n * 16 + 16);
+    uint64_t h = 1469598103934665603ull;
+    if (p && v) {
+        pbf_world_read_particles(w, p, v, NULL, n);
+        const unsigned char *bytes[2] = { (const unsigned char *)p, (const unsigned char *)v };
+        for (int b = 0; b < 2; b++)
+            for (size_t i = 0; i < (size_t)n * 16; i++) {
+                h ^= bytes[b][i];
+                h *= 1099511628211ull;
+            }
+    }
+    free(p);
+    free(v);
+    return h;
+}

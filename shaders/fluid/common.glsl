@@ -1,0 +1,215 @@
+// Shared declarations of the fluid passes: buffers, kernels, grid, boundaries.
+// Included by every shaders/fluid/*.comp after its #version line. A pass defines
+// USE_<BUFFER> for each storage block it touches before including this file: std430
+// blocks count against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS even when unused.
+#include "pbf_shared.h"
+
+layout(std140, binding = PBF_U_PARAMS) uniform Params { pbf_gpu_params P; };
+
+#ifdef USE_POS
+layout(std430, binding = PBF_B_POS) buffer PosIn { vec4 pos[]; };
+#endif
+#ifdef USE_VEL
+layout(std430, binding = PBF_B_VEL) buffer VelIn { vec4 vel[]; };
+#endif
+#ifdef USE_PRED
+layout(std430, binding = PBF_B_PRED) buffer PredIn { vec4 pred[]; };
+#endif
+#ifdef USE_ID
+layout(std430, binding = PBF_B_ID) buffer IdIn { uint pid[]; };
+#endif
+#ifdef USE_POS_OUT
+layout(std430, binding = PBF_B_POS_OUT) buffer PosOut { vec4 pos_out[]; };
+#endif
+#ifdef USE_VEL_OUT
+layout(std430, binding = PBF_B_VEL_OUT) buffer VelOut { vec4 vel_out[]; };
+#endif
+#ifdef USE_PRED_OUT
+layout(std430, binding = PBF_B_PRED_OUT) buffer PredOut { vec4 pred_out[]; };
+#endif
+#ifdef USE_ID_OUT
+layout(std430, binding = PBF_B_ID_OUT) buffer IdOut { uint pid_out[]; };
+#endif
+#ifdef USE_CELL
+layout(std430, binding = PBF_B_CELL) buffer Cells { uint cell_of[]; };
+#endif
+#ifdef USE_CELL_START
+layout(std430, binding = PBF_B_CELL_START) buffer CellStart { uint cell_start[]; };
+#endif
+#ifdef USE_CELL_FILL
+layout(std430, binding = PBF_B_CELL_FILL) buffer CellFill { uint cell_fill[]; };
+#endif
+#ifdef USE_SORTED
+layout(std430, binding = PBF_B_SORTED) buffer Sorted { uint sorted_slot[]; };
+#endif
+#ifdef USE_LAMBDA
+layout(std430, binding = PBF_B_LAMBDA) buffer Lambda { vec2 lambda_rho[]; };
+#endif
+#ifdef USE_OMEGA
+layout(std430, binding = PBF_B_OMEGA) buffer Omega { vec4 omega[]; };
+#endif
+#ifdef USE_COLLIDERS
+layout(std430, binding = PBF_B_COLLIDERS) buffer Colliders { pbf_gpu_collider colliders[]; };
+#endif
+#ifdef USE_NB
+layout(std430, binding = PBF_B_NB_LIST) buffer NbList { uint nb_list[]; };
+layout(std430, binding = PBF_B_NB_COUNT) buffer NbCount { uint nb_count[]; };
+// Neighbour j (a slot) of particle i, k < nb_len(i); the particle itself is not listed.
+uint nb_len(uint i) { return min(nb_count[i], P.max_neighbours); }
+uint nb_at(uint i, uint k) { return nb_list[i * P.max_neighbours + k]; }
+#endif
+#ifdef USE_FORCES
+layout(std430, binding = PBF_B_FORCES) buffer Forces { int forces[]; };
+#endif
+
+// ---- kernels (h = P.h) -------------------------------------------------------------
+float w_poly6(float r2)
+{
+    float d = P.h * P.h - r2;
+    return d > 0.0 ? P.poly6 * d * d * d : 0.0;
+}
+
+// Gradient of the spiky kernel with respect to x_i for r = x_i - x_j.
+vec3 grad_spiky(vec3 r)
+{
+    float len = length(r);
+    if (len <= 1e-9 * P.h || len >= P.h) return vec3(0.0);
+    float d = P.h - len;
+    return (P.spiky_grad * d * d / len) * r;
+}
+
+// ---- grid ---------------------------------------------------------------------------
+ivec3 cell_coord(vec3 x)
+{
+    ivec3 c = ivec3(floor((x - P.grid_origin.xyz) * P.inv_cell));
+    return clamp(c, ivec3(0), ivec3(P.grid_dims.xyz) - 1);
+}
+
+uint cell_index(ivec3 c)
+{
+    return uint(c.x) + P.grid_dims.x * (uint(c.y) + P.grid_dims.y * uint(c.z));
+}
+
+#ifdef USE_CELL_START
+// Neighbour loop helper: the 3x3x3 cells around c are 9 runs of 3 consecutive cells
+// (x is the fastest index), and particles are stored in cell order, so each run is one
+// contiguous range of slots. FOR_NEIGHBOURS(c, j) { ... } visits every slot j in them.
+#define FOR_NEIGHBOURS(c, j)                                                          \
+    for (int dz_ = -1; dz_ <= 1; dz_++)                                               \
+    for (int dy_ = -1; dy_ <= 1; dy_++)                                               \
+    for (uint j = nb_begin(c, dy_, dz_), e_ = nb_end(c, dy_, dz_); j < e_; j++)
+
+bool nb_row_ok(ivec3 c, int dy, int dz)
+{
+    int y = c.y + dy, z = c.z + dz;
+    return y >= 0 && z >= 0 && y < int(P.grid_dims.y) && z < int(P.grid_dims.z);
+}
+
+uint nb_begin(ivec3 c, int dy, int dz)
+{
+    if (!nb_row_ok(c, dy, dz)) return 0u;
+    int x0 = max(c.x - 1, 0);
+    return cell_start[cell_index(ivec3(x0, c.y + dy, c.z + dz))];
+}
+
+uint nb_end(ivec3 c, int dy, int dz)
+{
+    if (!nb_row_ok(c, dy, dz)) return 0u;
+    int x1 = min(c.x + 1, int(P.grid_dims.x) - 1);
+    return cell_start[cell_index(ivec3(x1, c.y + dy, c.z + dz)) + 1u];
+}
+#endif
+
+// ---- rigid frames ---------------------------------------------------------------------
+vec3 quat_rotate(vec4 q, vec3 v)
+{
+    vec3 t = 2.0 * cross(q.xyz, v);
+    return v + q.w * t + cross(q.xyz, t);
+}
+
+vec3 quat_rotate_inv(vec4 q, vec3 v) { return quat_rotate(vec4(-q.xyz, q.w), v); }
+
+// ---- boundaries -------------------------------------------------------------------------
+// A boundary is seen by a particle as a half-space at distance d along the inward normal
+// n (the semi-analytic model of docs/solver.md). The share of a filled neighbourhood
+// that the wall takes is V(d) = int_{z>d} W_poly6, and the gradient of that share with
+// respect to the particle is -G(d) n with G(d) = int_{z>d} |grad W_spiky| (z/r).
+// Both are closed-form polynomials in u = d/h. V(0) = 1/2, G(0) = 1.5/h.
+float boundary_volume(float d)
+{
+    float u = clamp(d / P.h, 0.0, 1.0);
+    float u2 = u * u;
+    // antiderivative of (1-u^2)^4: u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9; F(1) = 128/315
+    float F = u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+    return (315.0 / 256.0) * (128.0 / 315.0 - F);
+}
+
+float boundary_gradient(float d)
+{
+    float u = clamp(d / P.h, 0.0, 1.0);
+    // antiderivative of u(1-u)^3: u^2/2 - u^3 + 3u^4/4 - u^5/5; H(1) = 1/20
+    float H = u * u * (0.5 + u * (-1.0 + u * (0.75 - u * 0.2)));
+    return (30.0 / P.h) * (0.05 - H);
+}
+
+// Container plane p: distance of x on the inside (positive) and the inward normal.
+float plane_distance(uint p, vec3 x, out vec3 n)
+{
+    n = P.planes[p].xyz;
+    return dot(x, n) - P.planes[p].w;
+}
+
+// Signed distance from x to a collider's surface (positive outside the solid, where the
+// fluid is) and the outward unit normal, for the collider at pose (p, q).
+float collider_sdf(pbf_gpu_collider c, vec3 p, vec4 q, vec3 x, out vec3 n)
+{
+    uint type = c.info.x;
+    if (type == PBF_COLLIDER_PLANE) {
+        n = c.params.xyz;
+        return dot(x, n) - c.params.w;
+    }
+    vec3 l = quat_rotate_inv(q, x - p);
+    vec3 ln;
+    float d;
+    if (type == PBF_COLLIDER_SPHERE) {
+        float len = length(l);
+        ln = len > 1e-9 ? l / len : vec3(0.0, 1.0, 0.0);
+        d = len - c.params.x;
+    } else if (type == PBF_COLLIDER_BOX) {
+        vec3 b = c.params.xyz;
+        vec3 q3 = abs(l) - b;
+        if (max(q3.x, max(q3.y, q3.z)) > 0.0) {
+            vec3 o = max(q3, vec3(0.0));
+            d = length(o);
+            ln = sign(l) * o / max(d, 1e-12);
+        } else {
+            // inside: nearest face
+            if (q3.x > q3.y && q3.x > q3.z) ln = vec3(sign(l.x), 0.0, 0.0);
+            else if (q3.y > q3.z) ln = vec3(0.0, sign(l.y), 0.0);
+            else ln = vec3(0.0, 0.0, sign(l.z));
+            d = max(q3.x, max(q3.y, q3.z));
+        }
+    } else if (type == PBF_COLLIDER_CAPSULE) {
+        vec3 a = vec3(0.0, clamp(l.y, -c.params.y, c.params.y), 0.0);
+        vec3 r = l - a;
+        float len = length(r);
+        ln = len > 1e-9 ? r / len : vec3(1.0, 0.0, 0.0);
+        d = len - c.params.x;
+    } else { // cylinder
+        vec2 q2 = vec2(length(l.xz) - c.params.x, abs(l.y) - c.params.y);
+        vec3 radial = length(l.xz) > 1e-9 ? vec3(l.x, 0.0, l.z) / length(l.xz) : vec3(1.0, 0.0, 0.0);
+        vec3 axial = vec3(0.0, sign(l.y), 0.0);
+        if (q2.x > 0.0 && q2.y > 0.0) {
+            d = length(q2);
+            ln = normalize(radial * q2.x + axial * q2.y);
+        } else if (q2.x > q2.y) {
+            d = q2.x;
+            ln = radial;
+        } else {
+            d = q2.y;
+            ln = axial;
+        }
+    }
+    n = quat_rotate(q, ln);
+    return d;
+}

@@ -1,0 +1,75 @@
+#version 430
+// Stage metrics, part 1: density of the final positions (fluid + boundary share, over the
+// neighbour list of the last substep), then
+// per-work-group sum and max, non-finite and out-of-domain counts, reduced in shared
+// memory in a fixed order (deterministic).
+#define USE_POS
+#define USE_VEL
+#define USE_NB
+#define USE_COLLIDERS
+#include "common.glsl"
+layout(local_size_x = PBF_WG) in;
+layout(std430, binding = PBF_B_REDUCE) buffer Reduce { pbf_gpu_reduce partial[]; };
+
+shared float s_sum[PBF_WG];
+shared float s_max[PBF_WG];
+shared uint s_nan[PBF_WG];
+shared uint s_out[PBF_WG];
+shared uint s_ovf[PBF_WG];
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    uint t = gl_LocalInvocationID.x;
+    float rho = 0.0;
+    uint bad = 0u, outside = 0u, overflow = 0u;
+    if (i < P.count) {
+        vec3 xi = pos[i].xyz;
+        vec3 vi = vel[i].xyz;
+        if (any(isnan(xi)) || any(isinf(xi)) || any(isnan(vi)) || any(isinf(vi))) {
+            bad = 1u;
+        } else {
+            float sum_w = w_poly6(0.0);
+            uint nn = nb_len(i);
+            for (uint q = 0u; q < nn; q++) {
+                vec3 r = xi - pos[nb_at(i, q)].xyz;
+                sum_w += w_poly6(dot(r, r));
+            }
+            rho = P.mass_density * sum_w;
+            for (uint p = 0u; p < P.plane_count; p++) {
+                vec3 n;
+                float d = plane_distance(p, xi, n);
+                if (d < P.h) rho += P.rest_density * boundary_volume(d);
+            }
+            for (uint b = 0u; b < P.collider_count; b++) {
+                vec3 n;
+                float d = collider_sdf(colliders[b], colliders[b].position.xyz, colliders[b].rotation, xi, n);
+                if (d < P.h) rho += P.rest_density * boundary_volume(d);
+            }
+            if (nb_count[i] > P.max_neighbours) overflow = 1u;
+            if (any(lessThan(xi, P.domain_min.xyz)) || any(greaterThan(xi, P.domain_max.xyz))) outside = 1u;
+        }
+    }
+    s_sum[t] = rho;
+    s_max[t] = rho;
+    s_nan[t] = bad;
+    s_out[t] = outside;
+    s_ovf[t] = overflow;
+    for (uint s = PBF_WG / 2u; s > 0u; s >>= 1) {
+        barrier();
+        if (t < s) {
+            s_sum[t] += s_sum[t + s];
+            s_max[t] = max(s_max[t], s_max[t + s]);
+            s_nan[t] += s_nan[t + s];
+            s_out[t] += s_out[t + s];
+            s_ovf[t] += s_ovf[t + s];
+        }
+    }
+    if (t == 0u) {
+        partial[gl_WorkGroupID.x].density_sum = s_sum[0];
+        partial[gl_WorkGroupID.x].density_max = s_max[0];
+        partial[gl_WorkGroupID.x].nan_count = s_nan[0];
+        partial[gl_WorkGroupID.x].outside_count = s_out[0];
+        partial[gl_WorkGroupID.x].overflow_count = s_ovf[0];
+    }
+}

@@ -1,0 +1,55 @@
+#version 430
+// Stage metrics, part 2: one work group folds the partials (fixed order) into the
+// frame's record in the metrics ring.
+#include "common.glsl"
+layout(local_size_x = PBF_WG) in;
+layout(std430, binding = PBF_B_REDUCE) buffer Reduce { pbf_gpu_reduce partial[]; };
+layout(std430, binding = PBF_B_METRICS) buffer Metrics { pbf_gpu_metrics metrics[]; };
+uniform uint groups;
+uniform uint frame;
+
+shared float s_sum[PBF_WG];
+shared float s_max[PBF_WG];
+shared uint s_nan[PBF_WG];
+shared uint s_out[PBF_WG];
+shared uint s_ovf[PBF_WG];
+
+void main()
+{
+    uint t = gl_LocalInvocationID.x;
+    float sum = 0.0, mx = 0.0;
+    uint bad = 0u, outside = 0u, overflow = 0u;
+    for (uint g = t; g < groups; g += PBF_WG) {
+        sum += partial[g].density_sum;
+        mx = max(mx, partial[g].density_max);
+        bad += partial[g].nan_count;
+        outside += partial[g].outside_count;
+        overflow += partial[g].overflow_count;
+    }
+    s_sum[t] = sum;
+    s_max[t] = mx;
+    s_nan[t] = bad;
+    s_out[t] = outside;
+    s_ovf[t] = overflow;
+    for (uint s = PBF_WG / 2u; s > 0u; s >>= 1) {
+        barrier();
+        if (t < s) {
+            s_sum[t] += s_sum[t + s];
+            s_max[t] = max(s_max[t], s_max[t + s]);
+            s_nan[t] += s_nan[t + s];
+            s_out[t] += s_out[t + s];
+            s_ovf[t] += s_ovf[t + s];
+        }
+    }
+    if (t == 0u) {
+        uint n = P.count;
+        uint slot = P.metrics_slot;
+        metrics[slot].density_avg = n > 0u ? s_sum[0] / float(n - s_nan[0] > 0u ? n - s_nan[0] : 1u) : 0.0;
+        metrics[slot].density_max = s_max[0];
+        metrics[slot].nan_count = s_nan[0];
+        metrics[slot].outside_count = s_out[0];
+        metrics[slot].overflow_count = s_ovf[0];
+        metrics[slot].count = n;
+        metrics[slot].frame = frame;
+    }
+}

@@ -1,0 +1,157 @@
+// Constants and struct layouts shared by the C side (fluid/*.c) and the GLSL compute
+// shaders (shaders/fluid/*.comp). This one file compiles as both: in GLSL (core profile)
+// GL_core_profile is defined; in C it is not. Change a layout here and both sides follow;
+// fluid/pbf_gpu.c pins the C sizes with _Static_assert.
+#ifndef PBF_SHARED_H
+#define PBF_SHARED_H
+
+#ifdef GL_core_profile
+#define PBF_VEC4 vec4
+#define PBF_UVEC4 uvec4
+#define PBF_IVEC4 ivec4
+#define PBF_UINT uint
+#define PBF_INT int
+#define PBF_FLOAT float
+#define PBF_STRUCT(name) struct name
+#define PBF_END(name)
+#else
+#include <stdint.h>
+typedef struct pbf_float4 { float x, y, z, w; } pbf_float4;
+typedef struct pbf_uint4 { uint32_t x, y, z, w; } pbf_uint4;
+typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
+#define PBF_VEC4 pbf_float4
+#define PBF_UVEC4 pbf_uint4
+#define PBF_IVEC4 pbf_int4
+#define PBF_UINT uint32_t
+#define PBF_INT int32_t
+#define PBF_FLOAT float
+#define PBF_STRUCT(name) typedef struct name
+#define PBF_END(name) name
+#endif
+
+// Work-group sizes (threads per group) of the particle and cell passes.
+#define PBF_WG 128
+// Elements scanned per work group by the prefix scan (2 per thread).
+#define PBF_SCAN_WG 256
+#define PBF_SCAN_BLOCK (2 * PBF_SCAN_WG)
+// Maximum colliders (bodies; the container's planes are separate).
+#define PBF_MAX_COLLIDERS 64
+// Maximum container planes.
+#define PBF_MAX_PLANES 6
+
+// Shader storage binding points.
+#define PBF_B_POS 0        // vec4[cap]: position (m), w = colour parameter in [0,1]
+#define PBF_B_VEL 1        // vec4[cap]: velocity (m/s)
+#define PBF_B_PRED 2       // vec4[cap]: predicted position x* (m)
+#define PBF_B_ID 3         // uint[cap]: particle id (creation order)
+#define PBF_B_POS_OUT 4    // the other half of each ping-pong pair
+#define PBF_B_VEL_OUT 5
+#define PBF_B_PRED_OUT 6
+#define PBF_B_ID_OUT 7
+#define PBF_B_CELL 8       // uint[cap]: cell of each particle
+#define PBF_B_CELL_START 9 // uint[cells + 1]: counts, then exclusive prefix sums
+#define PBF_B_CELL_FILL 10 // uint[cells]: scatter cursors
+#define PBF_B_SORTED 11    // uint[cap]: new slot -> old slot
+#define PBF_B_LAMBDA 12    // vec2[cap]: (lambda, density kg/m^3)
+#define PBF_B_OMEGA 13     // vec4[cap]: vorticity (1/s)
+#define PBF_B_SCAN 14      // uint[]: block sums of the scan
+#define PBF_B_COLLIDERS 15 // pbf_gpu_collider[PBF_MAX_COLLIDERS]
+#define PBF_B_FORCES 16    // int[PBF_MAX_COLLIDERS * 8]: fixed-point force, torque
+#define PBF_B_REDUCE 17    // pbf_gpu_reduce[groups]: partial metrics
+#define PBF_B_METRICS 18   // pbf_gpu_metrics[ring]: reduced metrics
+#define PBF_B_DRAW 19      // uint[4]: DrawArraysIndirectCommand for the renderer
+#define PBF_B_SCAN_DATA 20 // the array a scan level works on (a range of a buffer)
+#define PBF_B_SCAN_SUMS 21 // its block sums
+#define PBF_B_NB_LIST 22   // uint[cap * max_neighbours]: neighbour slots of each particle
+#define PBF_B_NB_COUNT 23  // uint[cap]: neighbours found (may exceed max_neighbours: overflow)
+
+// Uniform block binding of pbf_gpu_params.
+#define PBF_U_PARAMS 0
+
+// Collider types.
+#define PBF_COLLIDER_PLANE 0    // half-space: normal n, offset; fluid on the +n side
+#define PBF_COLLIDER_BOX 1      // half extents in params.xyz
+#define PBF_COLLIDER_SPHERE 2   // radius in params.x
+#define PBF_COLLIDER_CAPSULE 3  // radius params.x, half height params.y (along local Y)
+#define PBF_COLLIDER_CYLINDER 4 // radius params.x, half height params.y (along local Y)
+
+// Fixed-point scale of the collider force accumulators (N and N·m per unit): forces are
+// accumulated as int(f * PBF_FORCE_SCALE) with atomicAdd, which is exact and order
+// independent; the range is +-2^31 / PBF_FORCE_SCALE per component.
+#define PBF_FORCE_SCALE 1024.0
+
+// Everything a pass needs to know, one uniform block (std140: vec4s first, then scalars
+// in groups of four so C and GLSL agree without padding rules).
+PBF_STRUCT(pbf_gpu_params) {
+    PBF_VEC4 gravity;        // xyz m/s^2
+    PBF_VEC4 grid_origin;    // xyz m: corner of cell (0,0,0)
+    PBF_UVEC4 grid_dims;     // xyz cells, w = total cells
+    PBF_VEC4 domain_min;     // xyz m: particles are kept inside [min, max]
+    PBF_VEC4 domain_max;
+    PBF_VEC4 planes[PBF_MAX_PLANES]; // container: inward normal xyz, offset w (n.x >= w inside)
+    PBF_FLOAT dt;            // s, one substep
+    PBF_FLOAT inv_dt;
+    PBF_FLOAT h;             // kernel radius, m
+    PBF_FLOAT inv_cell;      // 1 / cell size (cell size = h)
+    PBF_FLOAT poly6;         // 315 / (64 pi h^9)
+    PBF_FLOAT spiky_grad;    // -45 / (pi h^6)
+    PBF_FLOAT rest_density;  // kg/m^3
+    PBF_FLOAT inv_rest_density;
+    PBF_FLOAT mass_density;  // kg: mass used by the density sum (calibrated to the lattice)
+    PBF_FLOAT mass;          // kg: physical mass of one particle (rest_density * spacing^3)
+    PBF_FLOAT epsilon;       // 1/m^2: relaxation added to sum |grad C|^2
+    PBF_FLOAT omega;         // SOR factor on the position correction
+    PBF_FLOAT scorr_k;
+    PBF_FLOAT scorr_n;
+    PBF_FLOAT scorr_inv_wdq; // 1 / W(dq)
+    PBF_FLOAT vorticity;     // m/s
+    PBF_FLOAT viscosity;     // XSPH c, dimensionless
+    PBF_FLOAT damping;       // 1/s
+    PBF_FLOAT max_speed;     // m/s
+    PBF_FLOAT radius;        // particle radius, m (collision distance)
+    PBF_UINT count;          // live particles
+    PBF_UINT collider_count;
+    PBF_UINT metrics_slot;   // ring slot the metrics pass writes
+    PBF_UINT substep;        // 0-based substep index in this step
+    PBF_UINT plane_count;
+    PBF_UINT max_neighbours; // length of each particle's neighbour list
+    PBF_UINT flags;          // unused
+    PBF_UINT pad0;
+} PBF_END(pbf_gpu_params);
+
+// A collider on the GPU: a shape in a rigid frame at two poses (previous and current
+// substep end) so moving walls sweep; forces land in PBF_B_FORCES[index * 8 ...].
+PBF_STRUCT(pbf_gpu_collider) {
+    PBF_VEC4 position;       // xyz m, w = bounding radius about position (m)
+    PBF_VEC4 rotation;       // quaternion xyzw (body to world)
+    PBF_VEC4 prev_position;
+    PBF_VEC4 prev_rotation;
+    PBF_VEC4 params;         // shape sizes (see PBF_COLLIDER_*); for a plane: normal xyz, offset w
+    PBF_VEC4 linear_velocity;  // m/s
+    PBF_VEC4 angular_velocity; // rad/s
+    PBF_VEC4 center_of_mass;   // xyz m (world), torque is taken about it
+    PBF_UVEC4 info;          // x = type, y = flags (1: two-way, reports force), z, w unused
+} PBF_END(pbf_gpu_collider);
+
+// Partial metrics of one work group, then the reduced metrics of a frame.
+PBF_STRUCT(pbf_gpu_reduce) {
+    PBF_FLOAT density_sum;   // kg/m^3, summed over the group
+    PBF_FLOAT density_max;
+    PBF_UINT nan_count;      // particles with a non-finite position or velocity
+    PBF_UINT outside_count;  // particles outside the domain
+    PBF_UINT overflow_count; // particles with more neighbours than their list holds
+    PBF_UINT pad0, pad1, pad2;
+} PBF_END(pbf_gpu_reduce);
+
+PBF_STRUCT(pbf_gpu_metrics) {
+    PBF_FLOAT density_avg;   // kg/m^3
+    PBF_FLOAT density_max;
+    PBF_UINT nan_count;
+    PBF_UINT outside_count;
+    PBF_UINT count;
+    PBF_UINT frame;
+    PBF_UINT overflow_count;
+    PBF_UINT pad0;
+} PBF_END(pbf_gpu_metrics);
+
+#endif

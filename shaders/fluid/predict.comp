@@ -1,0 +1,19 @@
+#version 430
+// Stage predict: gravity, damping and the speed clamp on v; x* = x + dt v.
+#define USE_POS
+#define USE_VEL
+#define USE_PRED
+#include "common.glsl"
+layout(local_size_x = PBF_WG) in;
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= P.count) return;
+    vec3 v = vel[i].xyz + P.dt * P.gravity.xyz;
+    v *= 1.0 / (1.0 + P.damping * P.dt);
+    float s = length(v);
+    if (s > P.max_speed) v *= P.max_speed / s;
+    vel[i].xyz = v;
+    pred[i] = vec4(pos[i].xyz + P.dt * v, 0.0);
+}

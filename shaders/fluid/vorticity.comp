@@ -1,0 +1,25 @@
+#version 430
+// Stage vorticity: omega_i = curl v = sum_j (m / rho_j) grad_i W_ij x (v_j - v_i).
+#define USE_POS
+#define USE_VEL
+#define USE_NB
+#define USE_LAMBDA
+#define USE_OMEGA
+#include "common.glsl"
+layout(local_size_x = PBF_WG) in;
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= P.count) return;
+    vec3 xi = pos[i].xyz;
+    vec3 vi = vel[i].xyz;
+    vec3 w = vec3(0.0);
+    uint nn = nb_len(i);
+    for (uint q = 0u; q < nn; q++) {
+        uint j = nb_at(i, q);
+        float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
+        w += vol * cross(grad_spiky(xi - pos[j].xyz), vel[j].xyz - vi);
+    }
+    omega[i] = vec4(w, length(w));
+}
