@@ -87,6 +87,20 @@ pbf_params pbf_seed_params(void);
 /// Checks every field; on error writes "pbf_params.<field> must be <rule> (got <value>)".
 pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size);
 
+/// Constants derived from the parameters (shared by the GPU step and the CPU reference).
+typedef struct pbf_constants {
+    float spacing;        ///< m, 2 * particle_radius
+    float mass;           ///< kg, physical mass of a particle: rest_density * spacing^3
+    float mass_density;   ///< kg, mass in the density sum, calibrated so that a particle in a
+                          ///< filled rest lattice has density rest_density exactly
+    float lattice_grad2;  ///< 1/m^2, sum |grad C|^2 of a filled rest neighbourhood
+    float epsilon;        ///< 1/m^2, relaxation * lattice_grad2
+    float poly6;          ///< 315 / (64 pi h^9)
+    float spiky_grad;     ///< -45 / (pi h^6)
+    float scorr_inv_wdq;  ///< 1 / W_poly6(scorr_dq * h)
+} pbf_constants;
+pbf_constants pbf_derive_constants(const pbf_params *params);
+
 typedef void pbf_log_fn(void *user, int level, const char *message); ///< level: 0 debug .. 3 error
 
 typedef struct pbf_world_def {

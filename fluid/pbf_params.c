@@ -42,6 +42,49 @@ pbf_params pbf_seed_params(void)
     return p;
 }
 
+#define PBF_PI 3.14159265358979323846
+
+static double poly6(double r2, double h)
+{
+    double d = h * h - r2;
+    return d > 0.0 ? 315.0 / (64.0 * PBF_PI * pow(h, 9)) * d * d * d : 0.0;
+}
+
+static double spiky_grad_mag(double r, double h)
+{
+    if (r <= 0.0 || r >= h) return 0.0;
+    return 45.0 / (PBF_PI * pow(h, 6)) * (h - r) * (h - r);
+}
+
+pbf_constants pbf_derive_constants(const pbf_params *p)
+{
+    pbf_constants c;
+    double h = p->kernel_radius;
+    double s = 2.0 * p->particle_radius;
+    // Sums over a cubic lattice of spacing s around a particle on a site (self included).
+    int n = (int)ceil(h / s) + 1;
+    double sw = 0.0, sg2 = 0.0;
+    for (int z = -n; z <= n; z++)
+        for (int y = -n; y <= n; y++)
+            for (int x = -n; x <= n; x++) {
+                double r2 = s * s * (double)(x * x + y * y + z * z);
+                sw += poly6(r2, h);
+                double g = spiky_grad_mag(sqrt(r2), h);
+                sg2 += g * g;
+            }
+    c.spacing = (float)s;
+    c.mass = (float)(p->rest_density * s * s * s);
+    c.mass_density = (float)(p->rest_density / sw);
+    double k = c.mass_density / p->rest_density;
+    c.lattice_grad2 = (float)(k * k * sg2);
+    c.epsilon = p->relaxation * c.lattice_grad2;
+    c.poly6 = (float)(315.0 / (64.0 * PBF_PI * pow(h, 9)));
+    c.spiky_grad = (float)(-45.0 / (PBF_PI * pow(h, 6)));
+    double dq = p->scorr_dq * h;
+    c.scorr_inv_wdq = (float)(1.0 / poly6(dq * dq, h));
+    return c;
+}
+
 #define CHECK(cond, field, fmt, value, rule)                                                  \
     do {                                                                                      \
         if (!(cond)) {                                                                        \

@@ -32,7 +32,6 @@ _Static_assert(sizeof(pbf_gpu_metrics) == 32, "pbf_gpu_metrics std430 layout");
 #endif
 
 #define RING 8
-#define PBF_PI 3.14159265358979323846
 #define MAX_SCAN_LEVELS 6
 
 enum program_id {
@@ -106,7 +105,7 @@ struct pbf_world {
     char error[512];
 
     // derived
-    float spacing, mass, mass_density, epsilon, lattice_grad2;
+    pbf_constants k;
     float grid_origin[3];
     uint32_t grid_dims[3], cells;
 
@@ -178,47 +177,9 @@ pbf_world_def pbf_default_world_def(void)
 
 // ---- derived constants --------------------------------------------------------------
 
-static double poly6(double r2, double h)
-{
-    double d = h * h - r2;
-    return d > 0.0 ? 315.0 / (64.0 * PBF_PI * pow(h, 9)) * d * d * d : 0.0;
-}
-
-static double spiky_grad_mag(double r, double h)
-{
-    if (r <= 0.0 || r >= h) return 0.0;
-    return 45.0 / (PBF_PI * pow(h, 6)) * (h - r) * (h - r);
-}
-
-// Sums over a cubic lattice of the given spacing around a particle at a lattice site:
-// sum W (self included) and sum |grad W|^2.
-static void lattice_sums(double spacing, double h, double *sum_w, double *sum_g2)
-{
-    int n = (int)ceil(h / spacing) + 1;
-    double sw = 0.0, sg = 0.0;
-    for (int z = -n; z <= n; z++)
-        for (int y = -n; y <= n; y++)
-            for (int x = -n; x <= n; x++) {
-                double r2 = spacing * spacing * (double)(x * x + y * y + z * z);
-                sw += poly6(r2, h);
-                double g = spiky_grad_mag(sqrt(r2), h);
-                sg += g * g;
-            }
-    *sum_w = sw;
-    *sum_g2 = sg;
-}
-
 static void derive(pbf_world *w)
 {
-    const pbf_params *p = &w->params;
-    w->spacing = 2.0f * p->particle_radius;
-    double sw, sg2;
-    lattice_sums(w->spacing, p->kernel_radius, &sw, &sg2);
-    w->mass = p->rest_density * w->spacing * w->spacing * w->spacing;
-    w->mass_density = (float)(p->rest_density / sw);
-    double k = w->mass_density / p->rest_density;
-    w->lattice_grad2 = (float)(k * k * sg2);
-    w->epsilon = p->relaxation * w->lattice_grad2;
+    w->k = pbf_derive_constants(&w->params);
 }
 
 static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
@@ -451,7 +412,7 @@ void pbf_world_destroy(pbf_world *w)
 const pbf_params *pbf_world_params(const pbf_world *world) { return &world->params; }
 uint32_t pbf_world_particle_count(const pbf_world *world) { return world->count; }
 uint32_t pbf_world_capacity(const pbf_world *world) { return world->capacity; }
-float pbf_world_particle_mass(const pbf_world *world) { return world->mass; }
+float pbf_world_particle_mass(const pbf_world *world) { return world->k.mass; }
 
 pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
 {
@@ -570,7 +531,7 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
         if (!isfinite(b->velocity[k]))
             return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.velocity.%c must be finite (got %g)", axis[k], (double)b->velocity[k]);
     }
-    float s = w->spacing;
+    float s = w->k.spacing;
     uint32_t n[3];
     uint64_t total = 1;
     for (int k = 0; k < 3; k++) {
@@ -839,6 +800,7 @@ static void write_params(pbf_world *w, float dt, int substep, int slot)
     const pbf_params *p = &w->params;
     pbf_gpu_params g;
     memset(&g, 0, sizeof g);
+    const pbf_constants *k = &w->k;
     double h = p->kernel_radius;
     g.gravity = (pbf_float4){ p->gravity[0], p->gravity[1], p->gravity[2], 0 };
     g.grid_origin = (pbf_float4){ w->grid_origin[0], w->grid_origin[1], w->grid_origin[2], 0 };
@@ -853,18 +815,17 @@ static void write_params(pbf_world *w, float dt, int substep, int slot)
     g.inv_dt = 1.0f / dt;
     g.h = (float)h;
     g.inv_cell = (float)(1.0 / h);
-    g.poly6 = (float)(315.0 / (64.0 * PBF_PI * pow(h, 9)));
-    g.spiky_grad = (float)(-45.0 / (PBF_PI * pow(h, 6)));
+    g.poly6 = k->poly6;
+    g.spiky_grad = k->spiky_grad;
     g.rest_density = p->rest_density;
     g.inv_rest_density = 1.0f / p->rest_density;
-    g.mass_density = w->mass_density;
-    g.mass = w->mass;
-    g.epsilon = w->epsilon;
+    g.mass_density = k->mass_density;
+    g.mass = k->mass;
+    g.epsilon = k->epsilon;
     g.omega = p->sor;
     g.scorr_k = p->scorr_k;
     g.scorr_n = p->scorr_n;
-    double dq = p->scorr_dq * h;
-    g.scorr_inv_wdq = (float)(1.0 / poly6(dq * dq, h));
+    g.scorr_inv_wdq = k->scorr_inv_wdq;
     g.vorticity = p->vorticity;
     g.viscosity = p->viscosity;
     g.damping = p->damping;
