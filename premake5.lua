@@ -27,6 +27,10 @@ workspace "seiche"
    targetdir "build/bin"
    objdir "build/obj"
    includedirs { ".", "/usr/include/lua5.4", "/usr/include/bullet", "/usr/include/stb" }
+   -- Where the checkout is: tests and the fluid's default shader directory use it.
+   local source_dir = os.getcwd()
+   defines { 'SEICHE_SOURCE_DIR=\\"' .. source_dir .. '\\"',
+             'SEICHE_SHADER_DIR=\\"' .. source_dir .. '/shaders\\"' }
 
    filter "configurations:debug"
       symbols "On"
@@ -58,8 +62,13 @@ end
 
 -- The libraries, bottom up (see docs and ../shared/ARCHITECTURE.md for the rules).
 local system_libs = { "epoxy", "EGL", "glfw", "lua5.4", "BulletDynamics", "BulletCollision",
-                      "LinearMath", "cglm", "stdc++", "m", "dl", "pthread" }
-local seiche_libs = { "seiche_engine", "seiche_coupling", "seiche_phys", "seiche_fluid" }
+                      "LinearMath", "cglm", "stb", "stdc++", "m", "dl", "pthread" }
+-- The coupling library appears with fluid/bullet/coupling.c.
+local have_coupling = #os.matchfiles("fluid/bullet/coupling.c") > 0
+local seiche_libs = { "seiche_engine" }
+if have_coupling then table.insert(seiche_libs, "seiche_coupling") end
+table.insert(seiche_libs, "seiche_phys")
+table.insert(seiche_libs, "seiche_fluid")
 
 c_project("seiche_fluid", "StaticLib")
    files { "fluid/*.c", "fluid/*.h", "shaders/fluid/*.h" }
@@ -67,8 +76,10 @@ c_project("seiche_fluid", "StaticLib")
 cpp_project("seiche_phys", "StaticLib")
    files { "fluid/bullet/phys.cpp", "fluid/bullet/phys.h" }
 
+if have_coupling then
 c_project("seiche_coupling", "StaticLib")
    files { "fluid/bullet/coupling.c", "fluid/bullet/coupling.h" }
+end
 
 c_project("seiche_engine", "StaticLib")
    files { "engine/*.c", "engine/*.h" }

@@ -87,6 +87,25 @@ pbf_params pbf_seed_params(void);
 /// Checks every field; on error writes "pbf_params.<field> must be <rule> (got <value>)".
 pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size);
 
+/// Parameters by name, for scripts, command lines and panels: every pbf_params field
+/// except gravity (a vector; see pbf_params.gravity).
+typedef struct pbf_param_info {
+    const char *name;        ///< "iterations", "viscosity", ...
+    const char *unit;        ///< "m", "kg/m^3", "1/s", "" for dimensionless
+    const char *description;
+    bool is_int;
+    double min, max;         ///< documented range (see pbf_params_validate for open ends)
+    size_t offset;           ///< of the float or int field in pbf_params
+} pbf_param_info;
+/// The table; `count` receives its length.
+const pbf_param_info *pbf_param_table(int *count);
+/// Looks a parameter up by name; NULL when there is none.
+const pbf_param_info *pbf_param_find(const char *name);
+/// Sets one parameter by name (the whole set is validated); on error nothing changes and
+/// err says which name or value was wrong.
+pbf_result pbf_params_set(pbf_params *params, const char *name, double value, char *err, size_t err_size);
+double pbf_params_get(const pbf_params *params, const pbf_param_info *info);
+
 /// Constants derived from the parameters (shared by the GPU step and the CPU reference).
 typedef struct pbf_constants {
     float spacing;        ///< m, 2 * particle_radius

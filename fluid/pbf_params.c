@@ -2,7 +2,9 @@
 #include "fluid/pbf.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
+#include <string.h>
 
 pbf_params pbf_default_params(void)
 {
@@ -131,4 +133,83 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
           (double)p->max_speed, "in (0, 1000] m/s");
     if (err && err_size) err[0] = 0;
     return PBF_OK;
+}
+
+#define F(field, unit, lo, hi, text) { #field, unit, text, false, lo, hi, offsetof(pbf_params, field) }
+#define I(field, unit, lo, hi, text) { #field, unit, text, true, lo, hi, offsetof(pbf_params, field) }
+static const pbf_param_info param_table[] = {
+    F(particle_radius, "m", 0.0005, 1.0, "particle radius; particles sit 2 radii apart at rest"),
+    F(kernel_radius, "m", 0.001, 10.0, "smoothing kernel radius h, more than 2 and at most 10 particle radii"),
+    F(rest_density, "kg/m^3", 1.0, 100000.0, "rest density rho0"),
+    I(iterations, "", 1, 100, "density solver iterations per substep"),
+    I(substeps, "", 1, 64, "substeps per step"),
+    F(relaxation, "", 0.0, 100.0, "constraint relaxation epsilon, relative to a filled neighbourhood's sum |grad C|^2"),
+    F(sor, "", 0.0, 2.0, "over-relaxation factor on each position correction, (0, 2)"),
+    F(scorr_k, "", 0.0, 1.0, "artificial pressure strength k"),
+    F(scorr_n, "", 1.0, 8.0, "artificial pressure exponent n"),
+    F(scorr_dq, "", 0.0, 1.0, "artificial pressure reference distance, fraction of kernel_radius, (0, 1)"),
+    F(vorticity, "m/s", 0.0, 10.0, "vorticity confinement epsilon"),
+    F(viscosity, "", 0.0, 1.0, "XSPH viscosity c"),
+    F(damping, "1/s", 0.0, 100.0, "linear velocity damping"),
+    F(max_speed, "m/s", 0.0, 1000.0, "particle speed clamp, (0, 1000]"),
+};
+#undef F
+#undef I
+
+const pbf_param_info *pbf_param_table(int *count)
+{
+    if (count) *count = (int)(sizeof param_table / sizeof param_table[0]);
+    return param_table;
+}
+
+const pbf_param_info *pbf_param_find(const char *name)
+{
+    for (size_t i = 0; i < sizeof param_table / sizeof param_table[0]; i++)
+        if (strcmp(param_table[i].name, name) == 0) return &param_table[i];
+    return NULL;
+}
+
+double pbf_params_get(const pbf_params *p, const pbf_param_info *info)
+{
+    const char *base = (const char *)p + info->offset;
+    if (info->is_int) {
+        int v;
+        memcpy(&v, base, sizeof v);
+        return v;
+    }
+    float v;
+    memcpy(&v, base, sizeof v);
+    return v;
+}
+
+pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *err, size_t err_size)
+{
+    const pbf_param_info *info = pbf_param_find(name);
+    if (!info) {
+        if (err && err_size) {
+            int n = snprintf(err, err_size, "unknown fluid parameter '%s' (known:", name);
+            for (size_t i = 0; i < sizeof param_table / sizeof param_table[0] && n > 0 && (size_t)n < err_size; i++)
+                n += snprintf(err + n, err_size - (size_t)n, " %s", param_table[i].name);
+            if (n > 0 && (size_t)n < err_size) snprintf(err + n, err_size - (size_t)n, ")");
+        }
+        return PBF_ERR_INVALID_ARG;
+    }
+    pbf_params tmp = *p;
+    char *base = (char *)&tmp + info->offset;
+    if (info->is_int) {
+        if (!(value == floor(value)) || value < -2e9 || value > 2e9) {
+            if (err && err_size)
+                snprintf(err, err_size, "pbf_params.%s must be a whole number in [%g, %g] (got %g)", name,
+                         info->min, info->max, value);
+            return PBF_ERR_INVALID_ARG;
+        }
+        int v = (int)value;
+        memcpy(base, &v, sizeof v);
+    } else {
+        float v = (float)value;
+        memcpy(base, &v, sizeof v);
+    }
+    pbf_result r = pbf_params_validate(&tmp, err, err_size);
+    if (r == PBF_OK) *p = tmp;
+    return r;
 }

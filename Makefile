@@ -1,0 +1,43 @@
+# Seiche: the two commands of README.md, and a few more.
+#   make demo    install what is missing, build, run the dam break (window, or headless)
+#   make test    install what is missing, build, run every test
+#   make build   build only (CONFIG=debug for a debug build)
+#   make bench   the benchmark (docs/performance.md)
+#   make plots   density and stage-time plots of the two paper scenes (docs/)
+CONFIG ?= release
+JOBS ?= $(shell nproc)
+SEICHE = build/bin/seiche
+
+.PHONY: all setup build demo test bench plots clean
+
+all: build
+
+setup:
+	@tools/setup.sh
+
+build/Makefile: premake5.lua $(wildcard tests/test_*.c)
+	premake4 --file=premake5.lua gmake
+
+build: setup build/Makefile
+	$(MAKE) --no-print-directory -C build config=$(CONFIG) -j$(JOBS)
+
+demo: build
+	@if [ -n "$${DISPLAY:-}$${WAYLAND_DISPLAY:-}" ]; then \
+		$(SEICHE) scripts/scenes/dam_break.lua; \
+	else \
+		echo "demo: no display; running headless for 3 simulated seconds"; \
+		$(SEICHE) --headless --frames 180 --screenshot build/dam_break.png scripts/scenes/dam_break.lua && \
+		echo "demo: screenshot written to build/dam_break.png"; \
+	fi
+
+test: build
+	@tests/run.sh
+
+bench: build
+	build/bin/seiche-bench
+
+plots: build
+	tools/plots.sh
+
+clean:
+	rm -rf build

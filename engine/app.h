@@ -1,0 +1,44 @@
+// The engine's frame loop: a context (window or headless), a scene script, the fluid
+// world built from it, the renderer; fixed time step, pause, single step, reset/reload,
+// metrics CSV, screenshots, video, and the state hash. The runner (demos/seiche) is a
+// thin command line over eng_app_run.
+#ifndef ENG_APP_H
+#define ENG_APP_H
+
+#include <stdbool.h>
+
+#define ENG_APP_MAX_SETS 64
+
+/// Exit statuses of a run (the runner's contract, see docs/runner.md).
+enum {
+    ENG_EXIT_OK = 0,
+    ENG_EXIT_CHECK_FAILED = 1,
+    ENG_EXIT_USAGE = 2,       ///< usage or script error
+    ENG_EXIT_NO_COMPUTE = 3,  ///< no OpenGL 4.3 compute context
+};
+
+typedef struct eng_app_options {
+    const char *script;          ///< scene script path
+    bool headless;
+    long frames;                 ///< frames to run; < 0: until quit (headless: 600)
+    double dt;                   ///< s per frame, (0, 1]
+    const char *sets[ENG_APP_MAX_SETS]; ///< "key=value" overrides
+    int set_count;
+    const char *metrics_path;    ///< CSV, one row per frame
+    const char *screenshot_path; ///< PNG of the last frame
+    const char *record_path;     ///< MP4 through ffmpeg
+    bool hash;                   ///< print the final state hash
+    int width, height;           ///< pixels
+    const char *shader_dir;      ///< NULL: found next to the executable, or SEICHE_SHADER_DIR
+    bool quiet;                  ///< no summary line
+} eng_app_options;
+
+eng_app_options eng_default_app_options(void);
+
+/// Runs the script to the end; returns an ENG_EXIT_* status. Messages go to stderr.
+int eng_app_run(const eng_app_options *options);
+
+/// The keys (all of them, comma separated) that --set accepts, for usage messages.
+const char *eng_app_set_keys(void);
+
+#endif
