@@ -1,0 +1,122 @@
+// Shared test helpers. See support.h.
+#include "tests/support.h"
+
+#include <epoxy/gl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "engine/screenshot.h"
+
+static void capture(void *user, eng_log_level level, const char *message)
+{
+    support_log *log = user;
+    log->count++;
+    if (level == ENG_LOG_ERROR) log->error_count++;
+    size_t room = sizeof log->text - log->len;
+    int n = snprintf(log->text + log->len, room, "%s: %s\n", eng_log_level_name(level), message);
+    if (n > 0) log->len += (size_t)n < room ? (size_t)n : room - 1;
+}
+
+eng_logger support_capture_logger(support_log *log)
+{
+    support_log_clear(log);
+    eng_logger l = { capture, log, ENG_LOG_DEBUG };
+    return l;
+}
+
+void support_log_clear(support_log *log)
+{
+    log->text[0] = 0;
+    log->len = 0;
+    log->count = 0;
+    log->error_count = 0;
+}
+
+bool support_log_contains(const support_log *log, const char *needle)
+{
+    return strstr(log->text, needle) != NULL;
+}
+
+static bool has_shaders(const char *root)
+{
+    char p[1100];
+    struct stat st;
+    snprintf(p, sizeof p, "%s/shaders", root);
+    return stat(p, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+const char *support_source_dir(char *out, size_t size)
+{
+#ifdef SEICHE_SOURCE_DIR
+    // The checkout the build was configured in (unless it has moved since).
+    if (has_shaders(SEICHE_SOURCE_DIR)) {
+        snprintf(out, size, "%s", SEICHE_SOURCE_DIR);
+        return out;
+    }
+#endif
+    if (has_shaders(".")) {
+        snprintf(out, size, ".");
+        return out;
+    }
+    char exe[1024];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = 0;
+        // Strip the program name and two directories: <repo>/build/bin/test_x.
+        for (int i = 0; i < 3; i++) {
+            char *slash = strrchr(exe, '/');
+            if (!slash) break;
+            *slash = 0;
+        }
+        if (exe[0] && has_shaders(exe)) {
+            snprintf(out, size, "%s", exe);
+            return out;
+        }
+    }
+    snprintf(out, size, ".");
+    return out;
+}
+
+const char *support_source_path(const char *rel, char *out, size_t size)
+{
+    char root[1024];
+    support_source_dir(root, sizeof root);
+    snprintf(out, size, "%s/%s", root, rel);
+    return out;
+}
+
+eng_context *support_headless_context(int width, int height)
+{
+    eng_context_def def = eng_default_context_def();
+    def.mode = ENG_CONTEXT_HEADLESS;
+    def.width = width;
+    def.height = height;
+    def.vsync = false;
+    char err[512];
+    eng_context_status st;
+    eng_context *ctx = eng_context_create(&def, &st, err, (int)sizeof err);
+    if (!ctx) fail_msg("no headless GL 4.3 context (status %d): %s", (int)st, err);
+    return ctx;
+}
+
+void support_pixel(const eng_context *ctx, int x, int y, int rgb[3])
+{
+    int w, h;
+    eng_context_size(ctx, &w, &h);
+    assert_true(x >= 0 && x < w && y >= 0 && y < h);
+    unsigned char *px = malloc((size_t)w * (size_t)h * 4);
+    assert_non_null(px);
+    char err[256];
+    if (!eng_read_pixels(ctx, px, w, h, err, sizeof err)) {
+        free(px);
+        fail_msg("eng_read_pixels: %s", err);
+    }
+    const unsigned char *p = px + ((size_t)y * (size_t)w + (size_t)x) * 4;
+    rgb[0] = p[0];
+    rgb[1] = p[1];
+    rgb[2] = p[2];
+    free(px);
+}

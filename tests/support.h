@@ -1,0 +1,48 @@
+// Shared helpers for the cmocka tests: a headless GL context, the shader and fixture
+// directories, and a logger that captures messages so tests can assert on them.
+//
+// Include after the cmocka prerequisites (<stdarg.h>, <stddef.h>, <stdint.h>, <setjmp.h>)
+// and <cmocka.h>, or on its own: this header includes them itself.
+#ifndef SEICHE_TESTS_SUPPORT_H
+#define SEICHE_TESTS_SUPPORT_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "engine/context.h"
+#include "engine/log.h"
+
+/// Messages captured by support_capture_logger(); `text` holds "level: message\n" lines.
+typedef struct support_log {
+    char text[16384];
+    size_t len;
+    int count;       ///< messages received (also those that no longer fit)
+    int error_count; ///< of which at ENG_LOG_ERROR
+} support_log;
+
+/// A logger that appends every message (DEBUG and up) to `log` instead of stderr.
+eng_logger support_capture_logger(support_log *log);
+void support_log_clear(support_log *log);
+/// True when some captured message contains `needle`.
+bool support_log_contains(const support_log *log, const char *needle);
+
+/// The repository root: SEICHE_SOURCE_DIR when the build defines it (and it holds
+/// shaders/), else the current directory when it holds shaders/, else two levels above
+/// the test program (build/bin/test_x -> repo). Written into `out`; returns `out`.
+const char *support_source_dir(char *out, size_t size);
+/// "<root>/<rel>", e.g. support_source_path("shaders", buf, sizeof buf).
+const char *support_source_path(const char *rel, char *out, size_t size);
+
+/// A headless context of the given size; the test fails (with the reason) when none can
+/// be made. Destroy with eng_context_destroy.
+eng_context *support_headless_context(int width, int height);
+
+/// Reads back the pixel at (x, y), counted from the top-left corner, of the current
+/// framebuffer of `ctx` into rgb[0..2] (0..255).
+void support_pixel(const eng_context *ctx, int x, int y, int rgb[3]);
+
+#endif
