@@ -15,8 +15,10 @@ all: build
 setup:
 	@tools/setup.sh
 
-build/Makefile: premake5.lua $(wildcard tests/test_*.c)
+# premake lists source files explicitly: regenerate when a source directory changes.
+build/Makefile: premake5.lua engine fluid fluid/bullet demos/seiche demos/bench demos/embed tests
 	premake4 --file=premake5.lua gmake
+	@touch build/Makefile
 
 build: setup build/Makefile
 	$(MAKE) --no-print-directory -C build config=$(CONFIG) -j$(JOBS)

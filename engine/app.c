@@ -144,7 +144,8 @@ static int apply_sets(app *a, eng_scene_config *c)
 static void world_log(void *user, int level, const char *msg)
 {
     app *a = user;
-    eng_log(&a->log, level >= 3 ? ENG_LOG_ERROR : level == 2 ? ENG_LOG_WARN : ENG_LOG_DEBUG, "fluid: %s", msg);
+    if (level >= 3) return;
+    eng_log(&a->log, level == 2 ? ENG_LOG_WARN : ENG_LOG_DEBUG, "fluid: %s", msg);
 }
 
 static int create_world(app *a)
@@ -155,6 +156,8 @@ static int create_world(app *a)
     d.capacity = c->capacity;
     d.max_neighbours = pbf_suggest_max_neighbours(&c->params);
     d.shader_dir = a->shader_dir;
+    // Errors come back as results and are reported here with the script's context, so
+    // the world's own log only carries its warnings and debug notes.
     d.log = world_log;
     d.log_user = a;
     if (c->has_domain) {
@@ -193,7 +196,7 @@ static int apply_commands(app *a)
         const eng_command *c = &cmds[i];
         if (c->type == ENG_CMD_BLOCK) {
             if (pbf_world_add_block(a->world, &c->block, NULL) != PBF_OK) {
-                fprintf(stderr, "%s seiche.block: %s\n", c->where, pbf_world_last_error(a->world));
+                fprintf(stderr, "%sseiche.block: %s\n", c->where, pbf_world_last_error(a->world));
                 status = ENG_EXIT_USAGE;
             }
         }
@@ -227,7 +230,7 @@ static int script_status(app *a, eng_script_status st)
 // released and the status returned.
 static int load_scene(app *a, bool reload)
 {
-    eng_script *s = eng_script_create(&a->log, a->opt->headless ? 10.0 : 2.0);
+    eng_script *s = eng_script_create(&a->log, a->opt->headless ? 5.0 : 2.0);
     if (!s) return ENG_EXIT_USAGE;
     eng_script *old_script = a->script;
     pbf_world *old_world = a->world;

@@ -7,6 +7,7 @@
 #include <lua.h>
 #include <lualib.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,6 +61,26 @@ static eng_script *get_script(lua_State *L)
     return s;
 }
 
+// Raises a Lua error with the caller's file:line, formatted by printf rules (luaL_error's
+// own formatter knows no %g).
+static int raise(lua_State *L, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static int raise(lua_State *L, const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    luaL_where(L, 1);
+    lua_pushstring(L, msg);
+    lua_concat(L, 2);
+    return lua_error(L);
+}
+
 // ---- argument helpers: every message names the function, the field, the value given and
 // what is allowed; luaL_error prefixes the script's file:line.
 
@@ -83,10 +104,10 @@ static bool opt_number(lua_State *L, int t, const char *fn, const char *field, d
     }
     char buf[64];
     if (!lua_isnumber(L, -1) || lua_type(L, -1) != LUA_TNUMBER)
-        luaL_error(L, "%s: field '%s' must be a number in [%g, %g] (got %s)", fn, field, lo, hi, describe(L, -1, buf, sizeof buf));
+        raise(L, "%s: field '%s' must be a number in [%g, %g] (got %s)", fn, field, lo, hi, describe(L, -1, buf, sizeof buf));
     double v = lua_tonumber(L, -1);
     if (!isfinite(v) || v < lo || v > hi)
-        luaL_error(L, "%s: field '%s' must be a finite number in [%g, %g] (got %s)", fn, field, lo, hi, describe(L, -1, buf, sizeof buf));
+        raise(L, "%s: field '%s' must be a finite number in [%g, %g] (got %s)", fn, field, lo, hi, describe(L, -1, buf, sizeof buf));
     lua_pop(L, 1);
     *out = v;
     return true;
@@ -101,11 +122,11 @@ static bool opt_vec3(lua_State *L, int t, const char *fn, const char *field, flo
     }
     char buf[64];
     if (!lua_istable(L, -1) || luaL_len(L, -1) != 3)
-        luaL_error(L, "%s: field '%s' must be a table of 3 numbers {x, y, z} (got %s)", fn, field, describe(L, -1, buf, sizeof buf));
+        raise(L, "%s: field '%s' must be a table of 3 numbers {x, y, z} (got %s)", fn, field, describe(L, -1, buf, sizeof buf));
     for (int k = 0; k < 3; k++) {
         lua_geti(L, -1, k + 1);
         if (lua_type(L, -1) != LUA_TNUMBER || !isfinite(lua_tonumber(L, -1)))
-            luaL_error(L, "%s: field '%s'[%d] must be a finite number (got %s)", fn, field, k + 1, describe(L, -1, buf, sizeof buf));
+            raise(L, "%s: field '%s'[%d] must be a finite number (got %s)", fn, field, k + 1, describe(L, -1, buf, sizeof buf));
         out[k] = (float)lua_tonumber(L, -1);
         lua_pop(L, 1);
     }
@@ -115,7 +136,7 @@ static bool opt_vec3(lua_State *L, int t, const char *fn, const char *field, flo
 
 static void req_vec3(lua_State *L, int t, const char *fn, const char *field, float out[3])
 {
-    if (!opt_vec3(L, t, fn, field, out)) luaL_error(L, "%s: field '%s' is required: a table of 3 numbers {x, y, z} (got nil)", fn, field);
+    if (!opt_vec3(L, t, fn, field, out)) raise(L, "%s: field '%s' is required: a table of 3 numbers {x, y, z} (got nil)", fn, field);
 }
 
 static bool opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *out)
@@ -126,7 +147,7 @@ static bool opt_bool(lua_State *L, int t, const char *fn, const char *field, boo
         return false;
     }
     char buf[64];
-    if (!lua_isboolean(L, -1)) luaL_error(L, "%s: field '%s' must be a boolean (got %s)", fn, field, describe(L, -1, buf, sizeof buf));
+    if (!lua_isboolean(L, -1)) raise(L, "%s: field '%s' must be a boolean (got %s)", fn, field, describe(L, -1, buf, sizeof buf));
     *out = lua_toboolean(L, -1);
     lua_pop(L, 1);
     return true;
@@ -150,7 +171,7 @@ static void check_fields(lua_State *L, int t, const char *fn, const char *const 
             for (const char *const *p = known; *p && n < sizeof list; p++)
                 n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", p == known ? "" : ", ", *p);
             char buf[64];
-            luaL_error(L, "%s: unknown field %s (known: %s)", fn, describe(L, -1, buf, sizeof buf), list);
+            raise(L, "%s: unknown field %s (known: %s)", fn, describe(L, -1, buf, sizeof buf), list);
         }
     }
 }
@@ -169,7 +190,7 @@ static void read_fluid(lua_State *L, int t, pbf_params *p)
         double v;
         if (!opt_number(L, t, "seiche.scene: fluid", tab[i].name, -1e30, 1e30, &v)) continue;
         char err[512];
-        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) luaL_error(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
+        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) raise(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
     }
 }
 
@@ -177,7 +198,7 @@ static int l_scene(lua_State *L)
 {
     eng_script *s = get_script(L);
     luaL_checktype(L, 1, LUA_TTABLE);
-    if (s->host.world) luaL_error(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
+    if (s->host.world) raise(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
     static const char *const known[] = { "name", "preset", "fluid", "gravity", "capacity", "container", "domain", "camera", NULL };
     check_fields(L, 1, "seiche.scene", known);
     eng_scene_config *c = &s->config;
@@ -188,27 +209,27 @@ static int l_scene(lua_State *L)
         else if (preset && strcmp(preset, "seed") == 0) c->params = pbf_seed_params();
         else {
             char buf[64];
-            luaL_error(L, "seiche.scene: field 'preset' must be \"default\" or \"seed\" (got %s)", describe(L, -1, buf, sizeof buf));
+            raise(L, "seiche.scene: field 'preset' must be \"default\" or \"seed\" (got %s)", describe(L, -1, buf, sizeof buf));
         }
     }
     lua_pop(L, 1);
     lua_getfield(L, 1, "name");
     if (lua_type(L, -1) == LUA_TSTRING) snprintf(c->name, sizeof c->name, "%s", lua_tostring(L, -1));
-    else if (!lua_isnil(L, -1)) luaL_error(L, "seiche.scene: field 'name' must be a string");
+    else if (!lua_isnil(L, -1)) raise(L, "seiche.scene: field 'name' must be a string");
     lua_pop(L, 1);
     lua_getfield(L, 1, "fluid");
     if (lua_istable(L, -1)) read_fluid(L, lua_gettop(L), &c->params);
-    else if (!lua_isnil(L, -1)) luaL_error(L, "seiche.scene: field 'fluid' must be a table of fluid parameters");
+    else if (!lua_isnil(L, -1)) raise(L, "seiche.scene: field 'fluid' must be a table of fluid parameters");
     lua_pop(L, 1);
     float g[3];
     if (opt_vec3(L, 1, "seiche.scene", "gravity", g)) {
         for (int k = 0; k < 3; k++)
-            if (fabsf(g[k]) > 1000.0f) luaL_error(L, "seiche.scene: field 'gravity'[%d] must be in [-1000, 1000] m/s^2 (got %g)", k + 1, (double)g[k]);
+            if (fabsf(g[k]) > 1000.0f) raise(L, "seiche.scene: field 'gravity'[%d] must be in [-1000, 1000] m/s^2 (got %g)", k + 1, (double)g[k]);
         memcpy(c->params.gravity, g, sizeof g);
     }
     double cap;
     if (opt_number(L, 1, "seiche.scene", "capacity", 1, 67108864, &cap)) {
-        if (cap != floor(cap)) luaL_error(L, "seiche.scene: field 'capacity' must be a whole number (got %g)", cap);
+        if (cap != floor(cap)) raise(L, "seiche.scene: field 'capacity' must be a whole number (got %g)", cap);
         c->capacity = (uint32_t)cap;
     }
     lua_getfield(L, 1, "container");
@@ -220,13 +241,13 @@ static int l_scene(lua_State *L)
         req_vec3(L, t, "seiche.scene: container", "max", c->container_max);
         for (int k = 0; k < 3; k++)
             if (!(c->container_max[k] > c->container_min[k]))
-                luaL_error(L, "seiche.scene: container.max[%d] must be greater than container.min[%d] (got min %g, max %g)",
+                raise(L, "seiche.scene: container.max[%d] must be greater than container.min[%d] (got min %g, max %g)",
                            k + 1, k + 1, (double)c->container_min[k], (double)c->container_max[k]);
         c->closed_top = false;
         opt_bool(L, t, "seiche.scene: container", "closed_top", &c->closed_top);
         c->has_container = true;
     } else if (!lua_isnil(L, -1)) {
-        luaL_error(L, "seiche.scene: field 'container' must be a table {min = {x,y,z}, max = {x,y,z}, closed_top = false}");
+        raise(L, "seiche.scene: field 'container' must be a table {min = {x,y,z}, max = {x,y,z}, closed_top = false}");
     }
     lua_pop(L, 1);
     lua_getfield(L, 1, "domain");
@@ -236,7 +257,7 @@ static int l_scene(lua_State *L)
         req_vec3(L, t, "seiche.scene: domain", "max", c->domain_max);
         c->has_domain = true;
     } else if (!lua_isnil(L, -1)) {
-        luaL_error(L, "seiche.scene: field 'domain' must be a table {min = {x,y,z}, max = {x,y,z}}");
+        raise(L, "seiche.scene: field 'domain' must be a table {min = {x,y,z}, max = {x,y,z}}");
     }
     lua_pop(L, 1);
     lua_getfield(L, 1, "camera");
@@ -249,7 +270,7 @@ static int l_scene(lua_State *L)
         double fov;
         if (opt_number(L, t, "seiche.scene: camera", "fov", 1, 170, &fov)) c->camera_fov = (float)fov;
     } else if (!lua_isnil(L, -1)) {
-        luaL_error(L, "seiche.scene: field 'camera' must be a table {eye = {x,y,z}, target = {x,y,z}, fov = degrees}");
+        raise(L, "seiche.scene: field 'camera' must be a table {eye = {x,y,z}, target = {x,y,z}, fov = degrees}");
     }
     lua_pop(L, 1);
     s->scene_called = true;
@@ -261,7 +282,7 @@ static eng_command *push_command(lua_State *L, eng_script *s, eng_command_type t
     if (s->command_count == s->command_cap) {
         int cap = s->command_cap ? 2 * s->command_cap : 16;
         eng_command *c = realloc(s->commands, (size_t)cap * sizeof *c);
-        if (!c) luaL_error(L, "out of memory");
+        if (!c) raise(L, "out of memory");
         s->commands = c;
         s->command_cap = cap;
     }
@@ -286,7 +307,7 @@ static int l_block(lua_State *L)
     opt_vec3(L, 1, "seiche.block", "velocity", b.velocity);
     for (int k = 0; k < 3; k++)
         if (!(b.max[k] > b.min[k]))
-            luaL_error(L, "seiche.block: max[%d] must be greater than min[%d] (got min %g, max %g)", k + 1, k + 1,
+            raise(L, "seiche.block: max[%d] must be greater than min[%d] (got min %g, max %g)", k + 1, k + 1,
                        (double)b.min[k], (double)b.max[k]);
     eng_command *c = push_command(L, s, ENG_CMD_BLOCK);
     c->block = b;
@@ -400,7 +421,7 @@ static void budget_hook(lua_State *L, lua_Debug *ar)
     (void)ar;
     eng_script *s = get_script(L);
     if (s->deadline > 0.0 && now_s() > s->deadline)
-        luaL_error(L, "%s ran longer than its budget of %g s (an endless loop?)", s->running ? s->running : "the script",
+        raise(L, "%s ran longer than its budget of %g s (an endless loop?)", s->running ? s->running : "the script",
                    s->budget_s);
 }
 

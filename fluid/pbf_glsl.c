@@ -7,6 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+// Mesa (22.x) reports the wrong source-string number for many errors (a bison location
+// default that does not copy it), while its line numbers are right. So each file's lines
+// are also numbered from id * LINE_STRIDE, and the file is recovered from the line.
+#define LINE_STRIDE 100000
+
 typedef struct text {
     char *data;
     size_t len, cap;
@@ -143,7 +148,7 @@ static int expand(pp_state *st, text *out, const char *rel, const char *from, in
     }
     int ok = 1;
     int line = 1;
-    if (st->version_seen) ok = text_printf(out, "#line 1 %d\n", id);
+    if (st->version_seen) ok = text_printf(out, "#line %d %d\n", id * LINE_STRIDE + 1, id);
     for (char *p = src; *p && ok; line++) {
         char *eol = strchr(p, '\n');
         size_t n = eol ? (size_t)(eol - p) : strlen(p);
@@ -171,12 +176,12 @@ static int expand(pp_state *st, text *out, const char *rel, const char *from, in
             if (f) fclose(f);
             else join_rel(NULL, name, inc, sizeof inc); // fall back to the root
             ok = expand(st, out, inc, rel, line, depth + 1) &&
-                 text_printf(out, "#line %d %d\n", line + 1, id);
+                 text_printf(out, "#line %d %d\n", id * LINE_STRIDE + line + 1, id);
         } else if (strncmp(q, "#version", 8) == 0 && !st->version_seen) {
             st->version_seen = 1;
             ok = text_put(out, p, n) && text_put(out, "\n", 1);
             if (ok && st->defines) ok = text_put(out, st->defines, strlen(st->defines));
-            if (ok) ok = text_printf(out, "#line %d %d\n", line + 1, id);
+            if (ok) ok = text_printf(out, "#line %d %d\n", id * LINE_STRIDE + line + 1, id);
         } else {
             ok = text_put(out, p, n) && text_put(out, "\n", 1);
         }
@@ -230,6 +235,10 @@ void pbf_glsl_map_log(const char *log, char *const *files, int file_count,
         if (sscanf(p, "%d:%d(%*d): %n", &fid, &line, &consumed) < 2 || consumed == 0) {
             consumed = 0;
             if (sscanf(p, "%d(%d) : %n", &fid, &line, &consumed) < 2 || consumed == 0) consumed = 0;
+        }
+        if (consumed > 0 && line >= LINE_STRIDE) { // the file from the line (see LINE_STRIDE)
+            fid = line / LINE_STRIDE;
+            line %= LINE_STRIDE;
         }
         int w;
         if (consumed > 0 && fid >= 0 && fid < file_count)

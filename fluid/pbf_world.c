@@ -933,7 +933,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     }
     dispatch(s, PROG_VELOCITY, pg, PBF_STAGE_VELOCITY);
     if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
-        dispatch(s, PROG_VORTICITY, pg, PBF_STAGE_VORTICITY);
+        if (p->vorticity > 0.0f) dispatch(s, PROG_VORTICITY, pg, PBF_STAGE_VORTICITY);
         dispatch(s, PROG_VISCOSITY, pg, PBF_STAGE_VISCOSITY);
         w->cur_vel ^= 1;
         bind_particles(w);

@@ -16,20 +16,30 @@ void main()
     if (i >= P.count) return;
     vec3 xi = pos[i].xyz;
     vec3 vi = vel[i].xyz;
-    float wi = omega[i].w;
-    vec3 eta = vec3(0.0);
     vec3 xsph = vec3(0.0);
     uint nn = nb_len(i);
-    for (uint q = 0u; q < nn; q++) {
-        uint j = nb_at(i, q);
-        vec3 r = xi - pos[j].xyz;
-        float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
-        eta += vol * (omega[j].w - wi) * grad_spiky(r);
-        xsph += vol * (vel[j].xyz - vi) * w_poly6(dot(r, r));
+    vec3 v = vi;
+    if (P.vorticity > 0.0) {
+        // omega was computed by the vorticity pass (which only runs when vorticity > 0).
+        float wi = omega[i].w;
+        vec3 eta = vec3(0.0);
+        for (uint q = 0u; q < nn; q++) {
+            uint j = nb_at(i, q);
+            vec3 r = xi - pos[j].xyz;
+            float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
+            eta += vol * (omega[j].w - wi) * grad_spiky(r);
+            xsph += vol * (vel[j].xyz - vi) * w_poly6(dot(r, r));
+        }
+        float le = length(eta);
+        if (le > 1e-9) v += P.dt * P.vorticity * cross(eta / le, omega[i].xyz);
+    } else {
+        for (uint q = 0u; q < nn; q++) {
+            uint j = nb_at(i, q);
+            vec3 r = xi - pos[j].xyz;
+            float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
+            xsph += vol * (vel[j].xyz - vi) * w_poly6(dot(r, r));
+        }
     }
-    vec3 v = vi + P.viscosity * xsph;
-    float le = length(eta);
-    if (P.vorticity > 0.0 && le > 1e-9)
-        v += P.dt * P.vorticity * cross(eta / le, omega[i].xyz);
+    v += P.viscosity * xsph;
     vel_out[i] = vec4(v, vel[i].w);
 }

@@ -1,0 +1,276 @@
+// seiche-bench: GPU time of the fluid step on the standard scenes.
+//
+// The reference scene (docs/performance.md): a dam break of a 1 x 1 x 1 m block of water
+// in a 4 x 3 x 1.5 m tank, particle spacing 2r = (1 m^3 / N)^(1/3), kernel radius twice
+// the spacing, dt 4 ms, one substep. For each particle count and iteration count it runs
+// warm-up steps, then measured steps, and prints the median per-stage and per-step GPU
+// milliseconds (GL timer queries), the wall-clock time per step, the density error the
+// solver reached, and the GL renderer; --json writes the same.
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <epoxy/gl.h>
+
+#include "engine/context.h"
+#include "fluid/pbf.h"
+
+#define MAX_LIST 16
+
+typedef struct options {
+    long particles[MAX_LIST];
+    int particle_count;
+    long iterations[MAX_LIST];
+    int iteration_count;
+    int substeps;
+    int steps, warmup;
+    double dt;
+    const char *json;
+    const char *shader_dir;
+} options;
+
+typedef struct result {
+    long particles_asked;
+    uint32_t particles;
+    int iterations, substeps;
+    double stage_ms[PBF_STAGE_COUNT];
+    double step_ms;       // median GPU time of the step (stages but metrics)
+    double wall_ms;       // wall-clock per step, GPU synchronised at the end
+    double rho_err_avg;   // mean over measured steps of (rho_avg / rho0 - 1)
+    double rho_err_max;   // max over measured steps of (rho_max / rho0 - 1)
+    uint32_t nan_count, outside_count, overflow_count;
+} result;
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int parse_list(const char *s, long *out, int *count, const char *name, long lo, long hi)
+{
+    *count = 0;
+    const char *p = s;
+    while (*p) {
+        char *end;
+        errno = 0;
+        long v = strtol(p, &end, 10);
+        if (end == p || errno || v < lo || v > hi || (*end && *end != ',') || *count >= MAX_LIST) {
+            fprintf(stderr, "seiche-bench: %s must be a comma-separated list of whole numbers in [%ld, %ld] (got '%s')\n",
+                    name, lo, hi, s);
+            return 0;
+        }
+        out[(*count)++] = v;
+        p = *end ? end + 1 : end;
+    }
+    return *count > 0;
+}
+
+static int run_one(const options *o, long n, int iterations, result *r)
+{
+    memset(r, 0, sizeof *r);
+    r->particles_asked = n;
+    r->iterations = iterations;
+    r->substeps = o->substeps;
+    double spacing = cbrt(1.0 / (double)n);
+    pbf_world_def d = pbf_default_world_def();
+    d.params.particle_radius = (float)(0.5 * spacing);
+    d.params.kernel_radius = (float)(2.0 * spacing);
+    d.params.iterations = iterations;
+    d.params.substeps = o->substeps;
+    d.params.vorticity = 0.0f; // the reference solver runs PBF with XSPH viscosity only
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.capacity = (uint32_t)(n + n / 4 + 1024);
+    const float lo[3] = { 0, 0, 0 }, hi[3] = { 4.0f, 3.0f, 1.5f };
+    memcpy(d.domain_min, lo, sizeof lo);
+    memcpy(d.domain_max, hi, sizeof hi);
+    if (o->shader_dir) d.shader_dir = o->shader_dir;
+    char err[1024];
+    pbf_world *w = pbf_world_create(&d, err, sizeof err);
+    if (!w) {
+        fprintf(stderr, "seiche-bench: %s\n", err);
+        return 0;
+    }
+    pbf_block_def b = pbf_default_block_def();
+    b.max[0] = b.max[1] = b.max[2] = 1.0f;
+    if (pbf_world_set_container(w, lo, hi, false) != PBF_OK || pbf_world_add_block(w, &b, &r->particles) != PBF_OK) {
+        fprintf(stderr, "seiche-bench: %s\n", pbf_world_last_error(w));
+        pbf_world_destroy(w);
+        return 0;
+    }
+    for (int i = 0; i < o->warmup; i++) pbf_world_step(w, (float)o->dt);
+    pbf_world_poll_stats(w, NULL, 0, true);
+    int cap = o->steps;
+    double *step = calloc((size_t)cap, sizeof *step);
+    double *stage[PBF_STAGE_COUNT];
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) stage[s] = calloc((size_t)cap, sizeof(double));
+    int got = 0;
+    double rho_sum = 0.0;
+    pbf_step_stats st[16];
+    glFinish();
+    double t0 = now_s();
+    for (int i = 0; i < o->steps; i++) {
+        pbf_world_step(w, (float)o->dt);
+        int k;
+        while ((k = pbf_world_poll_stats(w, st, 16, i == o->steps - 1)) > 0) {
+            for (int j = 0; j < k && got < cap; j++, got++) {
+                step[got] = st[j].step_ms;
+                for (int s = 0; s < PBF_STAGE_COUNT; s++) stage[s][got] = st[j].stage_ms[s];
+                rho_sum += st[j].density_avg / st[j].rest_density - 1.0;
+                double e = st[j].density_max / st[j].rest_density - 1.0;
+                if (e > r->rho_err_max) r->rho_err_max = e;
+                r->nan_count += st[j].nan_count;
+                r->outside_count += st[j].outside_count;
+                r->overflow_count += st[j].overflow_count;
+            }
+            if (k < 16) break;
+        }
+    }
+    glFinish();
+    r->wall_ms = (now_s() - t0) * 1000.0 / o->steps;
+    r->step_ms = median(step, got);
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) r->stage_ms[s] = median(stage[s], got);
+    r->rho_err_avg = got ? rho_sum / got : 0.0;
+    free(step);
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) free(stage[s]);
+    pbf_world_destroy(w);
+    return 1;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S]\n"
+               "                    [--steps M] [--warmup W] [--dt SECONDS] [--json FILE] [--shaders DIR]\n"
+               "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n");
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    memset(&o, 0, sizeof o);
+    o.particles[0] = 16000;
+    o.particles[1] = 64000;
+    o.particle_count = 2;
+    o.iterations[0] = 3;
+    o.iteration_count = 1;
+    o.substeps = 1;
+    o.steps = 60;
+    o.warmup = 10;
+    o.dt = 0.004;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "--help") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        if (!v) {
+            fprintf(stderr, "seiche-bench: unknown option or missing value: '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        long tmp[MAX_LIST];
+        int cnt;
+        if (strcmp(a, "--particles") == 0) {
+            if (!parse_list(v, o.particles, &o.particle_count, "--particles", 1, 1 << 26)) return 2;
+        } else if (strcmp(a, "--iterations") == 0) {
+            if (!parse_list(v, o.iterations, &o.iteration_count, "--iterations", 1, 100)) return 2;
+        } else if (strcmp(a, "--substeps") == 0) {
+            if (!parse_list(v, tmp, &cnt, "--substeps", 1, 64) || cnt != 1) return 2;
+            o.substeps = (int)tmp[0];
+        } else if (strcmp(a, "--steps") == 0) {
+            if (!parse_list(v, tmp, &cnt, "--steps", 1, 100000) || cnt != 1) return 2;
+            o.steps = (int)tmp[0];
+        } else if (strcmp(a, "--warmup") == 0) {
+            if (!parse_list(v, tmp, &cnt, "--warmup", 0, 100000) || cnt != 1) return 2;
+            o.warmup = (int)tmp[0];
+        } else if (strcmp(a, "--dt") == 0) {
+            char *end;
+            o.dt = strtod(v, &end);
+            if (*end || !(o.dt > 0.0 && o.dt <= 1.0)) {
+                fprintf(stderr, "seiche-bench: --dt must be in (0, 1] s (got '%s')\n", v);
+                return 2;
+            }
+        } else if (strcmp(a, "--json") == 0) {
+            o.json = v;
+        } else if (strcmp(a, "--shaders") == 0) {
+            o.shader_dir = v;
+        } else {
+            fprintf(stderr, "seiche-bench: unknown option '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i++;
+    }
+    eng_context_def cd = eng_default_context_def();
+    cd.mode = ENG_CONTEXT_HEADLESS;
+    cd.width = cd.height = 64;
+    eng_context_status cst;
+    char err[512];
+    eng_context *ctx = eng_context_create(&cd, &cst, err, sizeof err);
+    if (!ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? 3 : 2;
+    printf("renderer: %s\n", eng_context_renderer(ctx));
+    printf("scene: dam break, 1 m^3 block in a 4 x 3 x 1.5 m tank, h = 2 spacings, dt %.4g s, %d substep(s), "
+           "XSPH on, vorticity off; median of %d steps after %d warm-up\n",
+           o.dt, o.substeps, o.steps, o.warmup);
+    FILE *js = NULL;
+    if (o.json) {
+        js = fopen(o.json, "w");
+        if (!js) {
+            fprintf(stderr, "seiche-bench: cannot write '%s': %s\n", o.json, strerror(errno));
+            eng_context_destroy(ctx);
+            return 2;
+        }
+        fprintf(js, "{\n  \"renderer\": \"%s\",\n  \"dt\": %g,\n  \"substeps\": %d,\n  \"steps\": %d,\n  \"runs\": [",
+                eng_context_renderer(ctx), o.dt, o.substeps, o.steps);
+    }
+    printf("%9s %5s %9s %9s %9s %9s", "particles", "iter", "step_ms", "wall_ms", "rho_avg%", "rho_max%");
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %s", pbf_stage_name((pbf_stage)s));
+    printf("\n");
+    int ok = 1, first = 1;
+    for (int pi = 0; pi < o.particle_count && ok; pi++)
+        for (int ii = 0; ii < o.iteration_count && ok; ii++) {
+            result r;
+            if (!run_one(&o, o.particles[pi], (int)o.iterations[ii], &r)) {
+                ok = 0;
+                break;
+            }
+            printf("%9u %5d %9.2f %9.2f %9.3f %9.3f", r.particles, r.iterations, r.step_ms, r.wall_ms,
+                   100.0 * r.rho_err_avg, 100.0 * r.rho_err_max);
+            for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %.2f", r.stage_ms[s]);
+            printf("%s\n", r.nan_count || r.outside_count ? "  (NaN or lost particles!)" : "");
+            fflush(stdout);
+            if (js) {
+                fprintf(js, "%s\n    {\"particles\": %u, \"iterations\": %d, \"substeps\": %d, \"step_ms\": %.4f, "
+                            "\"wall_ms\": %.4f, \"rho_err_avg\": %.6f, \"rho_err_max\": %.6f, \"nan\": %u, \"outside\": %u, "
+                            "\"overflow\": %u, \"stage_ms\": {",
+                        first ? "" : ",", r.particles, r.iterations, r.substeps, r.step_ms, r.wall_ms, r.rho_err_avg,
+                        r.rho_err_max, r.nan_count, r.outside_count, r.overflow_count);
+                for (int s = 0; s < PBF_STAGE_COUNT; s++)
+                    fprintf(js, "%s\"%s\": %.4f", s ? ", " : "", pbf_stage_name((pbf_stage)s), r.stage_ms[s]);
+                fprintf(js, "}}");
+                first = 0;
+            }
+        }
+    if (js) {
+        fprintf(js, "\n  ]\n}\n");
+        fclose(js);
+    }
+    eng_context_destroy(ctx);
+    return ok ? 0 : 2;
+}

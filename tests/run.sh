@@ -1,0 +1,69 @@
+#!/bin/sh
+# Runs the whole test suite: every cmocka program (build/bin/test_*), then every script
+# test (tests/scripts/*.lua) through `seiche --headless`. A script test passes when the
+# runner's exit status matches the one its first lines declare (`-- expect-exit: N`,
+# default 0) and, if declared, stderr contains `-- expect-stderr: TEXT` (repeatable).
+# Prints one line per test program / script and ends with "N passed, N failed".
+cd "$(dirname "$0")/.." || exit 2
+passed=0
+failed=0
+failures=""
+log_dir=build/test-logs
+mkdir -p "$log_dir"
+
+for t in build/bin/test_*; do
+    [ -x "$t" ] || continue
+    name=$(basename "$t")
+    start=$(date +%s)
+    if "$t" >"$log_dir/$name.log" 2>&1; then status=ok; else status=FAILED; fi
+    secs=$(( $(date +%s) - start ))
+    n_pass=$(grep -Eo '^\[  PASSED  \] [0-9]+' "$log_dir/$name.log" | awk '{s+=$3} END {print s+0}')
+    n_fail=$(grep -Eo '^\[  FAILED  \] [0-9]+' "$log_dir/$name.log" | awk '{s+=$3} END {print s+0}')
+    if [ "$status" = ok ]; then
+        passed=$((passed + n_pass))
+        [ "$n_pass" -gt 0 ] || passed=$((passed + 1))
+        echo "ok      $name ($n_pass tests, ${secs}s)"
+    else
+        failed=$((failed + (n_fail > 0 ? n_fail : 1)))
+        passed=$((passed + n_pass))
+        failures="$failures $name"
+        echo "FAILED  $name ($n_pass passed, $n_fail failed, ${secs}s): see $log_dir/$name.log"
+        sed 's/^/    /' "$log_dir/$name.log" | grep -E 'FAIL|ERROR|error|Assert|assert' | head -20
+    fi
+done
+
+for s in tests/scripts/*.lua; do
+    [ -f "$s" ] || continue
+    name=$(basename "$s" .lua)
+    expect=$(sed -n 's/^-- expect-exit: *\([0-9]*\).*/\1/p' "$s" | head -n 1)
+    [ -n "$expect" ] || expect=0
+    frames=$(sed -n 's/^-- frames: *\([0-9]*\).*/\1/p' "$s" | head -n 1)
+    [ -n "$frames" ] || frames=600
+    start=$(date +%s)
+    build/bin/seiche --headless --quiet --frames "$frames" "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"
+    rc=$?
+    secs=$(( $(date +%s) - start ))
+    ok=1
+    [ "$rc" = "$expect" ] || ok=0
+    # Each expected stderr text must appear.
+    while IFS= read -r want; do
+        [ -n "$want" ] || continue
+        grep -qF -- "$want" "$log_dir/script_$name.err" || ok=0
+    done <<EOT
+$(sed -n 's/^-- expect-stderr: *//p' "$s")
+EOT
+    if [ "$ok" = 1 ]; then
+        passed=$((passed + 1))
+        echo "ok      script $name (exit $rc, ${secs}s)"
+    else
+        failed=$((failed + 1))
+        failures="$failures script:$name"
+        echo "FAILED  script $name: exit $rc (expected $expect), ${secs}s; stderr:"
+        sed 's/^/    /' "$log_dir/script_$name.err" | head -20
+    fi
+done
+
+echo
+[ -z "$failures" ] || echo "failed:$failures"
+echo "$passed passed, $failed failed"
+[ "$failed" = 0 ]
