@@ -17,8 +17,8 @@ for t in build/bin/test_*; do
     start=$(date +%s)
     if "$t" >"$log_dir/$name.log" 2>&1; then status=ok; else status=FAILED; fi
     secs=$(( $(date +%s) - start ))
-    n_pass=$(grep -Eo '^\[  PASSED  \] [0-9]+' "$log_dir/$name.log" | awk '{s+=$3} END {print s+0}')
-    n_fail=$(grep -Eo '^\[  FAILED  \] [0-9]+' "$log_dir/$name.log" | awk '{s+=$3} END {print s+0}')
+    n_pass=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
+    n_fail=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
     if [ "$status" = ok ]; then
         passed=$((passed + n_pass))
         [ "$n_pass" -gt 0 ] || passed=$((passed + 1))
