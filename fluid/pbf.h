@@ -179,6 +179,13 @@ float pbf_world_particle_mass(const pbf_world *world);
 /// GPU; nothing is read back here.
 pbf_result pbf_world_step(pbf_world *world, float dt);
 
+/// Called before each substep with the substep's index and length (s): a host that steps
+/// a rigid-body engine in lockstep with the fluid steps it here and sets the colliders'
+/// poses (pbf_world_set_collider_pose), which the substep then uses.
+typedef void pbf_substep_fn(void *user, pbf_world *world, int substep, float dt);
+/// pbf_world_step with a hook before every substep (NULL: none).
+pbf_result pbf_world_step_with(pbf_world *world, float dt, pbf_substep_fn *hook, void *user);
+
 /// ---- colliders: the generic boundary interface (the container uses it too) ----------
 typedef enum pbf_collider_type {
     PBF_SHAPE_PLANE = 0,  ///< size: normal xyz, offset w (fluid on the +normal side)

@@ -12,7 +12,7 @@
 // ring of fences, never waiting on the GPU unless asked.
 #include "fluid/pbf.h"
 #include "fluid/pbf_glsl.h"
-#include "shaders/fluid/pbf_shared.h"
+#include "fluid/pbf_internal.h"
 
 #include <epoxy/gl.h>
 #include <math.h>
@@ -30,28 +30,6 @@ _Static_assert(sizeof(pbf_gpu_metrics) == 32, "pbf_gpu_metrics std430 layout");
 #ifndef SEICHE_SHADER_DIR
 #define SEICHE_SHADER_DIR "shaders"
 #endif
-
-#define RING 8
-#define MAX_SCAN_LEVELS 6
-
-enum program_id {
-    PROG_PREDICT,
-    PROG_GRID_COUNT,
-    PROG_SCAN_BLOCK,
-    PROG_SCAN_ADD,
-    PROG_GRID_SCATTER,
-    PROG_GRID_SORT,
-    PROG_REORDER,
-    PROG_NEIGHBOURS,
-    PROG_DENSITY,
-    PROG_DELTA,
-    PROG_VELOCITY,
-    PROG_VORTICITY,
-    PROG_VISCOSITY,
-    PROG_METRICS,
-    PROG_METRICS_FINAL,
-    PROG_COUNT
-};
 
 static const char *const program_files[PROG_COUNT] = {
     "fluid/predict.comp",   "fluid/grid_count.comp", "fluid/scan_block.comp",
@@ -71,74 +49,7 @@ const char *pbf_stage_name(pbf_stage stage)
     return (unsigned)stage < PBF_STAGE_COUNT ? stage_names[stage] : "?";
 }
 
-typedef struct collider_slot {
-    bool used;
-    uint16_t generation;
-    int gpu_index; // index in the uploaded array, -1 when not uploaded
-    pbf_gpu_collider gpu;
-} collider_slot;
-
-typedef struct stats_slot {
-    bool pending;
-    uint64_t step;
-    double time;
-    uint32_t count;
-    GLsync fence;
-    int nq;
-    GLuint *queries;    // nq timestamps; query 0 is the start
-    uint8_t *stage_of;  // stage of the interval ending at query k
-    int substeps;
-    int collider_slot_of[PBF_MAX_COLLIDERS]; // gpu index -> slot, -1 none
-    int colliders;
-} stats_slot;
-
-struct pbf_world {
-    pbf_params params;
-    uint32_t capacity;
-    uint32_t max_neighbours;
-    uint32_t count;
-    uint32_t next_id;
-    float domain_min[3], domain_max[3];
-    char shader_dir[512];
-    pbf_log_fn *log;
-    void *log_user;
-    char error[512];
-
-    // derived
-    pbf_constants k;
-    float grid_origin[3];
-    uint32_t grid_dims[3], cells;
-
-    GLuint programs[PROG_COUNT];
-    GLint u_scan_n[2], u_groups, u_frame;
-    GLuint pos[2], vel[2], pred[2], ids[2];
-    int cur_pos, cur_vel, cur_pred, cur_ids;
-    GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, scan, colliders, forces,
-        reduce, metrics, draw, params_ubo, nb_list, nb_count;
-    bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed
-    GLint ssbo_align;
-    struct { GLintptr offset; uint32_t n; } scan_level[MAX_SCAN_LEVELS];
-    int scan_levels;
-    GLintptr scan_dummy;
-
-    collider_slot slots[PBF_MAX_COLLIDERS];
-    uint32_t gpu_colliders;
-    bool colliders_dirty;
-    float planes[PBF_MAX_PLANES][4];
-    int plane_count;
-
-    stats_slot ring[RING];
-    int ring_head;   // next slot to fill
-    int max_queries;
-    uint64_t step_index;
-    double time;
-
-    // latest forces read back, per slot (N, N m)
-    float force[PBF_MAX_COLLIDERS][6];
-    uint64_t force_step[PBF_MAX_COLLIDERS];
-};
-
-static pbf_result fail(pbf_world *w, pbf_result r, const char *fmt, ...)
+pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -417,7 +328,7 @@ float pbf_world_particle_mass(const pbf_world *world) { return world->k.mass; }
 pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
 {
     char err[256];
-    if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     bool regrid = p->kernel_radius != w->params.kernel_radius;
     pbf_params old = w->params;
     w->params = *p;
@@ -425,7 +336,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
         if (grid_layout(w, err, sizeof err) != PBF_OK) {
             w->params = old;
             grid_layout(w, err, sizeof err);
-            return fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
         }
         free_grid(w);
         alloc_grid(w);
@@ -455,7 +366,7 @@ static pbf_result upload(pbf_world *w, const float *pos4, const float *vel4, uin
 {
     GLintptr off = (GLintptr)w->count;
     uint32_t *ids = malloc((size_t)n * 4);
-    if (!ids) return fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
+    if (!ids) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
     for (uint32_t i = 0; i < n; i++) ids[i] = w->next_id + i;
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pos[w->cur_pos]);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, pos4);
@@ -483,25 +394,25 @@ static bool inside_domain(const pbf_world *w, const float *x)
 
 pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
 {
-    if (!positions && n > 0) return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
+    if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
     if (n > w->capacity - w->count)
-        return fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
+        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
                     n, w->count, w->capacity);
     for (uint32_t i = 0; i < n; i++) {
         if (!inside_domain(w, positions + 3 * i))
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions[%u] = (%g, %g, %g) must be finite "
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions[%u] = (%g, %g, %g) must be finite "
                         "and inside the domain", i, (double)positions[3 * i], (double)positions[3 * i + 1],
                         (double)positions[3 * i + 2]);
         if (velocities)
             for (int k = 0; k < 3; k++)
                 if (!isfinite(velocities[3 * i + k]))
-                    return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: velocities[%u] must be finite", i);
+                    return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: velocities[%u] must be finite", i);
     }
     float *p4 = malloc((size_t)n * 16 + 16), *v4 = malloc((size_t)n * 16 + 16);
     if (!p4 || !v4) {
         free(p4);
         free(v4);
-        return fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
+        return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
     }
     for (uint32_t i = 0; i < n; i++) {
         for (int k = 0; k < 3; k++) {
@@ -523,13 +434,13 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
     if (added) *added = 0;
     for (int k = 0; k < 3; k++) {
         if (!isfinite(b->min[k]) || !isfinite(b->max[k]) || !(b->max[k] > b->min[k]))
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.max.%c must be finite and greater than min.%c (got min %g, max %g)",
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.max.%c must be finite and greater than min.%c (got min %g, max %g)",
                         axis[k], axis[k], (double)b->min[k], (double)b->max[k]);
         if (b->min[k] < w->domain_min[k] || b->max[k] > w->domain_max[k])
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.%c range [%g, %g] must lie inside the domain [%g, %g]",
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.%c range [%g, %g] must lie inside the domain [%g, %g]",
                         axis[k], (double)b->min[k], (double)b->max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
         if (!isfinite(b->velocity[k]))
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.velocity.%c must be finite (got %g)", axis[k], (double)b->velocity[k]);
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.velocity.%c must be finite (got %g)", axis[k], (double)b->velocity[k]);
     }
     float s = w->k.spacing;
     uint32_t n[3];
@@ -540,13 +451,13 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
         total *= n[k];
     }
     if (total > w->capacity - w->count)
-        return fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
+        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
                     (unsigned long long)total, w->capacity - w->count, w->capacity);
     float *p4 = malloc((size_t)total * 16), *v4 = malloc((size_t)total * 16);
     if (!p4 || !v4) {
         free(p4);
         free(v4);
-        return fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_block: out of memory");
+        return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_block: out of memory");
     }
     size_t i = 0;
     for (uint32_t z = 0; z < n[2]; z++)
@@ -577,162 +488,15 @@ void pbf_world_clear(pbf_world *w)
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
 }
 
-// ---- colliders --------------------------------------------------------------------------
-
-pbf_collider_def pbf_default_collider_def(void)
-{
-    pbf_collider_def d;
-    memset(&d, 0, sizeof d);
-    d.type = PBF_SHAPE_BOX;
-    d.size[0] = d.size[1] = d.size[2] = 0.1f;
-    d.rotation[3] = 1.0f;
-    d.two_way = true;
-    return d;
-}
-
-static collider_slot *get_slot(pbf_world *w, pbf_collider_id id, const char *fn)
-{
-    if (id.index1 == 0 || id.index1 > PBF_MAX_COLLIDERS) {
-        fail(w, PBF_ERR_STALE_ID, "%s: collider id is null or out of range (index1 %u)", fn, id.index1);
-        return NULL;
-    }
-    collider_slot *s = &w->slots[id.index1 - 1];
-    if (!s->used || s->generation != id.generation) {
-        fail(w, PBF_ERR_STALE_ID, "%s: collider id is stale (index %u, generation %u): attempt to use a removed collider",
-             fn, id.index1 - 1, id.generation);
-        return NULL;
-    }
-    return s;
-}
-
-bool pbf_collider_is_valid(const pbf_world *w, pbf_collider_id id)
-{
-    if (id.index1 == 0 || id.index1 > PBF_MAX_COLLIDERS) return false;
-    const collider_slot *s = &w->slots[id.index1 - 1];
-    return s->used && s->generation == id.generation;
-}
-
-static bool finite_n(const float *v, int n)
-{
-    for (int k = 0; k < n; k++)
-        if (!isfinite(v[k])) return false;
-    return true;
-}
-
-static float bounding_radius(const pbf_collider_def *d)
-{
-    const float *z = d->size;
-    switch (d->type) {
-    case PBF_SHAPE_PLANE: return 1e30f;
-    case PBF_SHAPE_BOX: return sqrtf(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
-    case PBF_SHAPE_SPHERE: return z[0];
-    case PBF_SHAPE_CAPSULE: return z[0] + z[1];
-    case PBF_SHAPE_CYLINDER: return sqrtf(z[0] * z[0] + z[1] * z[1]);
-    }
-    return 1e30f;
-}
-
-pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_collider_id *out)
-{
-    if (out) *out = (pbf_collider_id){ 0, 0 };
-    if ((unsigned)d->type > PBF_SHAPE_CYLINDER)
-        return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.type must be a pbf_collider_type 0..4 (got %d)", (int)d->type);
-    if (!finite_n(d->size, 4) || !finite_n(d->position, 3) || !finite_n(d->rotation, 4))
-        return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size/position/rotation must be finite");
-    int need = d->type == PBF_SHAPE_BOX ? 3 : d->type == PBF_SHAPE_SPHERE ? 1 : d->type == PBF_SHAPE_PLANE ? 0 : 2;
-    for (int k = 0; k < need; k++)
-        if (!(d->size[k] > 0.0f))
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size[%d] must be > 0 m (got %g)", k, (double)d->size[k]);
-    float qn = sqrtf(d->rotation[0] * d->rotation[0] + d->rotation[1] * d->rotation[1] +
-                     d->rotation[2] * d->rotation[2] + d->rotation[3] * d->rotation[3]);
-    if (fabsf(qn - 1.0f) > 1e-3f)
-        return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.rotation must be a unit quaternion (got length %g)", (double)qn);
-    int free_slot = -1;
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
-        if (!w->slots[i].used) {
-            free_slot = i;
-            break;
-        }
-    if (free_slot < 0) return fail(w, PBF_ERR_CAPACITY, "pbf_world_add_collider: all %d colliders in use", PBF_MAX_COLLIDERS);
-    collider_slot *s = &w->slots[free_slot];
-    s->used = true;
-    s->generation++;
-    pbf_gpu_collider *g = &s->gpu;
-    memset(g, 0, sizeof *g);
-    g->position = (pbf_float4){ d->position[0], d->position[1], d->position[2], 0.0f };
-    g->rotation = (pbf_float4){ d->rotation[0], d->rotation[1], d->rotation[2], d->rotation[3] };
-    g->prev_position = g->position;
-    g->prev_rotation = g->rotation;
-    g->center_of_mass = g->position;
-    if (d->type == PBF_SHAPE_PLANE) {
-        float nl = sqrtf(d->size[0] * d->size[0] + d->size[1] * d->size[1] + d->size[2] * d->size[2]);
-        if (!(nl > 0.0f)) {
-            s->used = false;
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size xyz (plane normal) must be non-zero");
-        }
-        g->params = (pbf_float4){ d->size[0] / nl, d->size[1] / nl, d->size[2] / nl, d->size[3] };
-    } else {
-        g->params = (pbf_float4){ d->size[0], d->size[1], d->size[2], d->size[3] };
-    }
-    g->info = (pbf_uint4){ (uint32_t)d->type, d->two_way ? 1u : 0u, 0u, 0u };
-    g->position.w = bounding_radius(d);
-    memset(w->force[free_slot], 0, sizeof w->force[free_slot]);
-    w->colliders_dirty = true;
-    if (out) *out = (pbf_collider_id){ (uint16_t)(free_slot + 1), s->generation };
-    return PBF_OK;
-}
-
-pbf_result pbf_world_remove_collider(pbf_world *w, pbf_collider_id id)
-{
-    collider_slot *s = get_slot(w, id, "pbf_world_remove_collider");
-    if (!s) return PBF_ERR_STALE_ID;
-    s->used = false;
-    w->colliders_dirty = true;
-    return PBF_OK;
-}
-
-pbf_result pbf_world_set_collider_pose(pbf_world *w, pbf_collider_id id, const float position[3],
-                                       const float rotation[4], const float linear_velocity[3],
-                                       const float angular_velocity[3], const float center_of_mass[3])
-{
-    collider_slot *s = get_slot(w, id, "pbf_world_set_collider_pose");
-    if (!s) return PBF_ERR_STALE_ID;
-    if (!finite_n(position, 3) || !finite_n(rotation, 4) || (linear_velocity && !finite_n(linear_velocity, 3)) ||
-        (angular_velocity && !finite_n(angular_velocity, 3)) || (center_of_mass && !finite_n(center_of_mass, 3)))
-        return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_collider_pose: position, rotation and velocities must be finite");
-    pbf_gpu_collider *g = &s->gpu;
-    g->prev_position = g->position;
-    g->prev_rotation = g->rotation;
-    g->position = (pbf_float4){ position[0], position[1], position[2], g->position.w };
-    g->rotation = (pbf_float4){ rotation[0], rotation[1], rotation[2], rotation[3] };
-    if (linear_velocity) g->linear_velocity = (pbf_float4){ linear_velocity[0], linear_velocity[1], linear_velocity[2], 0 };
-    if (angular_velocity) g->angular_velocity = (pbf_float4){ angular_velocity[0], angular_velocity[1], angular_velocity[2], 0 };
-    g->center_of_mass = center_of_mass ? (pbf_float4){ center_of_mass[0], center_of_mass[1], center_of_mass[2], 0 } : g->position;
-    w->colliders_dirty = true;
-    return PBF_OK;
-}
-
-pbf_result pbf_world_collider_force(pbf_world *w, pbf_collider_id id, float force[3], float torque[3])
-{
-    collider_slot *s = get_slot(w, id, "pbf_world_collider_force");
-    if (!s) return PBF_ERR_STALE_ID;
-    int i = (int)(s - w->slots);
-    for (int k = 0; k < 3; k++) {
-        if (force) force[k] = w->force[i][k];
-        if (torque) torque[k] = w->force[i][3 + k];
-    }
-    return PBF_OK;
-}
-
 pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float max[3], bool closed_top)
 {
     static const char *const axis = "xyz";
     for (int k = 0; k < 3; k++) {
         if (!isfinite(min[k]) || !isfinite(max[k]) || !(max[k] > min[k]))
-            return fail(w, PBF_ERR_INVALID_ARG, "container.max.%c must be finite and greater than min.%c (got min %g, max %g)",
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "container.max.%c must be finite and greater than min.%c (got min %g, max %g)",
                         axis[k], axis[k], (double)min[k], (double)max[k]);
         if (min[k] < w->domain_min[k] || max[k] > w->domain_max[k])
-            return fail(w, PBF_ERR_INVALID_ARG, "container.%c range [%g, %g] must lie inside the domain [%g, %g]",
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "container.%c range [%g, %g] must lie inside the domain [%g, %g]",
                         axis[k], (double)min[k], (double)max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
     }
     // Inward normals: floor, walls (-x, +x, -z, +z), lid.
@@ -746,22 +510,6 @@ pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float
 }
 
 void pbf_world_remove_container(pbf_world *w) { w->plane_count = 0; }
-
-static void upload_colliders(pbf_world *w)
-{
-    pbf_gpu_collider tmp[PBF_MAX_COLLIDERS];
-    uint32_t n = 0;
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
-        w->slots[i].gpu_index = -1;
-        if (!w->slots[i].used) continue;
-        w->slots[i].gpu_index = (int)n;
-        tmp[n++] = w->slots[i].gpu;
-    }
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->colliders);
-    if (n) glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * (GLsizeiptr)sizeof(pbf_gpu_collider), tmp);
-    w->gpu_colliders = n;
-    w->colliders_dirty = false;
-}
 
 // ---- the step -----------------------------------------------------------------------------
 
@@ -967,21 +715,7 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     out->nan_count = m.nan_count;
     out->outside_count = m.outside_count;
     out->overflow_count = m.overflow_count;
-    if (r->colliders > 0) {
-        int32_t f[PBF_MAX_COLLIDERS * 8];
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
-        glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)(1 + slot) * PBF_MAX_COLLIDERS * 8 * 4,
-                           (GLsizeiptr)r->colliders * 8 * 4, f);
-        for (int g = 0; g < r->colliders; g++) {
-            int sl = r->collider_slot_of[g];
-            if (sl < 0 || w->force_step[sl] > r->step + 1) continue;
-            for (int k = 0; k < 3; k++) {
-                w->force[sl][k] = (float)(f[g * 8 + k] / PBF_FORCE_SCALE / r->substeps);
-                w->force[sl][3 + k] = (float)(f[g * 8 + 4 + k] / PBF_FORCE_SCALE / r->substeps);
-            }
-            w->force_step[sl] = r->step + 1;
-        }
-    }
+    pbf_colliders_read_forces(w, r);
 }
 
 int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
@@ -1006,10 +740,12 @@ int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
     return n;
 }
 
-pbf_result pbf_world_step(pbf_world *w, float dt)
+pbf_result pbf_world_step(pbf_world *w, float dt) { return pbf_world_step_with(w, dt, NULL, NULL); }
+
+pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, void *user)
 {
     if (!(dt > 0.0f && dt <= 1.0f))
-        return fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
     const pbf_params *p = &w->params;
     int slot_index = w->ring_head;
     stats_slot *slot = &w->ring[slot_index];
@@ -1022,21 +758,21 @@ pbf_result pbf_world_step(pbf_world *w, float dt)
         glDeleteSync(slot->fence);
         slot->pending = false;
     }
-    if (w->colliders_dirty) upload_colliders(w);
     slot->nq = 0;
     slot->step = w->step_index;
     slot->count = w->count;
     slot->substeps = p->substeps;
-    slot->colliders = (int)w->gpu_colliders;
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++) slot->collider_slot_of[i] = -1;
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
-        if (w->slots[i].used && w->slots[i].gpu_index >= 0) slot->collider_slot_of[w->slots[i].gpu_index] = i;
+    pbf_colliders_begin_step(w, slot);
     step_ctx s = { w, slot };
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
-    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32I, 0, PBF_MAX_COLLIDERS * 8 * 4, GL_RED_INTEGER, GL_INT, NULL);
     mark(&s, PBF_STAGE_PREDICT);
     float sub_dt = dt / (float)p->substeps;
-    for (int k = 0; k < p->substeps; k++) substep(&s, sub_dt, k, slot_index);
+    for (int k = 0; k < p->substeps; k++) {
+        if (hook) {
+            hook(user, w, k, sub_dt);
+            if (w->colliders_dirty) pbf_colliders_upload(w);
+        }
+        substep(&s, sub_dt, k, slot_index);
+    }
     // Metrics of the final state.
     uint32_t pg = groups_for(w->count, PBF_WG);
     if (w->count > 0) {
@@ -1046,25 +782,15 @@ pbf_result pbf_world_step(pbf_world *w, float dt)
         glUniform1ui(w->u_frame, (GLuint)w->step_index);
         dispatch(&s, PROG_METRICS_FINAL, 1, PBF_STAGE_METRICS);
     }
-    glBindBuffer(GL_COPY_READ_BUFFER, w->forces);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces);
-    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0,
-                        (GLintptr)(1 + slot_index) * PBF_MAX_COLLIDERS * 8 * 4, PBF_MAX_COLLIDERS * 8 * 4);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    pbf_colliders_end_step(w);
     w->time += dt;
     slot->time = w->time;
     slot->fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
     slot->pending = true;
     w->ring_head = (w->ring_head + 1) % RING;
     w->step_index++;
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
-        // The pose given for this step becomes the previous pose of the next.
-        if (!w->slots[i].used) continue;
-        w->slots[i].gpu.prev_position = w->slots[i].gpu.position;
-        w->slots[i].gpu.prev_rotation = w->slots[i].gpu.rotation;
-    }
     GLenum e = glGetError();
-    if (e != GL_NO_ERROR) return fail(w, PBF_ERR_GL, "pbf_world_step: GL error 0x%x", e);
+    if (e != GL_NO_ERROR) return pbf_fail(w, PBF_ERR_GL, "pbf_world_step: GL error 0x%x", e);
     return PBF_OK;
 }
 

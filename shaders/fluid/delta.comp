@@ -11,20 +11,8 @@
 #define USE_COLLIDERS
 #define USE_FORCES
 #include "common.glsl"
+#include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;
-
-void add_force(uint b, vec3 f, vec3 at)
-{
-    if ((colliders[b].info.y & 1u) == 0u) return;
-    vec3 t = cross(at - colliders[b].center_of_mass.xyz, f);
-    int base = int(b) * 8;
-    atomicAdd(forces[base + 0], int(round(f.x * PBF_FORCE_SCALE)));
-    atomicAdd(forces[base + 1], int(round(f.y * PBF_FORCE_SCALE)));
-    atomicAdd(forces[base + 2], int(round(f.z * PBF_FORCE_SCALE)));
-    atomicAdd(forces[base + 4], int(round(t.x * PBF_FORCE_SCALE)));
-    atomicAdd(forces[base + 5], int(round(t.y * PBF_FORCE_SCALE)));
-    atomicAdd(forces[base + 6], int(round(t.z * PBF_FORCE_SCALE)));
-}
 
 void main()
 {
@@ -53,17 +41,7 @@ void main()
         float d = plane_distance(p, xi, n);
         if (d < P.h) dp -= li * boundary_gradient(d) * n;
     }
-    float to_force = -P.mass * P.inv_dt * P.inv_dt;
-    for (uint b = 0u; b < P.collider_count; b++) {
-        if (distance(xi, colliders[b].position.xyz) > colliders[b].position.w + P.h) continue;
-        vec3 n;
-        float d = collider_sdf(colliders[b], colliders[b].position.xyz, colliders[b].rotation, xi, n);
-        if (d < P.h) {
-            vec3 bdp = -li * boundary_gradient(d) * n;
-            dp += bdp;
-            add_force(b, to_force * P.omega * bdp, xi - d * n);
-        }
-    }
+    colliders_delta(xi, li, dp);
     vec3 x = xi + P.omega * dp;
     // Collisions: keep a particle radius away from every boundary.
     for (uint p = 0u; p < P.plane_count; p++) {
@@ -71,16 +49,7 @@ void main()
         float d = plane_distance(p, x, n);
         if (d < P.radius) x += (P.radius - d) * n;
     }
-    for (uint b = 0u; b < P.collider_count; b++) {
-        if (distance(x, colliders[b].position.xyz) > colliders[b].position.w + P.radius) continue;
-        vec3 n;
-        float d = collider_sdf(colliders[b], colliders[b].position.xyz, colliders[b].rotation, x, n);
-        if (d < P.radius) {
-            vec3 push = (P.radius - d) * n;
-            x += push;
-            add_force(b, to_force * push, x - P.radius * n);
-        }
-    }
+    x = colliders_collide(x);
     x = clamp(x, P.domain_min.xyz + P.radius, P.domain_max.xyz - P.radius);
     pred_out[i] = vec4(x, 0.0);
 }

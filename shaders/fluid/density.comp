@@ -7,6 +7,7 @@
 #define USE_LAMBDA
 #define USE_COLLIDERS
 #include "common.glsl"
+#include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;
 
 void main()
@@ -36,15 +37,7 @@ void main()
             grad_i -= boundary_gradient(d) * n;
         }
     }
-    for (uint b = 0u; b < P.collider_count; b++) {
-        if (distance(xi, colliders[b].position.xyz) > colliders[b].position.w + P.h) continue;
-        vec3 n;
-        float d = collider_sdf(colliders[b], colliders[b].position.xyz, colliders[b].rotation, xi, n);
-        if (d < P.h) {
-            rho += P.rest_density * boundary_volume(d);
-            grad_i -= boundary_gradient(d) * n;
-        }
-    }
+    colliders_density(xi, rho, grad_i);
     float C = max(rho * P.inv_rest_density - 1.0, 0.0);
     float lambda = -C / (dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
     lambda_rho[i] = vec2(lambda, rho);

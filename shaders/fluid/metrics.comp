@@ -8,6 +8,7 @@
 #define USE_NB
 #define USE_COLLIDERS
 #include "common.glsl"
+#include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;
 layout(std430, binding = PBF_B_REDUCE) buffer Reduce { pbf_gpu_reduce partial[]; };
 
@@ -41,11 +42,8 @@ void main()
                 float d = plane_distance(p, xi, n);
                 if (d < P.h) rho += P.rest_density * boundary_volume(d);
             }
-            for (uint b = 0u; b < P.collider_count; b++) {
-                vec3 n;
-                float d = collider_sdf(colliders[b], colliders[b].position.xyz, colliders[b].rotation, xi, n);
-                if (d < P.h) rho += P.rest_density * boundary_volume(d);
-            }
+            vec3 unused_grad = vec3(0.0);
+            colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;
             if (any(lessThan(xi, P.domain_min.xyz)) || any(greaterThan(xi, P.domain_max.xyz))) outside = 1u;
         }
