@@ -1,0 +1,106 @@
+// Seiche fluid, CPU reference: the GPU step of pbf_world.c and shaders/fluid/*.comp
+// redone in plain C, float32, one thread, for small scenes (tests, tools, debugging).
+//
+// It is a second implementation of the same specification, not a port of a port: the
+// stages are the same (per substep: predict, grid, reorder, neighbours, iterations x
+// {density, delta}, velocity, then vorticity (eps > 0) and viscosity when either is on), the
+// constants come from pbf_derive_constants, and the per-particle arithmetic is written
+// in the shaders' order. The neighbour grid is the GPU's (cell size h, same origin and
+// dimensions, a stable counting sort each substep), so neighbour lists come in the same
+// order and the sums run in the same order too; what remains is the shader compiler's
+// freedom (fused multiply-adds, sqrt/pow precision), which the tests measure.
+//
+// Not mirrored: collider forces (colliders here are static boundaries) and stage timers.
+// All positions in metres, velocities in m/s, densities in kg/m^3, times in seconds.
+//
+//     pbf_cpu_world *w = pbf_cpu_world_create(&params, 4096, lo, hi, err, sizeof err);
+//     pbf_cpu_world_set_container(w, lo, hi, false);
+//     pbf_cpu_world_add_block(w, &block, NULL);
+//     pbf_cpu_world_step(w, 1.0f / 120.0f);
+//     pbf_cpu_world_read_particles(w, pos4, vel4, NULL, n);
+#ifndef PBF_CPU_H
+#define PBF_CPU_H
+
+#include "fluid/pbf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct pbf_cpu_world pbf_cpu_world;
+
+/// Density statistics of the current state, computed as metrics.comp does: poly6 over the
+/// neighbour list of the last substep at the final positions, plus the boundaries' share.
+typedef struct pbf_cpu_stats {
+    uint32_t particles;
+    float density_avg;       ///< kg/m^3, mean over particles with finite state
+    float density_max;       ///< kg/m^3
+    uint32_t nan_count;      ///< particles with a non-finite position or velocity
+    uint32_t outside_count;  ///< particles outside the domain
+    uint32_t overflow_count; ///< particles with more neighbours than max_neighbours
+} pbf_cpu_stats;
+
+/// Creates a world for up to `capacity` particles ([1, 2^20]) in the domain [min, max]
+/// (m; the neighbour grid covers it, at most 2^24 cells of size kernel_radius). Parameters
+/// are checked by pbf_params_validate. max_neighbours starts at pbf_suggest_max_neighbours,
+/// as in pbf_default_world_def. Returns NULL and a message naming the field on error.
+pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity, const float domain_min[3],
+                                    const float domain_max[3], char *err, size_t err_size);
+void pbf_cpu_world_destroy(pbf_cpu_world *world);
+/// Message of the latest failed call ("" if none).
+const char *pbf_cpu_world_last_error(const pbf_cpu_world *world);
+const pbf_params *pbf_cpu_world_params(const pbf_cpu_world *world);
+/// Changes parameters between steps (validated; on error nothing changes), as
+/// pbf_world_set_params: a new kernel radius re-lays the grid over the same domain.
+pbf_result pbf_cpu_world_set_params(pbf_cpu_world *world, const pbf_params *params);
+/// Neighbour list length per particle, [8, 512], as pbf_world_def.max_neighbours: a
+/// particle keeps the first max_neighbours found, in grid order, like the GPU.
+pbf_result pbf_cpu_world_set_max_neighbours(pbf_cpu_world *world, uint32_t max_neighbours);
+
+/// The same inward planes as pbf_world_set_container: floor, -x, +x, -z, +z walls, and
+/// the lid when closed_top. Must lie inside the domain.
+pbf_result pbf_cpu_world_set_container(pbf_cpu_world *world, const float min[3], const float max[3],
+                                       bool closed_top);
+void pbf_cpu_world_remove_container(pbf_cpu_world *world);
+
+/// The same lattice, order (x fastest, then y, then z) and colour parameter as
+/// pbf_world_add_block. `added` (may be NULL) receives the number of particles.
+pbf_result pbf_cpu_world_add_block(pbf_cpu_world *world, const pbf_block_def *block, uint32_t *added);
+/// Adds particles at xyz triples (m) with velocities (m/s; NULL: at rest), ids in order.
+pbf_result pbf_cpu_world_add_particles(pbf_cpu_world *world, const float *positions, const float *velocities,
+                                       uint32_t count);
+/// Adds a static collider (plane, box, sphere, capsule or cylinder; not hulls or distance
+/// grids) with the signed distances of shaders/fluid/colliders.glsl, at def->position and
+/// rotation for good; checked like pbf_world_add_collider. two_way is ignored (no forces).
+pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *world, const pbf_collider_def *def);
+uint32_t pbf_cpu_world_particle_count(const pbf_cpu_world *world);
+
+/// Advances by dt seconds ((0, 1]) in params.substeps substeps, as pbf_world_step.
+pbf_result pbf_cpu_world_step(pbf_cpu_world *world, float dt);
+
+/// Copies up to max particles in id order: positions (xyz m, w colour parameter) and
+/// velocities (xyz m/s, w 0) as xyzw, like pbf_world_read_particles. Any may be NULL.
+uint32_t pbf_cpu_world_read_particles(const pbf_cpu_world *world, float *positions, float *velocities,
+                                      uint32_t *ids, uint32_t max);
+/// 64-bit FNV-1a of positions then velocities (xyzw, id order), defined as pbf_world_state_hash.
+uint64_t pbf_cpu_world_state_hash(const pbf_cpu_world *world);
+/// Density statistics as metrics.comp computes them after a step. Before the first step
+/// (or after particles were added) the neighbour lists are first built at the positions.
+pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *world);
+/// The vorticity omega = curl v (1/s) at the current positions and velocities, as
+/// vorticity.comp computes it (neighbour lists rebuilt at the positions, densities as in
+/// the stats), written as xyzw (w = |omega|) in id order for up to max particles.
+uint32_t pbf_cpu_world_vorticity(pbf_cpu_world *world, float *omega, uint32_t max);
+
+/// Share of a filled neighbourhood taken by a half-space at distance d (m) from the
+/// particle, for kernel radius h (m): V(d) = integral over z > d of W_poly6 (dimensionless;
+/// V(0) = 1/2, V(h) = 0). The closed form of common.glsl's boundary_volume.
+float pbf_cpu_boundary_volume(float d, float h);
+/// G(d) = integral over z > d of |grad W_spiky| z / r (1/m; G(0) = 1.5 / h, G(h) = 0):
+/// the magnitude of the boundary's density-gradient term. common.glsl's boundary_gradient.
+float pbf_cpu_boundary_gradient(float d, float h);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
