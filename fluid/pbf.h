@@ -117,6 +117,9 @@ typedef struct pbf_constants {
     float poly6;          ///< 315 / (64 pi h^9)
     float spiky_grad;     ///< -45 / (pi h^6)
     float scorr_inv_wdq;  ///< 1 / W_poly6(scorr_dq * h)
+    float scorr_scale;    ///< m^2, 1 / lattice_grad2: the artificial pressure term is
+                          ///< -k (W / W(dq))^n * scorr_scale, so k reads as a constraint
+                          ///< violation (k = 0.1 pushes like a 10 % compression)
 } pbf_constants;
 pbf_constants pbf_derive_constants(const pbf_params *params);
 
@@ -170,6 +173,48 @@ pbf_result pbf_world_add_particles(pbf_world *world, const float *positions, con
 /// Removes every particle (capacity and parameters stay).
 void pbf_world_clear(pbf_world *world);
 
+/// ---- emitters and sinks -----------------------------------------------------------
+/// An emitter pours particles from a round nozzle: layers of a lattice of spacing 2r on a
+/// disc of `radius` around `position`, perpendicular to `direction`, each layer leaving
+/// when the previous one has moved one spacing, so emitted particles never overlap. `rate`
+/// particles per second are taken from those layers (at most the full layers' rate,
+/// speed * disc points / spacing: pbf_emitter_max_rate).
+typedef struct pbf_emitter_def {
+    float position[3];    ///< m, centre of the nozzle, inside the domain
+    float direction[3];   ///< direction of the jet (normalised here; not zero)
+    float speed;          ///< m/s, (0, 100]
+    float rate;           ///< particles/s, [0, pbf_emitter_max_rate]
+    float radius;         ///< m, nozzle radius, [particle_radius, 10 m]
+    bool enabled;         ///< off: emits nothing (and owes nothing)
+} pbf_emitter_def;
+pbf_emitter_def pbf_default_emitter_def(void);
+
+typedef struct pbf_emitter_id {
+    uint16_t index1;      ///< slot + 1; 0 is the null id
+    uint16_t generation;
+} pbf_emitter_id;
+
+/// The most particles per second an emitter of this speed and radius can pour.
+float pbf_emitter_max_rate(const pbf_world *world, float speed, float radius);
+pbf_result pbf_world_add_emitter(pbf_world *world, const pbf_emitter_def *def, pbf_emitter_id *out);
+/// Changes an emitter (position, direction, speed, rate, radius, on/off).
+pbf_result pbf_world_set_emitter(pbf_world *world, pbf_emitter_id id, const pbf_emitter_def *def);
+pbf_result pbf_world_remove_emitter(pbf_world *world, pbf_emitter_id id);
+bool pbf_emitter_is_valid(const pbf_world *world, pbf_emitter_id id);
+
+/// A sink removes every particle that enters the box [min, max] (m), on the GPU.
+typedef struct pbf_sink_id {
+    uint16_t index1;
+    uint16_t generation;
+} pbf_sink_id;
+pbf_result pbf_world_add_sink(pbf_world *world, const float min[3], const float max[3], pbf_sink_id *out);
+pbf_result pbf_world_remove_sink(pbf_world *world, pbf_sink_id id);
+bool pbf_sink_is_valid(const pbf_world *world, pbf_sink_id id);
+
+/// Live particles. The exact count lives on the GPU (sinks remove particles there); this is
+/// the count of the latest step whose statistics reached the CPU plus the particles added
+/// since, so with sinks it can be a step or two behind (an upper bound). The per-step
+/// count in pbf_step_stats is exact.
 uint32_t pbf_world_particle_count(const pbf_world *world);
 uint32_t pbf_world_capacity(const pbf_world *world);
 /// Mass of one particle (rest_density * (2 r)^3), kg.
@@ -187,13 +232,32 @@ typedef void pbf_substep_fn(void *user, pbf_world *world, int substep, float dt)
 pbf_result pbf_world_step_with(pbf_world *world, float dt, pbf_substep_fn *hook, void *user);
 
 /// ---- colliders: the generic boundary interface (the container uses it too) ----------
+/// A collider is a rigid shape in a moving frame. Each particle near it sees it as a
+/// half-space at its signed distance (boundary density and correction, like the
+/// container), is kept a particle radius outside it, and is swept along when the collider
+/// moves (previous pose -> current pose within each substep, so thin or fast walls do not
+/// let fluid through). Particles found inside at the start of a substep are moved out
+/// gently (at most half a particle radius per substep). Two-way colliders accumulate the
+/// fluid's force and torque on the GPU. fluid/bullet/coupling.h drives this from Bullet.
 typedef enum pbf_collider_type {
-    PBF_SHAPE_PLANE = 0,  ///< size: normal xyz, offset w (fluid on the +normal side)
+    PBF_SHAPE_PLANE = 0,  ///< size: normal xyz, offset w (fluid on the +normal side), collider frame
     PBF_SHAPE_BOX,        ///< size: half extents xyz, m
     PBF_SHAPE_SPHERE,     ///< size: radius x, m
     PBF_SHAPE_CAPSULE,    ///< size: radius x, half height y (local Y axis), m
     PBF_SHAPE_CYLINDER,   ///< size: radius x, half height y (local Y axis), m
+    PBF_SHAPE_CONVEX_HULL,///< planes: the face planes (size unused)
+    PBF_SHAPE_SDF,        ///< grid: a signed distance grid (size unused), e.g. a triangle mesh
 } pbf_collider_type;
+
+/// A signed distance grid in the collider's frame: value = distance to the surface, m,
+/// positive outside the solid (where fluid may be). Outside the grid the distance grows
+/// with the distance to the grid's box, so give a margin of at least kernel_radius.
+typedef struct pbf_sdf_grid {
+    const float *values;  ///< dims[0] * dims[1] * dims[2] samples, x fastest, then y, z; m
+    uint32_t dims[3];     ///< samples per axis, [2, 1023]
+    float origin[3];      ///< m, collider frame: where sample (0, 0, 0) lies
+    float cell;           ///< m, spacing of the samples, > 0
+} pbf_sdf_grid;
 
 typedef struct pbf_collider_id {
     uint16_t index1;     ///< slot + 1; 0 is the null id
@@ -203,23 +267,49 @@ typedef struct pbf_collider_id {
 typedef struct pbf_collider_def {
     pbf_collider_type type;
     float size[4];
+    /// PBF_SHAPE_CONVEX_HULL: plane_count face planes, 4 floats each (outward unit normal
+    /// xyz, offset w, m; inside is dot(n, x) <= w), collider frame; [4, PBF_MAX_HULL_PLANES].
+    const float *planes;
+    uint32_t plane_count;
+    pbf_sdf_grid grid;   ///< PBF_SHAPE_SDF only; the data is copied
     float position[3];   ///< m
     float rotation[4];   ///< unit quaternion x, y, z, w
     bool two_way;        ///< accumulate the fluid's force and torque on it
 } pbf_collider_def;
+#define PBF_MAX_HULL_PLANES 256
 pbf_collider_def pbf_default_collider_def(void);
 
 pbf_result pbf_world_add_collider(pbf_world *world, const pbf_collider_def *def, pbf_collider_id *out);
 pbf_result pbf_world_remove_collider(pbf_world *world, pbf_collider_id id);
 bool pbf_collider_is_valid(const pbf_world *world, pbf_collider_id id);
-/// Sets the pose the collider reaches at the end of the next step (the previous one is
-/// kept for sweeping), its velocities and its centre of mass (torque is taken about it).
+/// Sets the pose the collider reaches at the end of the next substep (the pose it had is
+/// kept as the previous one, which the substep sweeps from), its velocities and its centre
+/// of mass (torque is taken about it; NULL: the position). Velocities may be NULL (kept).
 pbf_result pbf_world_set_collider_pose(pbf_world *world, pbf_collider_id id, const float position[3],
                                        const float rotation[4], const float linear_velocity[3],
                                        const float angular_velocity[3], const float center_of_mass[3]);
-/// Force (N) and torque (N m) the fluid exerted on a two-way collider over the latest
-/// step whose results have reached the CPU (one or two steps of latency).
+/// Force (N) and torque (N m) the fluid exerted on a two-way collider, averaged over the
+/// substeps of the latest step whose results have reached the CPU (one or two steps of
+/// latency). Never blocks.
 pbf_result pbf_world_collider_force(pbf_world *world, pbf_collider_id id, float force[3], float torque[3]);
+
+/// The fluid's force on a two-way collider during one given step, for hosts that want a
+/// fixed latency (deterministic coupling): `steps_back` = 1 is the step issued last, 2 the
+/// one before, up to 7. With `wait` it waits for that step's fence if the GPU has not
+/// finished it (a stall; with steps_back >= 2 the GPU has normally finished); without,
+/// *ready says whether the numbers were there (force and torque are zero when not).
+/// `contacts` (may be NULL) receives the particle-boundary contacts summed over the step's
+/// solver iterations and substeps.
+typedef struct pbf_collider_report {
+    float force[3];       ///< N, averaged over the step's substeps
+    float torque[3];      ///< N m about the centre of mass given with the pose
+    uint32_t contacts;    ///< particle-boundary contacts, summed over iterations and substeps
+    uint32_t pushed_out;  ///< particles moved out from inside it, summed over iterations and substeps
+    uint64_t step;        ///< 0-based index of the step these belong to
+    bool ready;           ///< false: not complete yet (everything else zero)
+} pbf_collider_report;
+pbf_result pbf_world_collider_report(pbf_world *world, pbf_collider_id id, int steps_back, bool wait,
+                                     pbf_collider_report *out);
 
 /// ---- measurements ---------------------------------------------------------------------
 typedef struct pbf_step_stats {
@@ -244,8 +334,8 @@ int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wa
 typedef struct pbf_gpu_buffers {
     unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1]
     unsigned velocities;  ///< SSBO of vec4: xyz m/s
-    unsigned draw_indirect; ///< DrawArraysIndirectCommand {4, particles, 0, 0}
-    uint32_t count;
+    unsigned draw_indirect; ///< DrawArraysIndirectCommand {4, particles, 0, 0}, written on the GPU
+    uint32_t count;       ///< pbf_world_particle_count (draw with draw_indirect, not this)
 } pbf_gpu_buffers;
 pbf_gpu_buffers pbf_world_gpu_buffers(const pbf_world *world);
 

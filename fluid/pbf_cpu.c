@@ -516,6 +516,7 @@ static pbf_gpu_params uniforms(const pbf_cpu_world *w, float dt)
     g.scorr_k = p->scorr_k;
     g.scorr_n = p->scorr_n;
     g.scorr_inv_wdq = k->scorr_inv_wdq;
+    g.scorr_scale = k->scorr_scale;
     g.vorticity = p->vorticity;
     g.viscosity = p->viscosity;
     g.damping = p->damping;
@@ -707,7 +708,7 @@ static void delta(pbf_cpu_world *w, const pbf_gpu_params *P)
             for (uint32_t q = 0; q < nn; q++) {
                 uint32_t j = nb[q];
                 v3 r = sub(xi, xyz(w->pred[j]));
-                float s = -P->scorr_k * powf(w_poly6(P, dot(r, r)) * P->scorr_inv_wdq, P->scorr_n);
+                float s = -P->scorr_k * powf(w_poly6(P, dot(r, r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
                 dp = add(dp, scale(li + w->lambda[j] + s, grad_spiky(P, r)));
             }
         } else {

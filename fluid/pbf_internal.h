@@ -26,21 +26,49 @@ enum program_id {
     PROG_VISCOSITY,
     PROG_METRICS,
     PROG_METRICS_FINAL,
+    PROG_LIVE_COUNT,
+    PROG_APPEND,
     PROG_COUNT
 };
+
+#define PBF_MAX_EMITTERS 16
+
+typedef struct emitter_slot {
+    bool used;
+    uint16_t generation;
+    pbf_emitter_def def;
+    float basis_u[3], basis_v[3], dir[3];
+    float *disc;        // 2D lattice points on the nozzle disc (u, v pairs), m
+    int disc_count;
+    int cursor;         // next disc point to use (rotates so partial layers spread out)
+    double travel;      // m the last layer has moved since it left the nozzle
+    double credit;      // particles owed
+} emitter_slot;
+
+typedef struct sink_slot {
+    bool used;
+    uint16_t generation;
+    float min[3], max[3];
+} sink_slot;
 
 typedef struct collider_slot {
     bool used;
     uint16_t generation;
     int gpu_index; // index in the uploaded array, -1 when not uploaded
     pbf_gpu_collider gpu;
+    float *data;        // hull planes or distance grid (CPU copy), NULL for analytic shapes
+    uint32_t data_count;
+    uint64_t added_step;  // step_index when it was added (earlier steps are not its own)
+    float step_scale[RING]; // force scale it had in the step issued in each ring slot
+    // Per-step reports read back, indexed by step % RING (valid when step matches).
+    pbf_collider_report hist[RING];
 } collider_slot;
 
 typedef struct stats_slot {
     bool pending;
     uint64_t step;
     double time;
-    uint32_t count;
+    uint64_t appended_total; // w->appended_total when this step was issued
     GLsync fence;
     int nq;
     GLuint *queries;    // nq timestamps; query 0 is the start
@@ -54,7 +82,12 @@ struct pbf_world {
     pbf_params params;
     uint32_t capacity;
     uint32_t max_neighbours;
-    uint32_t count;
+    uint32_t count;            // particles as last known: stats count + appended since
+    uint64_t appended_total;   // particles handed to the append pass so far
+    uint64_t known_appended;   // appended_total when the latest stats' step was issued
+    uint32_t known_count;      // live count of the latest step whose stats arrived
+    uint64_t known_step;       // 1 + that step
+    bool sinks_active;
     uint32_t next_id;
     float domain_min[3], domain_max[3];
     char shader_dir[512];
@@ -68,11 +101,12 @@ struct pbf_world {
     uint32_t grid_dims[3], cells;
 
     GLuint programs[PROG_COUNT];
-    GLint u_scan_n[2], u_groups, u_frame;
+    GLint u_scan_n[2], u_frame;
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
     GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, scan, colliders, forces,
-        reduce, metrics, draw, params_ubo, nb_list, nb_count;
+        reduce, metrics, draw, params_ubo, nb_list, nb_count, state, stage_pos, stage_vel, stage_id;
+    uint32_t stage_cap;        // particles the staging buffers hold
     bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed
     GLint ssbo_align;
     struct { GLintptr offset; uint32_t n; } scan_level[MAX_SCAN_LEVELS];
@@ -82,10 +116,17 @@ struct pbf_world {
     collider_slot slots[PBF_MAX_COLLIDERS];
     uint32_t gpu_colliders;
     bool colliders_dirty;
+    bool collider_data_dirty;   // hull planes / grids changed: collider_data is rebuilt
+    GLuint collider_data;       // float[]: PBF_B_COLLIDER_DATA (made on first use)
+    GLsizeiptr collider_data_size;
     float planes[PBF_MAX_PLANES][4];
     int plane_count;
+    emitter_slot emitters[PBF_MAX_EMITTERS];
+    sink_slot sinks[PBF_MAX_SINKS];
 
     stats_slot ring[RING];
+    pbf_step_stats done[RING]; // records read early because the ring was full, oldest first
+    int done_count;
     int ring_head;   // next slot to fill
     int max_queries;
     uint64_t step_index;
@@ -103,10 +144,24 @@ pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 #endif
     ;
 
+/// Appends particles (xyzw positions with w the colour parameter, xyzw velocities) through
+/// the staging buffers and the append pass; ids are assigned here.
+pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32_t n);
+/// Writes the params uniform block for a pass outside the step (append).
+void pbf_write_params(pbf_world *w, float dt, int substep, int slot);
+/// Emitters (pbf_emitters.c): particles they owe for a step of dt, appended.
+pbf_result pbf_emitters_emit(pbf_world *w, float dt);
+void pbf_emitters_free(pbf_world *w);
+float pbf_colour_of(const pbf_world *w, float y);
+
 /// Colliders (pbf_colliders.c): upload before a step, read forces after.
 void pbf_colliders_upload(pbf_world *w);
 void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot);
 void pbf_colliders_end_step(pbf_world *w);
 void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r);
+/// Binds the collider data buffer (call where the step binds its buffers).
+void pbf_colliders_bind(pbf_world *w);
+/// Frees the colliders' CPU copies and GL buffers (pbf_world_destroy).
+void pbf_colliders_free(pbf_world *w);
 
 #endif

@@ -12,8 +12,8 @@ pbf_params pbf_default_params(void)
     p.particle_radius = 0.0125f; // 2.5 cm spacing
     p.kernel_radius = 0.05f;     // h = 2 spacings: about 30 neighbours
     p.rest_density = 1000.0f;
-    p.iterations = 3;
-    p.substeps = 2;
+    p.iterations = 2; // "small steps": more substeps beat more iterations (docs/solver.md)
+    p.substeps = 4;
     p.relaxation = 0.01f;
     p.sor = 1.0f;
     p.scorr_k = 0.0f; // the unilateral constraint already prevents clustering
@@ -84,6 +84,7 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
     c.spiky_grad = (float)(-45.0 / (PBF_PI * pow(h, 6)));
     double dq = p->scorr_dq * h;
     c.scorr_inv_wdq = (float)(1.0 / poly6(dq * dq, h));
+    c.scorr_scale = (float)(1.0 / c.lattice_grad2);
     return c;
 }
 

@@ -17,15 +17,17 @@
 #include <epoxy/gl.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-_Static_assert(sizeof(pbf_gpu_params) == 288, "pbf_gpu_params must match the std140 block");
+_Static_assert(sizeof(pbf_gpu_params) == 560, "pbf_gpu_params must match the std140 block");
 _Static_assert(sizeof(pbf_gpu_params) % 16 == 0, "std140 block size");
 _Static_assert(sizeof(pbf_gpu_collider) == 144, "pbf_gpu_collider std430 layout");
 _Static_assert(sizeof(pbf_gpu_reduce) == 32, "pbf_gpu_reduce std430 layout");
 _Static_assert(sizeof(pbf_gpu_metrics) == 32, "pbf_gpu_metrics std430 layout");
+_Static_assert(sizeof(pbf_gpu_state) == 32, "pbf_gpu_state std430 layout");
 
 #ifndef SEICHE_SHADER_DIR
 #define SEICHE_SHADER_DIR "shaders"
@@ -36,7 +38,7 @@ static const char *const program_files[PROG_COUNT] = {
     "fluid/scan_add.comp",  "fluid/grid_scatter.comp", "fluid/grid_sort.comp",
     "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp",
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
-    "fluid/metrics.comp",   "fluid/metrics_final.comp",
+    "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
@@ -137,10 +139,12 @@ static void free_grid(pbf_world *w)
 
 static pbf_result alloc_grid(pbf_world *w)
 {
-    w->cell_start = make_buffer((GLsizeiptr)(w->cells + 1) * 4);
-    w->cell_fill = make_buffer((GLsizeiptr)w->cells * 4);
+    // Cells 0..cells-1, the removed cell `cells` (sinks), and one more entry so that the
+    // exclusive scan leaves the total at cell_start[cells + 1].
+    w->cell_start = make_buffer((GLsizeiptr)(w->cells + 2) * 4);
+    w->cell_fill = make_buffer((GLsizeiptr)(w->cells + 1) * 4);
     // Scan levels: level 0 is cell_start itself; the block sums of level l are level l+1.
-    uint32_t n = w->cells + 1;
+    uint32_t n = w->cells + 2;
     GLintptr off = 0;
     w->scan_levels = 0;
     w->scan_level[0].offset = 0;
@@ -169,7 +173,6 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
     }
     w->u_scan_n[0] = glGetUniformLocation(w->programs[PROG_SCAN_BLOCK], "scan_n");
     w->u_scan_n[1] = glGetUniformLocation(w->programs[PROG_SCAN_ADD], "scan_n");
-    w->u_groups = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "groups");
     w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
     return PBF_OK;
 }
@@ -177,7 +180,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
 static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
-    int per_substep = 4 + 2 * MAX_SCAN_LEVELS + 2 + 2 * p->iterations + 3;
+    int per_substep = 6 + 2 * MAX_SCAN_LEVELS + 2 + 2 * p->iterations + 3;
     int need = 1 + per_substep * p->substeps + 4;
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
@@ -278,6 +281,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->reduce = make_buffer(((cap + PBF_WG - 1) / PBF_WG) * (GLsizeiptr)sizeof(pbf_gpu_reduce));
     w->metrics = make_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics));
     w->draw = make_buffer(16);
+    w->state = make_buffer(sizeof(pbf_gpu_state));
     glGenBuffers(1, &w->params_ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof(pbf_gpu_params), NULL, GL_DYNAMIC_DRAW);
@@ -286,9 +290,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
         pbf_world_destroy(w);
         return NULL;
     }
-    uint32_t cmd[4] = { 4, 0, 0, 0 };
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->draw);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
+    pbf_world_clear(w);
     stats_alloc(w);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
@@ -308,9 +310,10 @@ void pbf_world_destroy(pbf_world *w)
     GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
                       w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega,
                       w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
-                      w->nb_list, w->nb_count };
+                      w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id };
     glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
     free_grid(w);
+    pbf_emitters_free(w);
     for (int s = 0; s < RING; s++) {
         if (w->ring[s].queries) glDeleteQueries(w->max_queries, w->ring[s].queries);
         if (w->ring[s].fence) glDeleteSync(w->ring[s].fence);
@@ -356,32 +359,61 @@ pbf_block_def pbf_default_block_def(void)
     return b;
 }
 
-static float colour_of(const pbf_world *w, float y)
+float pbf_colour_of(const pbf_world *w, float y)
 {
     float t = (y - w->domain_min[1]) / (w->domain_max[1] - w->domain_min[1]);
     return t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
 }
 
-static pbf_result upload(pbf_world *w, const float *pos4, const float *vel4, uint32_t n)
+static void bind_all(pbf_world *w);
+
+static void grow_staging(pbf_world *w, uint32_t n)
 {
-    GLintptr off = (GLintptr)w->count;
+    if (n <= w->stage_cap) return;
+    uint32_t cap = w->stage_cap ? w->stage_cap : 1024;
+    while (cap < n) cap *= 2;
+    GLuint old[3] = { w->stage_pos, w->stage_vel, w->stage_id };
+    glDeleteBuffers(3, old);
+    w->stage_pos = make_buffer((GLsizeiptr)cap * 16);
+    w->stage_vel = make_buffer((GLsizeiptr)cap * 16);
+    w->stage_id = make_buffer((GLsizeiptr)cap * 4);
+    w->stage_cap = cap;
+}
+
+pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32_t n)
+{
+    if (n == 0) return PBF_OK;
     uint32_t *ids = malloc((size_t)n * 4);
     if (!ids) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
     for (uint32_t i = 0; i < n; i++) ids[i] = w->next_id + i;
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pos[w->cur_pos]);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, pos4);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pred[w->cur_pred]);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, pos4);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->vel[w->cur_vel]);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 16, (GLsizeiptr)n * 16, vel4);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->ids[w->cur_ids]);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, off * 4, (GLsizeiptr)n * 4, ids);
+    grow_staging(w, n);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->stage_pos);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, pos4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->stage_vel);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, vel4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->stage_id);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 4, ids);
     free(ids);
-    w->count += n;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    pbf_write_params(w, 1.0f / 60.0f, 0, 0);
+    // append_count and count_mode ride in the same uniform block.
+    uint32_t extra[2] = { n, 1u };
+    glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, offsetof(pbf_gpu_params, append_count), sizeof extra, extra);
+    bind_all(w);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STAGE_POS, w->stage_pos);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STAGE_VEL, w->stage_vel);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STAGE_ID, w->stage_id);
+    glUseProgram(w->programs[PROG_APPEND]);
+    glDispatchCompute((n + PBF_WG - 1) / PBF_WG, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(w->programs[PROG_LIVE_COUNT]);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     w->next_id += n;
-    uint32_t cmd[4] = { 4, w->count, 0, 0 };
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->draw);
-    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
+    w->appended_total += n;
+    uint64_t c = w->known_count + (w->appended_total - w->known_appended);
+    w->count = c > w->capacity ? w->capacity : (uint32_t)c;
     return PBF_OK;
 }
 
@@ -419,10 +451,10 @@ pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const f
             p4[4 * i + k] = positions[3 * i + k];
             v4[4 * i + k] = velocities ? velocities[3 * i + k] : 0.0f;
         }
-        p4[4 * i + 3] = colour_of(w, positions[3 * i + 1]);
+        p4[4 * i + 3] = pbf_colour_of(w, positions[3 * i + 1]);
         v4[4 * i + 3] = 0.0f;
     }
-    pbf_result r = upload(w, p4, v4, n);
+    pbf_result r = pbf_append(w, p4, v4, n);
     free(p4);
     free(v4);
     return r;
@@ -467,13 +499,13 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
                 p[0] = b->min[0] + s * (0.5f + (float)x);
                 p[1] = b->min[1] + s * (0.5f + (float)y);
                 p[2] = b->min[2] + s * (0.5f + (float)z);
-                p[3] = colour_of(w, p[1]);
+                p[3] = pbf_colour_of(w, p[1]);
                 v[0] = b->velocity[0];
                 v[1] = b->velocity[1];
                 v[2] = b->velocity[2];
                 v[3] = 0.0f;
             }
-    pbf_result r = upload(w, p4, v4, (uint32_t)total);
+    pbf_result r = pbf_append(w, p4, v4, (uint32_t)total);
     free(p4);
     free(v4);
     if (r == PBF_OK && added) *added = (uint32_t)total;
@@ -482,7 +514,14 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
 
 void pbf_world_clear(pbf_world *w)
 {
-    w->count = 0;
+    // Wait for the steps in flight: their stats would describe particles now gone.
+    pbf_world_poll_stats(w, NULL, 0, true);
+    w->count = w->known_count = 0;
+    w->known_appended = w->appended_total;
+    w->known_step = w->step_index;
+    pbf_gpu_state st = { 0, 0, 1, 1, 0, 0, 0, 0 };
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->state);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof st, &st);
     uint32_t cmd[4] = { 4, 0, 0, 0 };
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->draw);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof cmd, cmd);
@@ -540,10 +579,13 @@ static void bind_all(pbf_world *w)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_METRICS, w->metrics);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_LIST, w->nb_list);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_COUNT, w->nb_count);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STATE, w->state);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_DRAW, w->draw);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, w->state);
     glBindBufferBase(GL_UNIFORM_BUFFER, PBF_U_PARAMS, w->params_ubo);
 }
 
-static void write_params(pbf_world *w, float dt, int substep, int slot)
+void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
 {
     const pbf_params *p = &w->params;
     pbf_gpu_params g;
@@ -558,6 +600,17 @@ static void write_params(pbf_world *w, float dt, int substep, int slot)
     for (int k = 0; k < w->plane_count; k++)
         g.planes[k] = (pbf_float4){ w->planes[k][0], w->planes[k][1], w->planes[k][2], w->planes[k][3] };
     g.plane_count = (uint32_t)w->plane_count;
+    uint32_t ns = 0;
+    for (int k = 0; k < PBF_MAX_SINKS; k++) {
+        if (!w->sinks[k].used) continue;
+        g.sink_min[ns] = (pbf_float4){ w->sinks[k].min[0], w->sinks[k].min[1], w->sinks[k].min[2], 0 };
+        g.sink_max[ns] = (pbf_float4){ w->sinks[k].max[0], w->sinks[k].max[1], w->sinks[k].max[2], 0 };
+        ns++;
+    }
+    g.sink_count = ns;
+    g.capacity = w->capacity;
+    g.append_count = 0;
+    g.count_mode = 0;
     g.max_neighbours = w->max_neighbours;
     g.dt = dt;
     g.inv_dt = 1.0f / dt;
@@ -574,6 +627,7 @@ static void write_params(pbf_world *w, float dt, int substep, int slot)
     g.scorr_k = p->scorr_k;
     g.scorr_n = p->scorr_n;
     g.scorr_inv_wdq = k->scorr_inv_wdq;
+    g.scorr_scale = k->scorr_scale;
     g.vorticity = p->vorticity;
     g.viscosity = p->viscosity;
     g.damping = p->damping;
@@ -610,6 +664,15 @@ static void dispatch(step_ctx *s, int prog, uint32_t groups, pbf_stage stage)
         glDispatchCompute(groups, 1, 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
+    mark(s, stage);
+}
+
+// A pass over the live particles: one thread each, the group count read on the GPU.
+static void dispatch_particles(step_ctx *s, int prog, pbf_stage stage)
+{
+    glUseProgram(s->w->programs[prog]);
+    glDispatchComputeIndirect(offsetof(pbf_gpu_state, groups_x));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     mark(s, stage);
 }
 
@@ -650,39 +713,44 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
 {
     pbf_world *w = s->w;
     const pbf_params *p = &w->params;
-    uint32_t pg = groups_for(w->count, PBF_WG);
-    write_params(w, dt, sub, slot);
+    pbf_write_params(w, dt, sub, slot);
     bind_all(w);
-    dispatch(s, PROG_PREDICT, pg, PBF_STAGE_PREDICT);
+    dispatch_particles(s, PROG_PREDICT, PBF_STAGE_PREDICT);
 
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_start);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_fill);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-    dispatch(s, PROG_GRID_COUNT, pg, PBF_STAGE_GRID_COUNT);
+    dispatch_particles(s, PROG_GRID_COUNT, PBF_STAGE_GRID_COUNT);
     run_scan(s);
     bind_all(w);
-    dispatch(s, PROG_GRID_SCATTER, pg, PBF_STAGE_GRID_SCATTER);
-    dispatch(s, PROG_GRID_SORT, groups_for(w->cells, PBF_WG), PBF_STAGE_GRID_SORT);
-    dispatch(s, PROG_REORDER, pg, PBF_STAGE_REORDER);
+    dispatch_particles(s, PROG_GRID_SCATTER, PBF_STAGE_GRID_SCATTER);
+    dispatch(s, PROG_GRID_SORT, groups_for(w->cells + 1, PBF_WG), PBF_STAGE_GRID_SORT);
+    dispatch_particles(s, PROG_REORDER, PBF_STAGE_REORDER);
     w->cur_pos ^= 1;
     w->cur_vel ^= 1;
     w->cur_pred ^= 1;
     w->cur_ids ^= 1;
     bind_particles(w);
-    dispatch(s, PROG_NEIGHBOURS, pg, PBF_STAGE_NEIGHBOURS);
+    if (w->sinks_active) {
+        // Particles that entered a sink sit after the live ones now: drop them.
+        glUseProgram(w->programs[PROG_LIVE_COUNT]);
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    }
+    dispatch_particles(s, PROG_NEIGHBOURS, PBF_STAGE_NEIGHBOURS);
 
     for (int it = 0; it < p->iterations; it++) {
-        dispatch(s, PROG_DENSITY, pg, PBF_STAGE_DENSITY);
-        dispatch(s, PROG_DELTA, pg, PBF_STAGE_DELTA);
+        dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
+        dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
         w->cur_pred ^= 1;
         bind_particles(w);
     }
-    dispatch(s, PROG_VELOCITY, pg, PBF_STAGE_VELOCITY);
+    dispatch_particles(s, PROG_VELOCITY, PBF_STAGE_VELOCITY);
     if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
-        if (p->vorticity > 0.0f) dispatch(s, PROG_VORTICITY, pg, PBF_STAGE_VORTICITY);
-        dispatch(s, PROG_VISCOSITY, pg, PBF_STAGE_VISCOSITY);
+        if (p->vorticity > 0.0f) dispatch_particles(s, PROG_VORTICITY, PBF_STAGE_VORTICITY);
+        dispatch_particles(s, PROG_VISCOSITY, PBF_STAGE_VISCOSITY);
         w->cur_vel ^= 1;
         bind_particles(w);
     }
@@ -693,7 +761,6 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     memset(out, 0, sizeof *out);
     out->step = r->step;
     out->time = r->time;
-    out->particles = r->count;
     out->rest_density = w->params.rest_density;
     GLuint64 prev = 0;
     for (int q = 0; q < r->nq; q++) {
@@ -715,12 +782,31 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     out->nan_count = m.nan_count;
     out->outside_count = m.outside_count;
     out->overflow_count = m.overflow_count;
+    out->particles = m.count;
+    // The count as of this step, plus what was appended after it was issued.
+    if (r->step + 1 >= w->known_step) {
+        w->known_step = r->step + 1;
+        w->known_count = m.count;
+        w->known_appended = r->appended_total;
+        uint64_t c = w->known_count + (w->appended_total - w->known_appended);
+        w->count = c > w->capacity ? w->capacity : (uint32_t)c;
+    }
     pbf_colliders_read_forces(w, r);
 }
 
 int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
 {
     int n = 0;
+    // Records read early (ring full) come first: they are older than any pending one.
+    int taken = 0;
+    while (taken < w->done_count && (!out || n < max)) {
+        if (out) out[n] = w->done[taken];
+        n++;
+        taken++;
+    }
+    memmove(w->done, w->done + taken, (size_t)(w->done_count - taken) * sizeof w->done[0]);
+    w->done_count -= taken;
+    if (out && n >= max) return n;
     for (int k = 0; k < RING; k++) {
         // oldest pending first
         int idx = (w->ring_head + k) % RING;
@@ -747,20 +833,28 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     if (!(dt > 0.0f && dt <= 1.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
     const pbf_params *p = &w->params;
+    pbf_result er = pbf_emitters_emit(w, dt);
+    if (er != PBF_OK) return er;
+    w->sinks_active = false;
+    for (int k = 0; k < PBF_MAX_SINKS; k++) w->sinks_active |= w->sinks[k].used;
     int slot_index = w->ring_head;
     stats_slot *slot = &w->ring[slot_index];
     if (slot->pending) {
-        // The GPU is RING steps behind: wait for the oldest record rather than lose it.
-        // Its numbers stay available to the next poll.
+        // The GPU is RING steps behind, or nobody polls: read the oldest record now (waiting
+        // for it if need be) and keep it for the next poll. With no poll at all, the
+        // oldest kept records make room.
         glClientWaitSync(slot->fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10000000000ull);
-        pbf_step_stats discard;
-        read_slot(w, slot, &discard);
+        if (w->done_count == RING) {
+            memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
+            w->done_count--;
+        }
+        read_slot(w, slot, &w->done[w->done_count++]);
         glDeleteSync(slot->fence);
         slot->pending = false;
     }
     slot->nq = 0;
     slot->step = w->step_index;
-    slot->count = w->count;
+    slot->appended_total = w->appended_total;
     slot->substeps = p->substeps;
     pbf_colliders_begin_step(w, slot);
     step_ctx s = { w, slot };
@@ -773,15 +867,11 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
         }
         substep(&s, sub_dt, k, slot_index);
     }
-    // Metrics of the final state.
-    uint32_t pg = groups_for(w->count, PBF_WG);
-    if (w->count > 0) {
-        dispatch(&s, PROG_METRICS, pg, PBF_STAGE_METRICS);
-        glUseProgram(w->programs[PROG_METRICS_FINAL]);
-        glUniform1ui(w->u_groups, pg);
-        glUniform1ui(w->u_frame, (GLuint)w->step_index);
-        dispatch(&s, PROG_METRICS_FINAL, 1, PBF_STAGE_METRICS);
-    }
+    // Metrics of the final state (partials per work group, then one group folds them).
+    dispatch_particles(&s, PROG_METRICS, PBF_STAGE_METRICS);
+    glUseProgram(w->programs[PROG_METRICS_FINAL]);
+    glUniform1ui(w->u_frame, (GLuint)w->step_index);
+    dispatch(&s, PROG_METRICS_FINAL, 1, PBF_STAGE_METRICS);
     pbf_colliders_end_step(w);
     w->time += dt;
     slot->time = w->time;
@@ -812,9 +902,18 @@ static int cmp_id(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+static uint32_t gpu_count(pbf_world *w)
+{
+    pbf_gpu_state st;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->state);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof st, &st);
+    return st.count;
+}
+
 uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
 {
-    uint32_t n = w->count;
+    uint32_t n = gpu_count(w);
     if (n == 0) return 0;
     float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
     uint32_t *id = malloc((size_t)n * 4);
@@ -851,7 +950,7 @@ uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocit
 
 uint64_t pbf_world_state_hash(pbf_world *w)
 {
-    uint32_t n = w->count;
+    uint32_t n = gpu_count(w);
     float *p = malloc((size_t)n * 16 + 16), *v = malloc((size_t)n * 16 + 16);
     uint64_t h = 1469598103934665603ull;
     if (p && v) {

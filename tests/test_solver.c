@@ -246,8 +246,8 @@ static void kernels_are_normalised_and_boundary_closed_forms_match_integrals(voi
 #define DENSITY_REL 1e-4    // relative, average and maximum density
 
 /// Steps the dam break with `params` 10 times on both sides and compares every step;
-/// step1_bound (spacings) bounds the first step, DEV_ALL every step.
-static void compare_dam_break(const fixture *f, const pbf_params *params, double step1_bound)
+/// step1_bound (spacings) bounds the first step, all_bound every step.
+static void compare_dam_break(const fixture *f, const pbf_params *params, double step1_bound, double all_bound)
 {
     const int steps = 10;
     const float dt = 1.0f / 120.0f;
@@ -306,7 +306,7 @@ static void compare_dam_break(const fixture *f, const pbf_params *params, double
         if (em > worst_max) worst_max = em;
         assert_true(ea < DENSITY_REL);
         assert_true(em < DENSITY_REL);
-        assert_true(dev[k] < DEV_ALL * spacing);
+        assert_true(dev[k] < all_bound * spacing);
     }
     assert_true(dev[0] < step1_bound * spacing);
     // The dam really collapses (this is not a comparison of two resting lattices): after
@@ -332,23 +332,27 @@ static void compare_dam_break(const fixture *f, const pbf_params *params, double
 static void gpu_dam_break_matches_cpu_reference(void **state)
 {
     pbf_params p = pbf_default_params();
-    compare_dam_break(*state, &p, DEV_STEP1);
+    compare_dam_break(*state, &p, DEV_STEP1, DEV_ALL);
 }
 
 /// The paths the defaults leave out: artificial pressure (s_corr, through pow), damping,
 /// over-relaxation, one substep, four iterations, h = 2.4 spacings. s_corr is kept at
-/// k = 1e-4: from k = 1e-3 up this dam break explodes to the speed clamp within a step or
-/// two, on both sides alike (s_corr is added to lambda, m^2, without a unit scale).
+/// k = 0.1 as in the paper: s_corr is scaled by 1 / (sum |grad C|^2 of a filled
+/// neighbourhood), so it acts like a constraint violated by k (before that scale, k = 1e-3
+/// already exploded this dam break, on both sides alike).
 static void gpu_dam_break_matches_cpu_reference_with_scorr_damping_and_sor(void **state)
 {
     pbf_params p = pbf_default_params();
-    p.scorr_k = 1e-4f;
+    p.scorr_k = 0.1f; // the paper's k (s_corr is scaled to a constraint violation of k)
     p.damping = 0.5f;
     p.sor = 1.2f;
     p.iterations = 4;
     p.substeps = 1;
     p.kernel_radius = 0.06f;
-    compare_dam_break(*state, &p, DEV_STEP1);
+    // GLSL pow (exp2 of log2 on llvmpipe) and powf differ by ulps, and a real s_corr
+    // (k = 0.1) feeds them back: measured 1.3e-3 spacing after 10 steps, so this case gets
+    // 5e-3 over the ten steps (still far below the slips listed above, e.g. 4e-2).
+    compare_dam_break(*state, &p, DEV_STEP1, 5e-3);
 }
 
 /// Particles falling onto the four collider shapes, posed off-axis, in the open tank.

@@ -10,8 +10,8 @@ seiche.scene {
     fluid = {
         particle_radius = 0.0125,   -- m: 2.5 cm between particles
         kernel_radius = 0.05,       -- m: twice the spacing
-        iterations = 3,
-        substeps = 2,
+        iterations = 2,             -- per substep ("small steps", docs/solver.md)
+        substeps = 4,
     },
     gravity = { 0, -9.81, 0 },
     capacity = 40000,

@@ -7,8 +7,8 @@ seiche.scene {
     fluid = {
         particle_radius = 0.0125,
         kernel_radius = 0.05,
-        iterations = 3,
-        substeps = 2,
+        iterations = 2,             -- per substep ("small steps", docs/solver.md)
+        substeps = 4,
     },
     capacity = 40000,
     container = { min = { 0, 0, 0 }, max = { 1.0, 1.2, 0.6 }, closed_top = false },

@@ -5,6 +5,10 @@
 #include "pbf_shared.h"
 
 layout(std140, binding = PBF_U_PARAMS) uniform Params { pbf_gpu_params P; };
+layout(std430, binding = PBF_B_STATE) buffer State { pbf_gpu_state state; };
+
+// Live particles (kept on the GPU; sinks and appends change it between passes).
+uint particle_count() { return state.count; }
 
 #ifdef USE_POS
 layout(std430, binding = PBF_B_POS) buffer PosIn { vec4 pos[]; };

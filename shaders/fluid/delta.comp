@@ -17,7 +17,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     vec3 xi = pred[i].xyz;
     float li = lambda_rho[i].x;
     vec3 dp = vec3(0.0);
@@ -26,7 +26,7 @@ void main()
         for (uint q = 0u; q < nn; q++) {
             uint j = nb_at(i, q);
             vec3 r = xi - pred[j].xyz;
-            float s = -P.scorr_k * pow(w_poly6(dot(r, r)) * P.scorr_inv_wdq, P.scorr_n);
+            float s = -P.scorr_k * pow(w_poly6(dot(r, r)) * P.scorr_inv_wdq, P.scorr_n) * P.scorr_scale;
             dp += (li + lambda_rho[j].x + s) * grad_spiky(r);
         }
     } else {
@@ -49,7 +49,7 @@ void main()
         float d = plane_distance(p, x, n);
         if (d < P.radius) x += (P.radius - d) * n;
     }
-    x = colliders_collide(x);
+    x = colliders_collide(i, x);
     x = clamp(x, P.domain_min.xyz + P.radius, P.domain_max.xyz - P.radius);
     pred_out[i] = vec4(x, 0.0);
 }

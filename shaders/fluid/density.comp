@@ -13,7 +13,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     vec3 xi = pred[i].xyz;
     float sum_w = w_poly6(0.0);
     vec3 grad_i = vec3(0.0);

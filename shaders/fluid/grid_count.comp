@@ -1,6 +1,8 @@
 #version 430
 // Stage grid count: the cell of each predicted position, and particles per cell.
-// cell_start was cleared to zero before this pass.
+// cell_start was cleared to zero before this pass. A particle inside a sink goes to the
+// extra cell P.grid_dims.w ("removed"), which sorts after every real cell; the count pass
+// then drops it from the live range.
 #define USE_PRED
 #define USE_CELL
 #define USE_CELL_START
@@ -10,8 +12,12 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
-    uint c = cell_index(cell_coord(pred[i].xyz));
+    if (i >= particle_count()) return;
+    vec3 x = pred[i].xyz;
+    uint c = cell_index(cell_coord(x));
+    for (uint k = 0u; k < P.sink_count; k++)
+        if (all(greaterThanEqual(x, P.sink_min[k].xyz)) && all(lessThanEqual(x, P.sink_max[k].xyz)))
+            c = P.grid_dims.w;
     cell_of[i] = c;
     atomicAdd(cell_start[c], 1u);
 }

@@ -11,7 +11,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     uint c = cell_of[i];
     uint slot = cell_start[c] + atomicAdd(cell_fill[c], 1u);
     sorted_slot[slot] = i;

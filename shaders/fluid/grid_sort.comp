@@ -9,7 +9,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint c = gl_GlobalInvocationID.x;
-    if (c >= P.grid_dims.w) return;
+    if (c > P.grid_dims.w) return; // the real cells and the removed cell
     uint b = cell_start[c], e = cell_start[c + 1u];
     for (uint k = b + 1u; k < e; k++) {
         uint v = sorted_slot[k];

@@ -24,7 +24,7 @@ void main()
     uint t = gl_LocalInvocationID.x;
     float rho = 0.0;
     uint bad = 0u, outside = 0u, overflow = 0u;
-    if (i < P.count) {
+    if (i < particle_count()) {
         vec3 xi = pos[i].xyz;
         vec3 vi = vel[i].xyz;
         if (any(isnan(xi)) || any(isinf(xi)) || any(isnan(vi)) || any(isinf(vi))) {

@@ -5,7 +5,6 @@
 layout(local_size_x = PBF_WG) in;
 layout(std430, binding = PBF_B_REDUCE) buffer Reduce { pbf_gpu_reduce partial[]; };
 layout(std430, binding = PBF_B_METRICS) buffer Metrics { pbf_gpu_metrics metrics[]; };
-uniform uint groups;
 uniform uint frame;
 
 shared float s_sum[PBF_WG];
@@ -19,6 +18,7 @@ void main()
     uint t = gl_LocalInvocationID.x;
     float sum = 0.0, mx = 0.0;
     uint bad = 0u, outside = 0u, overflow = 0u;
+    uint groups = state.groups_x;
     for (uint g = t; g < groups; g += PBF_WG) {
         sum += partial[g].density_sum;
         mx = max(mx, partial[g].density_max);
@@ -42,7 +42,7 @@ void main()
         }
     }
     if (t == 0u) {
-        uint n = P.count;
+        uint n = particle_count();
         uint slot = P.metrics_slot;
         metrics[slot].density_avg = n > 0u ? s_sum[0] / float(n - s_nan[0] > 0u ? n - s_nan[0] : 1u) : 0.0;
         metrics[slot].density_max = s_max[0];

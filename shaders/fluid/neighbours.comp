@@ -2,8 +2,8 @@
 // Stage neighbours: once per substep, after the reorder, each particle lists the slots of
 // the particles within h of its predicted position (the paper's "find neighbours"); the
 // solver iterations and the velocity passes then walk the list instead of 27 cells.
-// A particle with more neighbours than the list holds keeps the nearest-found first
-// max_neighbours and is counted in the metrics (overflow), never written out of bounds.
+// A particle with more neighbours than the list holds keeps the first max_neighbours found
+// (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
 #define USE_PRED
 #define USE_CELL_START
 #define USE_NB
@@ -13,7 +13,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     vec3 xi = pred[i].xyz;
     ivec3 c = cell_coord(xi);
     uint n = 0u;

@@ -38,6 +38,8 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_MAX_COLLIDERS 64
 // Maximum container planes.
 #define PBF_MAX_PLANES 6
+// Maximum sinks (axis-aligned boxes that remove the particles entering them).
+#define PBF_MAX_SINKS 8
 
 // Shader storage binding points.
 #define PBF_B_POS 0        // vec4[cap]: position (m), w = colour parameter in [0,1]
@@ -64,21 +66,38 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_SCAN_SUMS 21 // its block sums
 #define PBF_B_NB_LIST 22   // uint[cap * max_neighbours]: neighbour slots of each particle
 #define PBF_B_NB_COUNT 23  // uint[cap]: neighbours found (may exceed max_neighbours: overflow)
+#define PBF_B_STATE 24     // pbf_gpu_state: the live particle count, kept on the GPU
+#define PBF_B_STAGE_POS 25 // vec4[]: particles waiting to be appended (emitters, blocks)
+#define PBF_B_STAGE_VEL 26 // vec4[]
+#define PBF_B_STAGE_ID 27  // uint[]
 
 // Uniform block binding of pbf_gpu_params.
 #define PBF_U_PARAMS 0
 
 // Collider types.
-#define PBF_COLLIDER_PLANE 0    // half-space: normal n, offset; fluid on the +n side
+// All in the collider's own frame (its pose maps it to the world).
+#define PBF_COLLIDER_PLANE 0    // half-space: normal params.xyz, offset params.w; fluid on the +n side
 #define PBF_COLLIDER_BOX 1      // half extents in params.xyz
 #define PBF_COLLIDER_SPHERE 2   // radius in params.x
 #define PBF_COLLIDER_CAPSULE 3  // radius params.x, half height params.y (along local Y)
 #define PBF_COLLIDER_CYLINDER 4 // radius params.x, half height params.y (along local Y)
+#define PBF_COLLIDER_HULL 5     // convex hull: info.w face planes (outward n xyz, offset w) at
+                                // collider_data[info.z], 4 floats each; inside: dot(n, x) <= w
+#define PBF_COLLIDER_GRID 6     // signed distance grid (triangle meshes): samples at
+                                // collider_data[info.z], x fastest; dims packed in info.w
+                                // (10 bits each, x lowest); first sample at params.xyz, spacing params.w
+// Collider flags (pbf_gpu_collider.info.y).
+#define PBF_COLLIDER_TWO_WAY 1u // accumulate the fluid's force and torque on it
 
-// Fixed-point scale of the collider force accumulators (N and N·m per unit): forces are
-// accumulated as int(f * PBF_FORCE_SCALE) with atomicAdd, which is exact and order
-// independent; the range is +-2^31 / PBF_FORCE_SCALE per component.
+// Force accumulators: PBF_B_FORCES[index * 8 + k], k = 0..2 force, 4..6 torque, as fixed
+// point int(f * scale) summed with atomicAdd (exact and order independent), where scale
+// is the collider's own (pbf_gpu_collider.center_of_mass.w, units per N) chosen from its
+// size so that the range is about 1000 times the weight of the fluid it can displace;
+// k = 3 counts particle-boundary contacts, k = 7 particles pushed out from inside.
+// Colliders without a size of their own (planes) use PBF_FORCE_SCALE.
 #define PBF_FORCE_SCALE 1024.0
+// Storage of hull planes and distance grids (float[]), see PBF_COLLIDER_HULL / _GRID.
+#define PBF_B_COLLIDER_DATA 28
 
 // Everything a pass needs to know, one uniform block (std140: vec4s first, then scalars
 // in groups of four so C and GLSL agree without padding rules).
@@ -89,6 +108,8 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_VEC4 domain_min;     // xyz m: particles are kept inside [min, max]
     PBF_VEC4 domain_max;
     PBF_VEC4 planes[PBF_MAX_PLANES]; // container: inward normal xyz, offset w (n.x >= w inside)
+    PBF_VEC4 sink_min[PBF_MAX_SINKS]; // sinks: boxes [min, max], m
+    PBF_VEC4 sink_max[PBF_MAX_SINKS];
     PBF_FLOAT dt;            // s, one substep
     PBF_FLOAT inv_dt;
     PBF_FLOAT h;             // kernel radius, m
@@ -109,13 +130,19 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT damping;       // 1/s
     PBF_FLOAT max_speed;     // m/s
     PBF_FLOAT radius;        // particle radius, m (collision distance)
-    PBF_UINT count;          // live particles
+    PBF_UINT count;          // live particles as the CPU last knew them (the passes read
+                             // the exact count from pbf_gpu_state on the GPU)
     PBF_UINT collider_count;
     PBF_UINT metrics_slot;   // ring slot the metrics pass writes
     PBF_UINT substep;        // 0-based substep index in this step
     PBF_UINT plane_count;
     PBF_UINT max_neighbours; // length of each particle's neighbour list
-    PBF_UINT flags;          // unused
+    PBF_UINT sink_count;
+    PBF_UINT capacity;       // particle capacity
+    PBF_UINT append_count;   // particles in the staging buffers for the append pass
+    PBF_UINT count_mode;     // count pass: 0 after sinks removed particles, 1 after an append
+    PBF_FLOAT scorr_scale;   // m^2: s_corr is -k (W / W(dq))^n * scorr_scale, a multiplier
+                             // of the size a constraint violated by k would get
     PBF_UINT pad0;
 } PBF_END(pbf_gpu_params);
 
@@ -124,14 +151,27 @@ PBF_STRUCT(pbf_gpu_params) {
 PBF_STRUCT(pbf_gpu_collider) {
     PBF_VEC4 position;       // xyz m, w = bounding radius about position (m)
     PBF_VEC4 rotation;       // quaternion xyzw (body to world)
-    PBF_VEC4 prev_position;
+    PBF_VEC4 prev_position;  // pose at the start of the substep (w = bounding radius)
     PBF_VEC4 prev_rotation;
-    PBF_VEC4 params;         // shape sizes (see PBF_COLLIDER_*); for a plane: normal xyz, offset w
+    PBF_VEC4 params;         // shape sizes (see PBF_COLLIDER_*)
     PBF_VEC4 linear_velocity;  // m/s
     PBF_VEC4 angular_velocity; // rad/s
-    PBF_VEC4 center_of_mass;   // xyz m (world), torque is taken about it
-    PBF_UVEC4 info;          // x = type, y = flags (1: two-way, reports force), z, w unused
+    PBF_VEC4 center_of_mass;   // xyz m (world), torque is taken about it; w = force scale (1/N)
+    PBF_UVEC4 info;          // x = type, y = flags (PBF_COLLIDER_TWO_WAY), z = data offset
+                             // (floats), w = hull plane count or packed grid dims
 } PBF_END(pbf_gpu_collider);
+
+// The live particle count and the indirect dispatch size of the particle passes, kept on
+// the GPU so that sinks can remove particles without a read-back.
+PBF_STRUCT(pbf_gpu_state) {
+    PBF_UINT count;          // live particles, in slots [0, count)
+    PBF_UINT groups_x;       // ceil(count / PBF_WG): DispatchIndirectCommand at byte 4
+    PBF_UINT groups_y;       // 1
+    PBF_UINT groups_z;       // 1
+    PBF_UINT removed;        // particles removed by sinks so far
+    PBF_UINT dropped;        // particles that did not fit the capacity when appended
+    PBF_UINT pad0, pad1;
+} PBF_END(pbf_gpu_state);
 
 // Partial metrics of one work group, then the reduced metrics of a frame.
 PBF_STRUCT(pbf_gpu_reduce) {

@@ -9,7 +9,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     vec3 v = vel[i].xyz + P.dt * P.gravity.xyz;
     v *= 1.0 / (1.0 + P.damping * P.dt);
     float s = length(v);

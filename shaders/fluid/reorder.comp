@@ -16,7 +16,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     uint j = sorted_slot[i];
     pos_out[i] = pos[j];
     vel_out[i] = vel[j];

@@ -9,7 +9,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     vec3 x = pred[i].xyz;
     vec3 v = (x - pos[i].xyz) * P.inv_dt;
     float s = length(v);

@@ -11,7 +11,7 @@ layout(local_size_x = PBF_WG) in;
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
-    if (i >= P.count) return;
+    if (i >= particle_count()) return;
     vec3 xi = pos[i].xyz;
     vec3 vi = vel[i].xyz;
     vec3 w = vec3(0.0);

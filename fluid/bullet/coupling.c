@@ -1,0 +1,567 @@
+// Bullet bodies as two-way coupled fluid boundaries. See coupling.h for the API and
+// docs/coupling.md for the model.
+//
+// The loop, per cpl_step(dt) with n fluid substeps of h = dt / n:
+//   forces <- fluid step (current - force_latency), read back (fenced)
+//   pbf_world_step_with(fluid, dt, hook):
+//     hook before substep k: apply forces to dynamic two-way bodies; phys_world_step(h);
+//                            collider pose <- body pose (the old one becomes previous)
+//     fluid substep k: sweeps every collider from its previous to its new pose
+// Bullet adds gravity at the start of its step and clears applied forces at the end, so
+// a force applied in the hook acts for exactly that substep.
+#include "fluid/bullet/coupling.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// The fluid's collider limit (PBF_MAX_COLLIDERS in shaders/fluid/pbf_shared.h).
+#define CPL_MAX_BODIES 64
+
+typedef struct body_entry {
+    bool used;
+    phys_body_id body;
+    phys_body_type type;
+    bool two_way;
+    pbf_collider_id collider;
+    cpl_body_stats stats;
+    float force[3], torque[3]; // applied in each substep of the current step
+} body_entry;
+
+struct cpl_coupling {
+    phys_world *phys;
+    pbf_world *fluid;
+    int force_latency;
+    float mesh_cell;
+    cpl_log_fn *log;
+    void *log_user;
+    char error[512];
+    body_entry bodies[CPL_MAX_BODIES];
+    uint64_t steps;
+    cpl_result hook_error;
+};
+
+static cpl_result fail(cpl_coupling *c, cpl_result r, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+static cpl_result fail(cpl_coupling *c, cpl_result r, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->error, sizeof c->error, fmt, ap);
+    va_end(ap);
+    if (c->log) c->log(c->log_user, c->error);
+    return r;
+}
+
+static void note(cpl_coupling *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+static void note(cpl_coupling *c, const char *fmt, ...)
+{
+    if (!c->log) return;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    c->log(c->log_user, msg);
+}
+
+cpl_def cpl_default_def(void)
+{
+    cpl_def d;
+    memset(&d, 0, sizeof d);
+    d.force_latency = 1;
+    d.mesh_cell = 0.02f;
+    return d;
+}
+
+cpl_body_def cpl_default_body_def(void)
+{
+    cpl_body_def d;
+    memset(&d, 0, sizeof d);
+    d.two_way = true;
+    return d;
+}
+
+cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
+{
+    char scratch[8];
+    if (!err || !err_size) {
+        err = scratch;
+        err_size = sizeof scratch;
+    }
+    err[0] = 0;
+    if (!def) {
+        snprintf(err, err_size, "cpl_create: def must not be NULL");
+        return NULL;
+    }
+    if (!def->phys) {
+        snprintf(err, err_size, "cpl_def.phys must not be NULL");
+        return NULL;
+    }
+    if (!def->fluid) {
+        snprintf(err, err_size, "cpl_def.fluid must not be NULL");
+        return NULL;
+    }
+    if (def->force_latency < 1 || def->force_latency > 7) {
+        snprintf(err, err_size, "cpl_def.force_latency must be in [1, 7] steps (got %d)", def->force_latency);
+        return NULL;
+    }
+    if (!isfinite(def->mesh_cell) || !(def->mesh_cell > 0.0f) || def->mesh_cell > 1.0f) {
+        snprintf(err, err_size, "cpl_def.mesh_cell must be in (0, 1] m (got %g)", (double)def->mesh_cell);
+        return NULL;
+    }
+    cpl_coupling *c = calloc(1, sizeof *c);
+    if (!c) {
+        snprintf(err, err_size, "cpl_create: out of memory");
+        return NULL;
+    }
+    c->phys = def->phys;
+    c->fluid = def->fluid;
+    c->force_latency = def->force_latency;
+    c->mesh_cell = def->mesh_cell;
+    c->log = def->log;
+    c->log_user = def->log_user;
+    return c;
+}
+
+void cpl_destroy(cpl_coupling *c)
+{
+    if (!c) return;
+    for (int i = 0; i < CPL_MAX_BODIES; i++)
+        if (c->bodies[i].used && pbf_collider_is_valid(c->fluid, c->bodies[i].collider))
+            pbf_world_remove_collider(c->fluid, c->bodies[i].collider);
+    free(c);
+}
+
+const char *cpl_last_error(const cpl_coupling *c) { return c ? c->error : "cpl: coupling is NULL"; }
+
+static bool same_body(phys_body_id a, phys_body_id b)
+{
+    return a.index1 == b.index1 && a.world0 == b.world0 && a.generation == b.generation;
+}
+
+static body_entry *find(const cpl_coupling *c, phys_body_id body)
+{
+    for (int i = 0; i < CPL_MAX_BODIES; i++)
+        if (c->bodies[i].used && same_body(c->bodies[i].body, body)) return (body_entry *)&c->bodies[i];
+    return NULL;
+}
+
+static body_entry *find_live(cpl_coupling *c, phys_body_id body, const char *fn)
+{
+    if (!phys_body_is_valid(c->phys, body)) {
+        fail(c, CPL_ERR_STALE_ID, "%s: body (index1 %u, generation %u) is null or was destroyed: attempt to use a "
+             "destroyed body", fn, body.index1, body.generation);
+        return NULL;
+    }
+    body_entry *e = find(c, body);
+    if (!e) fail(c, CPL_ERR_STALE_ID, "%s: body (index1 %u, generation %u) is not coupled", fn, body.index1, body.generation);
+    return e;
+}
+
+// ---- triangle meshes: a signed distance grid ----------------------------------------------
+
+typedef struct v3 {
+    double x, y, z;
+} v3;
+
+static v3 vsub(v3 a, v3 b) { return (v3){ a.x - b.x, a.y - b.y, a.z - b.z }; }
+static v3 vadd(v3 a, v3 b) { return (v3){ a.x + b.x, a.y + b.y, a.z + b.z }; }
+static v3 vmul(v3 a, double s) { return (v3){ a.x * s, a.y * s, a.z * s }; }
+static double vdot(v3 a, v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static v3 vcross(v3 a, v3 b) { return (v3){ a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x }; }
+static v3 from_phys(phys_vec3 p) { return (v3){ p.x, p.y, p.z }; }
+
+// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
+static v3 closest_on_triangle(v3 p, v3 a, v3 b, v3 c)
+{
+    v3 ab = vsub(b, a), ac = vsub(c, a), ap = vsub(p, a);
+    double d1 = vdot(ab, ap), d2 = vdot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    v3 bp = vsub(p, b);
+    double d3 = vdot(ab, bp), d4 = vdot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return vadd(a, vmul(ab, d1 / (d1 - d3)));
+    v3 cp = vsub(p, c);
+    double d5 = vdot(ab, cp), d6 = vdot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return vadd(a, vmul(ac, d2 / (d2 - d6)));
+    double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return vadd(b, vmul(vsub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
+    double denom = 1.0 / (va + vb + vc);
+    return vadd(a, vadd(vmul(ab, vb * denom), vmul(ac, vc * denom)));
+}
+
+// Bakes the mesh's signed distance (positive on the front side of the nearest triangle,
+// the side its counter-clockwise winding faces) into a grid with a margin of `margin`.
+static cpl_result bake_mesh(cpl_coupling *c, const phys_triangle_mesh *m, float margin, pbf_sdf_grid *grid,
+                            float **values_out)
+{
+    v3 lo = { INFINITY, INFINITY, INFINITY }, hi = { -INFINITY, -INFINITY, -INFINITY };
+    for (uint32_t t = 0; t < 3 * m->triangle_count; t++) {
+        v3 p = from_phys(m->vertices[m->indices[t]]);
+        lo = (v3){ fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z) };
+        hi = (v3){ fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z) };
+    }
+    double cell = c->mesh_cell;
+    double ext[3] = { hi.x - lo.x + 2 * margin, hi.y - lo.y + 2 * margin, hi.z - lo.z + 2 * margin };
+    double biggest = fmax(ext[0], fmax(ext[1], ext[2]));
+    if (biggest / cell > 127.0) {
+        double coarser = biggest / 127.0;
+        note(c, "cpl_add_body: triangle mesh of %.3g m baked at %.3g m spacing instead of cpl_def.mesh_cell %.3g m "
+             "(at most 128 samples per axis)", biggest, coarser, cell);
+        cell = coarser;
+    }
+    uint32_t dims[3];
+    for (int k = 0; k < 3; k++) dims[k] = (uint32_t)ceil(ext[k] / cell) + 1;
+    size_t n = (size_t)dims[0] * dims[1] * dims[2];
+    float *values = malloc(n * sizeof *values);
+    if (!values) return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory baking a triangle mesh");
+    v3 origin = { lo.x - margin, lo.y - margin, lo.z - margin };
+    // Triangles with their unit normals, gathered once.
+    size_t tc = m->triangle_count;
+    v3 *tri = malloc(tc * 4 * sizeof *tri);
+    if (!tri) {
+        free(values);
+        return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory baking a triangle mesh");
+    }
+    for (size_t t = 0; t < tc; t++) {
+        v3 a = from_phys(m->vertices[m->indices[3 * t]]);
+        v3 b = from_phys(m->vertices[m->indices[3 * t + 1]]);
+        v3 cc = from_phys(m->vertices[m->indices[3 * t + 2]]);
+        v3 nrm = vcross(vsub(b, a), vsub(cc, a));
+        double l = sqrt(vdot(nrm, nrm));
+        tri[4 * t] = a;
+        tri[4 * t + 1] = b;
+        tri[4 * t + 2] = cc;
+        tri[4 * t + 3] = l > 0 ? vmul(nrm, 1.0 / l) : (v3){ 0, 0, 0 };
+    }
+    for (uint32_t z = 0; z < dims[2]; z++)
+        for (uint32_t y = 0; y < dims[1]; y++)
+            for (uint32_t x = 0; x < dims[0]; x++) {
+                v3 p = { origin.x + x * cell, origin.y + y * cell, origin.z + z * cell };
+                double best = INFINITY, best_align = 0.0, sign = 1.0;
+                for (size_t t = 0; t < tc; t++) {
+                    v3 q = closest_on_triangle(p, tri[4 * t], tri[4 * t + 1], tri[4 * t + 2]);
+                    v3 dv = vsub(p, q);
+                    double d2 = vdot(dv, dv);
+                    if (d2 > best * (1.0 + 1e-9) + 1e-18) continue;
+                    double d = sqrt(d2);
+                    // Among (nearly) equally near triangles, the one whose normal is most
+                    // aligned with the direction to p decides the side (edges, corners).
+                    double along = d > 0 ? vdot(dv, tri[4 * t + 3]) / d : 0.0;
+                    if (d2 < best * (1.0 - 1e-9) - 1e-18 || fabs(along) > best_align) {
+                        best = d2;
+                        best_align = fabs(along);
+                        sign = along >= 0 ? 1.0 : -1.0;
+                    }
+                }
+                values[x + dims[0] * ((size_t)y + dims[1] * (size_t)z)] = (float)(sign * sqrt(best));
+            }
+    free(tri);
+    memset(grid, 0, sizeof *grid);
+    grid->values = values;
+    for (int k = 0; k < 3; k++) grid->dims[k] = dims[k];
+    grid->origin[0] = (float)origin.x;
+    grid->origin[1] = (float)origin.y;
+    grid->origin[2] = (float)origin.z;
+    grid->cell = (float)cell;
+    *values_out = values;
+    return CPL_OK;
+}
+
+// ---- bodies --------------------------------------------------------------------------------
+
+static cpl_result collider_from_shape(cpl_coupling *c, const phys_shape_desc *s, pbf_collider_def *d,
+                                      float **planes, float **grid_values)
+{
+    *planes = NULL;
+    *grid_values = NULL;
+    switch (s->type) {
+    case PHYS_SHAPE_PLANE:
+        d->type = PBF_SHAPE_PLANE;
+        d->size[0] = s->plane.normal.x;
+        d->size[1] = s->plane.normal.y;
+        d->size[2] = s->plane.normal.z;
+        d->size[3] = s->plane.offset;
+        return CPL_OK;
+    case PHYS_SHAPE_BOX:
+        d->type = PBF_SHAPE_BOX;
+        d->size[0] = s->box.half_extents.x;
+        d->size[1] = s->box.half_extents.y;
+        d->size[2] = s->box.half_extents.z;
+        return CPL_OK;
+    case PHYS_SHAPE_SPHERE:
+        d->type = PBF_SHAPE_SPHERE;
+        d->size[0] = s->sphere.radius;
+        return CPL_OK;
+    case PHYS_SHAPE_CAPSULE:
+        d->type = PBF_SHAPE_CAPSULE;
+        d->size[0] = s->capsule.radius;
+        d->size[1] = s->capsule.half_height;
+        return CPL_OK;
+    case PHYS_SHAPE_CYLINDER:
+        d->type = PBF_SHAPE_CYLINDER;
+        d->size[0] = s->cylinder.radius;
+        d->size[1] = s->cylinder.half_height;
+        return CPL_OK;
+    case PHYS_SHAPE_CONVEX_HULL: {
+        const phys_hull_desc *h = &s->hull;
+        if (h->plane_count < 4 || h->plane_count > PBF_MAX_HULL_PLANES)
+            return fail(c, CPL_ERR_INVALID_ARG, "cpl_add_body: the body's convex hull has %u faces; at most %d "
+                        "supported (simplify the hull)", h->plane_count, PBF_MAX_HULL_PLANES);
+        float *p = malloc((size_t)h->plane_count * 4 * sizeof *p);
+        if (!p) return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory");
+        for (uint32_t k = 0; k < h->plane_count; k++) {
+            p[4 * k] = h->planes[k].normal.x;
+            p[4 * k + 1] = h->planes[k].normal.y;
+            p[4 * k + 2] = h->planes[k].normal.z;
+            p[4 * k + 3] = h->planes[k].offset;
+        }
+        float r = 0.0f;
+        for (uint32_t k = 0; k < h->point_count; k++) {
+            phys_vec3 q = h->points[k];
+            float l = sqrtf(q.x * q.x + q.y * q.y + q.z * q.z);
+            if (l > r) r = l;
+        }
+        d->type = PBF_SHAPE_CONVEX_HULL;
+        d->planes = p;
+        d->plane_count = h->plane_count;
+        d->size[0] = r;
+        *planes = p;
+        return CPL_OK;
+    }
+    case PHYS_SHAPE_TRIANGLE_MESH: {
+        float h = pbf_world_params(c->fluid)->kernel_radius;
+        cpl_result r = bake_mesh(c, &s->mesh, h + 2.0f * c->mesh_cell, &d->grid, grid_values);
+        if (r != CPL_OK) return r;
+        d->type = PBF_SHAPE_SDF;
+        return CPL_OK;
+    }
+    }
+    return fail(c, CPL_ERR_INVALID_ARG, "cpl_add_body: unknown shape type %d", (int)s->type);
+}
+
+static cpl_result sync_pose(cpl_coupling *c, body_entry *e)
+{
+    phys_vec3 p, v = { 0, 0, 0 }, w = { 0, 0, 0 };
+    phys_quat q;
+    if (phys_body_get_pose(c->phys, e->body, &p, &q) != PHYS_OK)
+        return fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->phys));
+    if (e->type != PHYS_BODY_STATIC) {
+        phys_body_get_linear_velocity(c->phys, e->body, &v);
+        phys_body_get_angular_velocity(c->phys, e->body, &w);
+    }
+    float pos[3] = { p.x, p.y, p.z }, rot[4] = { q.x, q.y, q.z, q.w };
+    float lin[3] = { v.x, v.y, v.z }, ang[3] = { w.x, w.y, w.z };
+    if (pbf_world_set_collider_pose(c->fluid, e->collider, pos, rot, lin, ang, pos) != PBF_OK)
+        return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+    return CPL_OK;
+}
+
+cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *def)
+{
+    if (!c) return CPL_ERR_INVALID_ARG;
+    if (!phys_body_is_valid(c->phys, body))
+        return fail(c, CPL_ERR_STALE_ID, "cpl_add_body: body (index1 %u, generation %u) is null or was destroyed: "
+                    "attempt to use a destroyed body", body.index1, body.generation);
+    if (find(c, body))
+        return fail(c, CPL_ERR_STALE_ID, "cpl_add_body: body (index1 %u, generation %u) is already coupled", body.index1,
+                    body.generation);
+    cpl_body_def bd = def ? *def : cpl_default_body_def();
+    body_entry *e = NULL;
+    for (int i = 0; i < CPL_MAX_BODIES && !e; i++)
+        if (!c->bodies[i].used) e = &c->bodies[i];
+    if (!e) return fail(c, CPL_ERR_CAPACITY, "cpl_add_body: all %d coupled bodies in use", CPL_MAX_BODIES);
+    phys_body_type type;
+    phys_shape_desc shape;
+    phys_vec3 p;
+    phys_quat q;
+    if (phys_body_get_type(c->phys, body, &type) != PHYS_OK || phys_body_get_shape(c->phys, body, &shape) != PHYS_OK ||
+        phys_body_get_pose(c->phys, body, &p, &q) != PHYS_OK)
+        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
+    pbf_collider_def d = pbf_default_collider_def();
+    float *planes = NULL, *grid = NULL;
+    cpl_result r = collider_from_shape(c, &shape, &d, &planes, &grid);
+    if (r != CPL_OK) return r;
+    d.position[0] = p.x;
+    d.position[1] = p.y;
+    d.position[2] = p.z;
+    d.rotation[0] = q.x;
+    d.rotation[1] = q.y;
+    d.rotation[2] = q.z;
+    d.rotation[3] = q.w;
+    bool two_way = type == PHYS_BODY_DYNAMIC && bd.two_way;
+    d.two_way = two_way;
+    pbf_collider_id id;
+    pbf_result pr = pbf_world_add_collider(c->fluid, &d, &id);
+    free(planes);
+    free(grid);
+    if (pr != PBF_OK) {
+        return fail(c, pr == PBF_ERR_CAPACITY ? CPL_ERR_CAPACITY : CPL_ERR_FLUID, "cpl_add_body: %s",
+                    pbf_world_last_error(c->fluid));
+    }
+    if (type == PHYS_BODY_DYNAMIC && phys_body_set_sleep_enabled(c->phys, body, false) != PHYS_OK) {
+        pbf_world_remove_collider(c->fluid, id);
+        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
+    }
+    memset(e, 0, sizeof *e);
+    e->used = true;
+    e->body = body;
+    e->type = type;
+    e->two_way = two_way;
+    e->collider = id;
+    e->stats.two_way = two_way;
+    e->stats.collider = id;
+    return sync_pose(c, e);
+}
+
+static void drop(cpl_coupling *c, body_entry *e)
+{
+    if (pbf_collider_is_valid(c->fluid, e->collider)) pbf_world_remove_collider(c->fluid, e->collider);
+    e->used = false;
+}
+
+cpl_result cpl_remove_body(cpl_coupling *c, phys_body_id body)
+{
+    if (!c) return CPL_ERR_INVALID_ARG;
+    body_entry *e = find(c, body);
+    if (!e)
+        return fail(c, CPL_ERR_STALE_ID, "cpl_remove_body: body (index1 %u, generation %u) is not coupled", body.index1,
+                    body.generation);
+    drop(c, e);
+    return CPL_OK;
+}
+
+bool cpl_has_body(const cpl_coupling *c, phys_body_id body) { return c && find(c, body) != NULL; }
+
+cpl_result cpl_body_collider(cpl_coupling *c, phys_body_id body, pbf_collider_id *out)
+{
+    if (!c) return CPL_ERR_INVALID_ARG;
+    if (!out) return fail(c, CPL_ERR_INVALID_ARG, "cpl_body_collider: out must not be NULL");
+    body_entry *e = find_live(c, body, "cpl_body_collider");
+    if (!e) return CPL_ERR_STALE_ID;
+    *out = e->collider;
+    return CPL_OK;
+}
+
+cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 position, phys_quat orientation)
+{
+    if (!c) return CPL_ERR_INVALID_ARG;
+    const float v[7] = { position.x, position.y, position.z, orientation.x, orientation.y, orientation.z, orientation.w };
+    static const char *const names[7] = { "position.x", "position.y", "position.z", "orientation.x",
+                                          "orientation.y", "orientation.z", "orientation.w" };
+    for (int k = 0; k < 7; k++)
+        if (!isfinite(v[k]))
+            return fail(c, CPL_ERR_INVALID_ARG, "cpl_teleport_body: %s must be finite (got %g)", names[k], (double)v[k]);
+    body_entry *e = find_live(c, body, "cpl_teleport_body");
+    if (!e) return CPL_ERR_STALE_ID;
+    if (phys_body_set_pose(c->phys, body, position, orientation) != PHYS_OK)
+        return fail(c, CPL_ERR_INVALID_ARG, "cpl_teleport_body: %s", phys_world_last_error(c->phys));
+    // Set twice: the previous pose equals the new one, so nothing is swept.
+    cpl_result r = sync_pose(c, e);
+    return r == CPL_OK ? sync_pose(c, e) : r;
+}
+
+// ---- the step ------------------------------------------------------------------------------
+
+static void hook(void *user, pbf_world *fluid, int substep, float dt)
+{
+    (void)fluid;
+    (void)substep;
+    cpl_coupling *c = user;
+    if (c->hook_error != CPL_OK) return;
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        if (!e->used || !e->two_way) continue;
+        phys_vec3 f = { e->force[0], e->force[1], e->force[2] };
+        phys_vec3 t = { e->torque[0], e->torque[1], e->torque[2] };
+        phys_body_apply_force(c->phys, e->body, f, true);
+        phys_body_apply_torque(c->phys, e->body, t, true);
+    }
+    if (phys_world_step(c->phys, dt) != PHYS_OK) {
+        c->hook_error = fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->phys));
+        return;
+    }
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        if (!e->used || e->type == PHYS_BODY_STATIC) continue;
+        cpl_result r = sync_pose(c, e);
+        if (r != CPL_OK) {
+            c->hook_error = r;
+            return;
+        }
+    }
+}
+
+cpl_result cpl_step(cpl_coupling *c, float dt)
+{
+    if (!c) return CPL_ERR_INVALID_ARG;
+    if (!(dt > 0.0f && dt <= 1.0f)) return fail(c, CPL_ERR_INVALID_ARG, "cpl_step: dt must be in (0, 1] s (got %g)", (double)dt);
+    // Bodies destroyed behind the coupling's back are uncoupled.
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        if (e->used && !phys_body_is_valid(c->phys, e->body)) {
+            note(c, "cpl_step: body (index1 %u, generation %u) was destroyed; uncoupled", e->body.index1,
+                 e->body.generation);
+            drop(c, e);
+        }
+    }
+    // The fluid's forces of step (now - latency), waiting for them if the GPU is behind.
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        if (!e->used || !e->two_way) continue;
+        pbf_collider_report rep;
+        if (pbf_world_collider_report(c->fluid, e->collider, c->force_latency, true, &rep) != PBF_OK)
+            return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+        for (int k = 0; k < 3; k++) {
+            e->force[k] = rep.force[k];
+            e->torque[k] = rep.torque[k];
+            e->stats.force[k] = rep.force[k];
+            e->stats.torque[k] = rep.torque[k];
+        }
+        e->stats.force_step = rep.step;
+        e->stats.contacts = rep.contacts;
+        e->stats.pushed_out = rep.pushed_out;
+    }
+    c->hook_error = CPL_OK;
+    pbf_result r = pbf_world_step_with(c->fluid, dt, hook, c);
+    if (c->hook_error != CPL_OK) return c->hook_error;
+    if (r != PBF_OK) return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+    c->steps++;
+    return CPL_OK;
+}
+
+cpl_result cpl_body_get_stats(cpl_coupling *c, phys_body_id body, cpl_body_stats *out)
+{
+    if (!c) return CPL_ERR_INVALID_ARG;
+    if (!out) return fail(c, CPL_ERR_INVALID_ARG, "cpl_body_get_stats: out must not be NULL");
+    body_entry *e = find_live(c, body, "cpl_body_get_stats");
+    if (!e) return CPL_ERR_STALE_ID;
+    *out = e->stats;
+    return CPL_OK;
+}
+
+uint32_t cpl_body_count(const cpl_coupling *c)
+{
+    uint32_t n = 0;
+    if (c)
+        for (int i = 0; i < CPL_MAX_BODIES; i++) n += c->bodies[i].used;
+    return n;
+}
+
+uint64_t cpl_step_count(const cpl_coupling *c) { return c ? c->steps : 0; }

@@ -1,0 +1,132 @@
+// Seiche coupling: Bullet rigid bodies as two-way coupled fluid boundaries (prefix `cpl_`).
+//
+// A coupling links one phys_world (fluid/bullet/phys.h) and one pbf_world (fluid/pbf.h).
+// Each registered body becomes a fluid collider of the same shape (plane, box, sphere,
+// capsule, cylinder analytically; convex hulls by their face planes; triangle meshes by a
+// signed distance grid baked once when the body is added). cpl_step then runs Bullet in
+// lockstep with the fluid: before every fluid substep it
+//   1. applies to each dynamic two-way body the force and torque the fluid exerted on it
+//      `force_latency` steps earlier (cpl_def; the GPU accumulates them, they are read
+//      back through a fence),
+//   2. steps Bullet by the substep's dt (one Bullet step per fluid substep),
+//   3. hands each body's new pose (the previous one is kept, so the fluid sweeps the
+//      motion), velocities and centre of mass to its collider.
+// Static and kinematic bodies act on the fluid only (one-way). Coupled dynamic bodies are
+// kept awake (a sleeping body would ignore the fluid's forces).
+//
+//     cpl_def cd = cpl_default_def();
+//     cd.phys = phys; cd.fluid = fluid;
+//     cpl_coupling *c = cpl_create(&cd, err, sizeof err);   // NULL + message on error
+//     cpl_add_body(c, crate, NULL);                          // NULL: cpl_default_body_def()
+//     each frame: cpl_step(c, 1.0f / 60.0f);                 // instead of both worlds' steps
+//
+// Everything is in SI units (m, s, kg, N, N m). Every call that takes input checks it and
+// returns CPL_OK or an error whose message (cpl_last_error) names the field, the value
+// given and what is allowed. docs/coupling.md explains the model and its limits.
+#ifndef SEICHE_COUPLING_H
+#define SEICHE_COUPLING_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fluid/bullet/phys.h"
+#include "fluid/pbf.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct cpl_coupling cpl_coupling;
+
+typedef enum cpl_result {
+    CPL_OK = 0,
+    CPL_ERR_INVALID_ARG,   ///< an argument or def field is out of range, NaN or NULL
+    CPL_ERR_STALE_ID,      ///< the body was destroyed, or is not (or already) coupled
+    CPL_ERR_CAPACITY,      ///< more bodies than the fluid has colliders (64)
+    CPL_ERR_PHYS,          ///< a phys_ call failed (its message is in cpl_last_error)
+    CPL_ERR_FLUID,         ///< a pbf_ call failed (its message is in cpl_last_error)
+    CPL_ERR_OUT_OF_MEMORY,
+} cpl_result;
+
+typedef void cpl_log_fn(void *user, const char *message);
+
+typedef struct cpl_def {
+    phys_world *phys;       ///< required; the coupling does not own it
+    pbf_world *fluid;       ///< required; the coupling does not own it
+    /// Steps between the fluid step that measured a force and the step that applies it,
+    /// [1, 7]. Default 1. The readback waits for that step's fence when the GPU has not
+    /// finished it yet, so the coupling is deterministic; with 1 that can stall the CPU
+    /// for the rest of the previous GPU step, with 2 a GPU normally has finished it.
+    int force_latency;
+    /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
+    /// Default 0: not allowed; cpl_default_def() sets 0.02 m. Grids hold at most 128
+    /// samples per axis; a finer spacing is coarsened to fit (and logged).
+    float mesh_cell;
+    cpl_log_fn *log;        ///< NULL: messages go nowhere (errors still come back as results)
+    void *log_user;
+} cpl_def;
+
+/// Defaults: no worlds, force_latency 1, mesh_cell 0.02 m, no log.
+cpl_def cpl_default_def(void);
+
+/// Creates a coupling. Returns NULL and a message naming the field on bad input.
+cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size);
+/// Removes the colliders the coupling made; bodies and worlds stay. NULL does nothing.
+void cpl_destroy(cpl_coupling *coupling);
+
+/// Message of the most recent failed call ("" if none). Never NULL.
+const char *cpl_last_error(const cpl_coupling *coupling);
+
+typedef struct cpl_body_def {
+    /// Whether the fluid pushes the body back (dynamic bodies). Default true. Static and
+    /// kinematic bodies are always one-way (their mass is infinite); it is ignored there.
+    bool two_way;
+} cpl_body_def;
+
+cpl_body_def cpl_default_body_def(void);
+
+/// Couples a live body: creates its collider at the body's current pose (fluid that
+/// starts inside it is moved out gently over the next substeps). def may be NULL (two-way
+/// for dynamic bodies, one-way otherwise). Triangle meshes are baked into a distance
+/// grid here (once; a few ms for small meshes, more for large ones).
+cpl_result cpl_add_body(cpl_coupling *coupling, phys_body_id body, const cpl_body_def *def);
+/// Uncouples a body (removes its collider). The body itself stays in the phys_world.
+cpl_result cpl_remove_body(cpl_coupling *coupling, phys_body_id body);
+/// True when the body is coupled.
+bool cpl_has_body(const cpl_coupling *coupling, phys_body_id body);
+/// The fluid collider made for a coupled body (for pbf_world_collider_report).
+cpl_result cpl_body_collider(cpl_coupling *coupling, phys_body_id body, pbf_collider_id *out);
+
+/// Teleports a coupled body (position m, orientation unit quaternion x, y, z, w, both
+/// finite): the body and its collider jump there without sweeping fluid along the way.
+cpl_result cpl_teleport_body(cpl_coupling *coupling, phys_body_id body, phys_vec3 position, phys_quat orientation);
+
+/// Advances both worlds by dt seconds ((0, 1]): the fluid in its params.substeps
+/// substeps, Bullet by one step per substep, forces and poses exchanged between them as
+/// described at the top. Bodies destroyed in the phys_world since the last step are
+/// uncoupled here (and logged). Use this instead of pbf_world_step and phys_world_step.
+cpl_result cpl_step(cpl_coupling *coupling, float dt);
+
+/// What the coupling did to one body in the latest cpl_step.
+typedef struct cpl_body_stats {
+    float force[3];         ///< N, fluid force applied to the body in each substep
+    float torque[3];        ///< N m, about the centre of mass
+    uint64_t force_step;    ///< the fluid step (0-based) in which that force was measured
+    uint32_t contacts;      ///< particle-boundary contacts in that step (all iterations)
+    uint32_t pushed_out;    ///< particles moved out from inside the body in that step
+    bool two_way;
+    pbf_collider_id collider;
+} cpl_body_stats;
+
+cpl_result cpl_body_get_stats(cpl_coupling *coupling, phys_body_id body, cpl_body_stats *out);
+
+/// Number of coupled bodies.
+uint32_t cpl_body_count(const cpl_coupling *coupling);
+/// Steps taken by cpl_step so far.
+uint64_t cpl_step_count(const cpl_coupling *coupling);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,280 @@
+// Fluid world behaviour on the GPU: boundaries without stacking, emitters and sinks,
+// particle bookkeeping, determinism, bad input. Headless on llvmpipe, small scenes.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "engine/context.h"
+#include "fluid/pbf.h"
+#include "tests/support.h"
+
+static eng_context *ctx;
+
+static int setup(void **state)
+{
+    (void)state;
+    ctx = support_headless_context(64, 64);
+    return ctx ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    eng_context_destroy(ctx);
+    return 0;
+}
+
+static pbf_world *make_world(float r, float lo[3], float hi[3], uint32_t capacity)
+{
+    pbf_world_def d = pbf_default_world_def();
+    d.params.particle_radius = r;
+    d.params.kernel_radius = 4.0f * r;
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.capacity = capacity;
+    memcpy(d.domain_min, lo, 3 * sizeof(float));
+    memcpy(d.domain_max, hi, 3 * sizeof(float));
+    char err[512];
+    pbf_world *w = pbf_world_create(&d, err, sizeof err);
+    if (!w) print_error("%s\n", err);
+    assert_non_null(w);
+    return w;
+}
+
+// Density of particle i from all others (brute force, poly6) plus the walls' share,
+// using the same formulas as the shaders (docs/solver.md).
+static double boundary_volume(double d, double h)
+{
+    double u = d / h;
+    if (u < 0) u = 0;
+    if (u > 1) u = 1;
+    double u2 = u * u;
+    double F = u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+    return (315.0 / 256.0) * (128.0 / 315.0 - F);
+}
+
+/// Water settled in a closed box: the particles next to each wall reach (nearly) the
+/// density of the bulk, i.e. the walls do not make them pile up in layers.
+static void settled_tank_walls_do_not_stack_particles(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.32f, 0.4f, 0.32f };
+    float r = 0.01f;
+    pbf_world *w = make_world(r, lo, hi, 20000);
+    pbf_world_set_container(w, lo, hi, false);
+    pbf_block_def b = pbf_default_block_def();
+    b.max[0] = 0.32f;
+    b.max[1] = 0.2f;
+    b.max[2] = 0.32f;
+    uint32_t n = 0;
+    assert_int_equal(pbf_world_add_block(w, &b, &n), PBF_OK);
+    pbf_params p = *pbf_world_params(w); // the defaults: 2 iterations, 4 substeps
+    for (int s = 0; s < 120; s++) pbf_world_step(w, 1.0f / 60.0f);
+    pbf_step_stats st;
+    while (pbf_world_poll_stats(w, &st, 1, true) == 1) {}
+    float *x = malloc((size_t)n * 16);
+    assert_int_equal(pbf_world_read_particles(w, x, NULL, NULL, n), n);
+    pbf_constants k = pbf_derive_constants(&p);
+    double h = p.kernel_radius, h2 = h * h;
+    // Density per particle, then averages over the layer at each wall and the bulk.
+    double wall_sum[5] = { 0 }, bulk_sum = 0;
+    int wall_n[5] = { 0 }, bulk_n = 0;
+    double surface = 0;
+    for (uint32_t i = 0; i < n; i++) surface = fmax(surface, x[4 * i + 1]);
+    for (uint32_t i = 0; i < n; i++) {
+        const float *xi = x + 4 * i;
+        double sum = 0;
+        for (uint32_t j = 0; j < n; j++) {
+            double dx = xi[0] - x[4 * j], dy = xi[1] - x[4 * j + 1], dz = xi[2] - x[4 * j + 2];
+            double r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 < h2) sum += k.poly6 * pow(h2 - r2, 3);
+        }
+        double rho = k.mass_density * sum;
+        double d[5] = { xi[1] - lo[1], xi[0] - lo[0], hi[0] - xi[0], xi[2] - lo[2], hi[2] - xi[2] };
+        for (int q = 0; q < 5; q++) rho += p.rest_density * boundary_volume(d[q], h);
+        if (xi[1] > surface - h) continue; // the free surface is not the subject here
+        int near = -1;
+        for (int q = 0; q < 5; q++)
+            if (d[q] < 2.0f * r) near = q;
+        if (near >= 0) {
+            wall_sum[near] += rho;
+            wall_n[near]++;
+        } else if (d[0] > h && d[1] > h && d[2] > h && d[3] > h && d[4] > h) {
+            bulk_sum += rho;
+            bulk_n++;
+        }
+    }
+    assert_true(bulk_n > 50);
+    double bulk = bulk_sum / bulk_n;
+    static const char *names[5] = { "floor", "-x wall", "+x wall", "-z wall", "+z wall" };
+    print_message("bulk density %.1f kg/m^3 (%.2f%% from rho0) over %d particles; mean over all %.1f\n", bulk,
+                  100.0 * (bulk / p.rest_density - 1.0), bulk_n, (double)st.density_avg);
+    for (int q = 0; q < 5; q++) {
+        assert_true(wall_n[q] > 20);
+        double layer = wall_sum[q] / wall_n[q];
+        print_message("%-8s layer density %.1f kg/m^3 = %.2f%% of bulk (%d particles)\n", names[q], layer,
+                      100.0 * layer / bulk, wall_n[q]);
+        assert_true(fabs(layer / bulk - 1.0) < 0.03);
+    }
+    // And the tank as a whole (the GPU's mean over every particle) and its bulk are at
+    // rest density within 1 %.
+    assert_true(fabs(st.density_avg / p.rest_density - 1.0) < 0.01);
+    assert_true(fabs(bulk / p.rest_density - 1.0) < 0.01);
+    free(x);
+    pbf_world_destroy(w);
+}
+
+/// An emitter pours `rate` particles per second (to within one layer), none overlapping.
+static void emitter_pours_its_rate(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.6f, 0.6f, 0.6f };
+    pbf_world *w = make_world(0.01f, lo, hi, 20000);
+    pbf_world_set_container(w, lo, hi, false);
+    pbf_emitter_def e = pbf_default_emitter_def();
+    e.position[0] = 0.3f;
+    e.position[1] = 0.5f;
+    e.position[2] = 0.3f;
+    e.speed = 1.0f;
+    e.radius = 0.04f;
+    float max_rate = pbf_emitter_max_rate(w, e.speed, e.radius);
+    e.rate = 0.5f * max_rate;
+    pbf_emitter_id id;
+    assert_int_equal(pbf_world_add_emitter(w, &e, &id), PBF_OK);
+    for (int s = 0; s < 60; s++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_step_stats st[8];
+    int got, last = 0;
+    uint32_t count = 0;
+    while ((got = pbf_world_poll_stats(w, st, 8, true)) > 0) {
+        count = st[got - 1].particles;
+        last += got;
+        assert_int_equal(st[got - 1].nan_count, 0);
+    }
+    double expect = e.rate * 1.0;
+    print_message("emitted %u particles in 1 s at rate %.0f/s (full layers: %.0f/s)\n", count, (double)e.rate,
+                  (double)max_rate);
+    assert_true(fabs(count - expect) <= max_rate * 0.02 + 1);
+    // Turned off, it stops.
+    e.enabled = false;
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_OK);
+    for (int s = 0; s < 10; s++) pbf_world_step(w, 1.0f / 60.0f);
+    while ((got = pbf_world_poll_stats(w, st, 8, true)) > 0) assert_int_equal(st[got - 1].particles, count);
+    // Bad definitions are refused with the field named.
+    e.rate = 10.0f * max_rate;
+    e.enabled = true;
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_emitter_def.rate must be in [0,"));
+    e.rate = -1.0f;
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_ERR_INVALID_ARG);
+    e.rate = 10.0f;
+    e.speed = -2.0f;
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_emitter_def.speed must be in (0, 100] m/s (got -2)"));
+    assert_int_equal(pbf_world_remove_emitter(w, id), PBF_OK);
+    assert_int_equal(pbf_world_remove_emitter(w, id), PBF_ERR_STALE_ID);
+    pbf_world_destroy(w);
+}
+
+/// A sink removes exactly the particles that enter it; the rest are untouched.
+static void sink_removes_particles_that_enter_it(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.4f, 0.4f, 0.2f };
+    pbf_world *w = make_world(0.01f, lo, hi, 20000);
+    pbf_world_set_container(w, lo, hi, false);
+    pbf_block_def b = pbf_default_block_def();
+    b.min[1] = 0.2f;
+    b.max[0] = 0.4f;
+    b.max[1] = 0.4f;
+    b.max[2] = 0.2f;
+    uint32_t n;
+    assert_int_equal(pbf_world_add_block(w, &b, &n), PBF_OK);
+    // The left half of the floor drains.
+    float smin[3] = { 0, 0, 0 }, smax[3] = { 0.2f, 0.05f, 0.2f };
+    pbf_sink_id sink;
+    assert_int_equal(pbf_world_add_sink(w, smin, smax, &sink), PBF_OK);
+    for (int s = 0; s < 90; s++) pbf_world_step(w, 1.0f / 60.0f);
+    pbf_step_stats st[8];
+    int got;
+    uint32_t count = n;
+    while ((got = pbf_world_poll_stats(w, st, 8, true)) > 0) {
+        for (int i = 0; i < got; i++) assert_true(st[i].particles <= count);
+        count = st[got - 1].particles;
+    }
+    print_message("%u of %u particles left after 1.5 s with a sink under half the floor\n", count, n);
+    assert_true(count < n * 3 / 4);
+    assert_true(count > 0);
+    // The GPU state agrees with the stats, no particle is inside the sink, none is NaN.
+    float *x = malloc((size_t)n * 16);
+    assert_int_equal(pbf_world_read_particles(w, x, NULL, NULL, n), count);
+    for (uint32_t i = 0; i < count; i++) {
+        const float *p = x + 4 * i;
+        assert_true(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]));
+    }
+    // Removing the sink stops the drain.
+    assert_int_equal(pbf_world_remove_sink(w, sink), PBF_OK);
+    for (int s = 0; s < 20; s++) pbf_world_step(w, 1.0f / 60.0f);
+    while ((got = pbf_world_poll_stats(w, st, 8, true)) > 0) assert_int_equal(st[got - 1].particles, count);
+    assert_int_equal(pbf_world_particle_count(w), count);
+    free(x);
+    pbf_world_destroy(w);
+}
+
+/// Same scene, same parameters: the same bits after N steps, run after run.
+static void same_scene_gives_the_same_state_hash(void **state)
+{
+    (void)state;
+    uint64_t hash[2];
+    for (int run = 0; run < 2; run++) {
+        float lo[3] = { 0, 0, 0 }, hi[3] = { 0.4f, 0.3f, 0.2f };
+        pbf_world *w = make_world(0.01f, lo, hi, 8000);
+        pbf_world_set_container(w, lo, hi, false);
+        pbf_block_def b = pbf_default_block_def();
+        b.max[0] = 0.16f;
+        b.max[1] = 0.2f;
+        b.max[2] = 0.2f;
+        assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_OK);
+        for (int s = 0; s < 30; s++) pbf_world_step(w, 1.0f / 60.0f);
+        hash[run] = pbf_world_state_hash(w);
+        pbf_world_destroy(w);
+    }
+    print_message("state hash after 30 steps: %016llx, %016llx\n", (unsigned long long)hash[0],
+                  (unsigned long long)hash[1]);
+    assert_true(hash[0] == hash[1]);
+}
+
+/// More particles than the capacity: refused, naming the capacity; nothing is added.
+static void adding_beyond_capacity_is_refused(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 1, 1, 1 };
+    pbf_world *w = make_world(0.02f, lo, hi, 100);
+    pbf_block_def b = pbf_default_block_def();
+    b.max[0] = b.max[1] = b.max[2] = 0.4f; // 10 x 10 x 10
+    uint32_t n = 7;
+    assert_int_equal(pbf_world_add_block(w, &b, &n), PBF_ERR_CAPACITY);
+    assert_int_equal(n, 0);
+    assert_non_null(strstr(pbf_world_last_error(w), "capacity 100"));
+    assert_int_equal(pbf_world_particle_count(w), 0);
+    float far[3] = { 5, 5, 5 };
+    assert_int_equal(pbf_world_add_particles(w, far, NULL, 1), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "inside the domain"));
+    pbf_world_destroy(w);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(settled_tank_walls_do_not_stack_particles),
+        cmocka_unit_test(emitter_pours_its_rate),
+        cmocka_unit_test(sink_removes_particles_that_enter_it),
+        cmocka_unit_test(same_scene_gives_the_same_state_hash),
+        cmocka_unit_test(adding_beyond_capacity_is_refused),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
