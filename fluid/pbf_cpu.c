@@ -109,6 +109,30 @@ static float plane_distance(const pbf_gpu_params *P, uint32_t p, v3 x, v3 *n)
     return dot(x, *n) - P->planes[p].w;
 }
 
+/// common.glsl container_boundary: the union of the planes' half-spaces.
+static float container_boundary(const pbf_gpu_params *P, v3 x, v3 *grad)
+{
+    float keep = 1.0f;
+    float vp[PBF_MAX_PLANES];
+    v3 gp[PBF_MAX_PLANES];
+    for (uint32_t p = 0; p < P->plane_count; p++) {
+        v3 n;
+        float d = plane_distance(P, p, x, &n);
+        vp[p] = d < P->h ? (P->boundary_scale * pbf_cpu_boundary_volume(d, P->h)) : 0.0f;
+        gp[p] = d < P->h ? scale((P->boundary_scale * pbf_cpu_boundary_gradient(d, P->h)), n) : (v3){ 0.0f, 0.0f, 0.0f };
+        keep *= 1.0f - vp[p];
+    }
+    *grad = (v3){ 0.0f, 0.0f, 0.0f };
+    for (uint32_t p = 0; p < P->plane_count; p++) {
+        if (vp[p] <= 0.0f) continue;
+        float others = 1.0f;
+        for (uint32_t q = 0; q < P->plane_count; q++)
+            if (q != p) others *= 1.0f - vp[q];
+        *grad = sub(*grad, scale(others, gp[p]));
+    }
+    return 1.0f - keep;
+}
+
 static v3 quat_rotate(pbf_float4 q, v3 v)
 {
     v3 u = { q.x, q.y, q.z };
@@ -517,6 +541,7 @@ static pbf_gpu_params uniforms(const pbf_cpu_world *w, float dt)
     g.scorr_n = p->scorr_n;
     g.scorr_inv_wdq = k->scorr_inv_wdq;
     g.scorr_scale = k->scorr_scale;
+    g.boundary_scale = k->boundary_scale;
     g.vorticity = p->vorticity;
     g.viscosity = p->viscosity;
     g.damping = p->damping;
@@ -672,21 +697,16 @@ static void density(pbf_cpu_world *w, const pbf_gpu_params *P)
             sum_grad2 += dot(g, g);
         }
         float rho = P->mass_density * sum_w;
-        for (uint32_t p = 0; p < P->plane_count; p++) {
-            v3 n;
-            float d = plane_distance(P, p, xi, &n);
-            if (d < P->h) {
-                rho += P->rest_density * pbf_cpu_boundary_volume(d, P->h);
-                grad_i = sub(grad_i, scale(pbf_cpu_boundary_gradient(d, P->h), n));
-            }
-        }
+        v3 wall_grad;
+        rho += P->rest_density * container_boundary(P, xi, &wall_grad);
+        grad_i = add(grad_i, wall_grad);
         for (uint32_t b = 0; b < P->collider_count; b++) {
             if (!collider_near(&w->colliders[b], xi, P->h)) continue;
             v3 n;
             float d = collider_sdf(&w->colliders[b], xi, &n);
             if (d < P->h) {
-                rho += P->rest_density * pbf_cpu_boundary_volume(d, P->h);
-                grad_i = sub(grad_i, scale(pbf_cpu_boundary_gradient(d, P->h), n));
+                rho += P->rest_density * (P->boundary_scale * pbf_cpu_boundary_volume(d, P->h));
+                grad_i = sub(grad_i, scale((P->boundary_scale * pbf_cpu_boundary_gradient(d, P->h)), n));
             }
         }
         float C = fmaxf(rho * P->inv_rest_density - 1.0f, 0.0f);
@@ -718,16 +738,14 @@ static void delta(pbf_cpu_world *w, const pbf_gpu_params *P)
             }
         }
         dp = scale(P->mass_density * P->inv_rest_density, dp);
-        for (uint32_t p = 0; p < P->plane_count; p++) {
-            v3 n;
-            float d = plane_distance(P, p, xi, &n);
-            if (d < P->h) dp = sub(dp, scale(li * pbf_cpu_boundary_gradient(d, P->h), n));
-        }
+        v3 wall_grad;
+        container_boundary(P, xi, &wall_grad);
+        dp = add(dp, scale(li, wall_grad));
         for (uint32_t b = 0; b < P->collider_count; b++) {
             if (!collider_near(&w->colliders[b], xi, P->h)) continue;
             v3 n;
             float d = collider_sdf(&w->colliders[b], xi, &n);
-            if (d < P->h) dp = add(dp, scale(-li * pbf_cpu_boundary_gradient(d, P->h), n));
+            if (d < P->h) dp = add(dp, scale(-li * (P->boundary_scale * pbf_cpu_boundary_gradient(d, P->h)), n));
         }
         v3 x = add(xi, scale(P->omega, dp));
         for (uint32_t p = 0; p < P->plane_count; p++) {
@@ -885,15 +903,12 @@ static float density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
         sum_w += w_poly6(P, dot(r, r));
     }
     float rho = P->mass_density * sum_w;
-    for (uint32_t p = 0; p < P->plane_count; p++) {
-        v3 n;
-        float d = plane_distance(P, p, xi, &n);
-        if (d < P->h) rho += P->rest_density * pbf_cpu_boundary_volume(d, P->h);
-    }
+    v3 unused_wall_grad;
+    rho += P->rest_density * container_boundary(P, xi, &unused_wall_grad);
     for (uint32_t b = 0; b < P->collider_count; b++) {
         v3 n;
         float d = collider_sdf(&w->colliders[b], xi, &n);
-        if (d < P->h) rho += P->rest_density * pbf_cpu_boundary_volume(d, P->h);
+        if (d < P->h) rho += P->rest_density * (P->boundary_scale * pbf_cpu_boundary_volume(d, P->h));
     }
     return rho;
 }

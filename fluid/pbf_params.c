@@ -65,12 +65,13 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
     double s = 2.0 * p->particle_radius;
     // Sums over a cubic lattice of spacing s around a particle on a site (self included).
     int n = (int)ceil(h / s) + 1;
-    double sw = 0.0, sg2 = 0.0;
+    double sw = 0.0, sg2 = 0.0, missing = 0.0;
     for (int z = -n; z <= n; z++)
         for (int y = -n; y <= n; y++)
             for (int x = -n; x <= n; x++) {
                 double r2 = s * s * (double)(x * x + y * y + z * z);
                 sw += poly6(r2, h);
+                if (z < 0) missing += poly6(r2, h); // rows beyond a wall half a spacing below
                 double g = spiky_grad_mag(sqrt(r2), h);
                 sg2 += g * g;
             }
@@ -85,6 +86,11 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
     double dq = p->scorr_dq * h;
     c.scorr_inv_wdq = (float)(1.0 / poly6(dq * dq, h));
     c.scorr_scale = (float)(1.0 / c.lattice_grad2);
+    // The continuous share of a half-space at d = s/2 (the closed form of common.glsl).
+    double u = 0.5 * s / h, u2 = u * u;
+    double F = u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
+    double v_half = (315.0 / 256.0) * (128.0 / 315.0 - F);
+    c.boundary_scale = (float)((missing / sw) / v_half);
     return c;
 }
 

@@ -628,6 +628,7 @@ void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
     g.scorr_n = p->scorr_n;
     g.scorr_inv_wdq = k->scorr_inv_wdq;
     g.scorr_scale = k->scorr_scale;
+    g.boundary_scale = k->boundary_scale;
     g.vorticity = p->vorticity;
     g.viscosity = p->viscosity;
     g.damping = p->damping;
@@ -938,7 +939,10 @@ uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocit
     for (uint32_t i = 0; i < m; i++) {
         uint32_t s = order[i].slot;
         if (positions) memcpy(positions + 4 * i, p + 4 * s, 16);
-        if (velocities) memcpy(velocities + 4 * i, v + 4 * s, 16);
+        if (velocities) {
+            memcpy(velocities + 4 * i, v + 4 * s, 12);
+            velocities[4 * i + 3] = 0.0f; // w is the solver's scratch (particle volume)
+        }
         if (ids) ids[i] = order[i].id;
     }
     free(p);

@@ -19,28 +19,27 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
     vec3 xi = pred[i].xyz;
-    float li = lambda_rho[i].x;
+    float li = pred[i].w; // lambda, written by the density pass
     vec3 dp = vec3(0.0);
     uint nn = nb_len(i);
     if (P.scorr_k > 0.0) {
         for (uint q = 0u; q < nn; q++) {
             uint j = nb_at(i, q);
-            vec3 r = xi - pred[j].xyz;
+            vec4 pj = pred[j];
+            vec3 r = xi - pj.xyz;
             float s = -P.scorr_k * pow(w_poly6(dot(r, r)) * P.scorr_inv_wdq, P.scorr_n) * P.scorr_scale;
-            dp += (li + lambda_rho[j].x + s) * grad_spiky(r);
+            dp += (li + pj.w + s) * grad_spiky(r);
         }
     } else {
         for (uint q = 0u; q < nn; q++) {
-            uint j = nb_at(i, q);
-            dp += (li + lambda_rho[j].x) * grad_spiky(xi - pred[j].xyz);
+            vec4 pj = pred[nb_at(i, q)];
+            dp += (li + pj.w) * grad_spiky(xi - pj.xyz);
         }
     }
     dp *= P.mass_density * P.inv_rest_density;
-    for (uint p = 0u; p < P.plane_count; p++) {
-        vec3 n;
-        float d = plane_distance(p, xi, n);
-        if (d < P.h) dp -= li * boundary_gradient(d) * n;
-    }
+    vec3 wall_grad;
+    container_boundary(xi, wall_grad);
+    dp += li * wall_grad;
     colliders_delta(xi, li, dp);
     vec3 x = xi + P.omega * dp;
     // Collisions: keep a particle radius away from every boundary.

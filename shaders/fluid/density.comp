@@ -29,16 +29,14 @@ void main()
         sum_grad2 += dot(g, g);
     }
     float rho = P.mass_density * sum_w;
-    for (uint p = 0u; p < P.plane_count; p++) {
-        vec3 n;
-        float d = plane_distance(p, xi, n);
-        if (d < P.h) {
-            rho += P.rest_density * boundary_volume(d);
-            grad_i -= boundary_gradient(d) * n;
-        }
-    }
+    vec3 wall_grad;
+    rho += P.rest_density * container_boundary(xi, wall_grad);
+    grad_i += wall_grad;
     colliders_density(xi, rho, grad_i);
     float C = max(rho * P.inv_rest_density - 1.0, 0.0);
     float lambda = -C / (dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
     lambda_rho[i] = vec2(lambda, rho);
+    // lambda also rides in pred.w, so the delta pass reads a neighbour's position and
+    // multiplier in one load (other threads only read pred[j].xyz here).
+    pred[i].w = lambda;
 }

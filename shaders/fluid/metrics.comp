@@ -37,11 +37,8 @@ void main()
                 sum_w += w_poly6(dot(r, r));
             }
             rho = P.mass_density * sum_w;
-            for (uint p = 0u; p < P.plane_count; p++) {
-                vec3 n;
-                float d = plane_distance(p, xi, n);
-                if (d < P.h) rho += P.rest_density * boundary_volume(d);
-            }
+            vec3 unused_wall_grad;
+            rho += P.rest_density * container_boundary(xi, unused_wall_grad);
             vec3 unused_grad = vec3(0.0);
             colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;

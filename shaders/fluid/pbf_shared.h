@@ -31,9 +31,10 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 
 // Work-group sizes (threads per group) of the particle and cell passes.
 #define PBF_WG 128
-// Elements scanned per work group by the prefix scan (2 per thread).
-#define PBF_SCAN_WG 256
-#define PBF_SCAN_BLOCK (2 * PBF_SCAN_WG)
+// The prefix scan: threads per group, consecutive elements per thread, elements per group.
+#define PBF_SCAN_WG 64
+#define PBF_SCAN_PER_THREAD 16
+#define PBF_SCAN_BLOCK (PBF_SCAN_WG * PBF_SCAN_PER_THREAD)
 // Maximum colliders (bodies; the container's planes are separate).
 #define PBF_MAX_COLLIDERS 64
 // Maximum container planes.
@@ -143,7 +144,7 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_UINT count_mode;     // count pass: 0 after sinks removed particles, 1 after an append
     PBF_FLOAT scorr_scale;   // m^2: s_corr is -k (W / W(dq))^n * scorr_scale, a multiplier
                              // of the size a constraint violated by k would get
-    PBF_UINT pad0;
+    PBF_FLOAT boundary_scale;// calibrates the continuous wall model to the particle lattice
 } PBF_END(pbf_gpu_params);
 
 // A collider on the GPU: a shape in a rigid frame at two poses (previous and current

@@ -9,9 +9,8 @@ uniform uint scan_n;
 void main()
 {
     uint block = gl_WorkGroupID.x;
-    uint base = block * PBF_SCAN_BLOCK;
-    uint a = base + 2u * gl_LocalInvocationID.x;
     uint add = sums[block];
-    if (a < scan_n) data[a] += add;
-    if (a + 1u < scan_n) data[a + 1u] += add;
+    uint base = block * uint(PBF_SCAN_BLOCK) + gl_LocalInvocationID.x * uint(PBF_SCAN_PER_THREAD);
+    for (uint k = 0u; k < uint(PBF_SCAN_PER_THREAD); k++)
+        if (base + k < scan_n) data[base + k] += add;
 }

@@ -3,6 +3,7 @@
 #define USE_POS
 #define USE_VEL
 #define USE_PRED
+#define USE_LAMBDA
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
@@ -14,6 +15,8 @@ void main()
     vec3 v = (x - pos[i].xyz) * P.inv_dt;
     float s = length(v);
     if (s > P.max_speed) v *= P.max_speed / s;
-    vel[i] = vec4(v, vel[i].w);
+    // w: the particle's volume m / rho (m^3) from the last density pass, so the
+    // vorticity and viscosity passes read a neighbour's velocity and volume in one load.
+    vel[i] = vec4(v, P.mass_density / max(lambda_rho[i].y, 1e-6 * P.rest_density));
     pos[i].xyz = x;
 }

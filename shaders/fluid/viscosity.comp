@@ -5,7 +5,6 @@
 #define USE_VEL
 #define USE_VEL_OUT
 #define USE_NB
-#define USE_LAMBDA
 #define USE_OMEGA
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
@@ -26,9 +25,9 @@ void main()
         for (uint q = 0u; q < nn; q++) {
             uint j = nb_at(i, q);
             vec3 r = xi - pos[j].xyz;
-            float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
-            eta += vol * (omega[j].w - wi) * grad_spiky(r);
-            xsph += vol * (vel[j].xyz - vi) * w_poly6(dot(r, r));
+            vec4 vj = vel[j]; // w: volume m / rho_j (velocity pass)
+            eta += vj.w * (omega[j].w - wi) * grad_spiky(r);
+            xsph += vj.w * (vj.xyz - vi) * w_poly6(dot(r, r));
         }
         float le = length(eta);
         if (le > 1e-9) v += P.dt * P.vorticity * cross(eta / le, omega[i].xyz);
@@ -36,8 +35,8 @@ void main()
         for (uint q = 0u; q < nn; q++) {
             uint j = nb_at(i, q);
             vec3 r = xi - pos[j].xyz;
-            float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
-            xsph += vol * (vel[j].xyz - vi) * w_poly6(dot(r, r));
+            vec4 vj = vel[j];
+            xsph += vj.w * (vj.xyz - vi) * w_poly6(dot(r, r));
         }
     }
     v += P.viscosity * xsph;

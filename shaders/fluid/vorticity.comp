@@ -3,7 +3,6 @@
 #define USE_POS
 #define USE_VEL
 #define USE_NB
-#define USE_LAMBDA
 #define USE_OMEGA
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
@@ -18,8 +17,8 @@ void main()
     uint nn = nb_len(i);
     for (uint q = 0u; q < nn; q++) {
         uint j = nb_at(i, q);
-        float vol = P.mass_density / max(lambda_rho[j].y, 1e-6 * P.rest_density);
-        w += vol * cross(grad_spiky(xi - pos[j].xyz), vel[j].xyz - vi);
+        vec4 vj = vel[j]; // w: volume m / rho_j (velocity pass)
+        w += vj.w * cross(grad_spiky(xi - pos[j].xyz), vj.xyz - vi);
     }
     omega[i] = vec4(w, length(w));
 }
