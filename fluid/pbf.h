@@ -323,6 +323,8 @@ typedef struct pbf_step_stats {
     float rest_density;       ///< kg/m^3
     float density_avg;        ///< kg/m^3, mean over particles (boundary share included)
     float density_max;
+    float density_error_avg;  ///< mean over particles of max(rho / rho0 - 1, 0): compression
+                              ///< only (free-surface particles are not counted as errors)
     uint32_t nan_count;       ///< particles with a non-finite position or velocity
     uint32_t outside_count;   ///< particles outside the domain
     uint32_t overflow_count;  ///< particles with more neighbours than their list holds

@@ -920,7 +920,7 @@ pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *w)
     pbf_cpu_stats st;
     memset(&st, 0, sizeof st);
     st.particles = w->count;
-    double sum = 0.0;
+    double sum = 0.0, err = 0.0;
     for (uint32_t i = 0; i < w->count; i++) {
         v3 xi = xyz(w->pos[i]);
         if (!finite3(xi) || !finite3(xyz(w->vel[i]))) {
@@ -929,6 +929,7 @@ pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *w)
         }
         float rho = density_at(w, &P, i);
         sum += rho;
+        err += fmaxf(rho * P.inv_rest_density - 1.0f, 0.0f);
         if (rho > st.density_max) st.density_max = rho;
         if (w->nb_count[i] > w->max_neighbours) st.overflow_count++;
         if (xi.x < w->domain_min[0] || xi.y < w->domain_min[1] || xi.z < w->domain_min[2] ||
@@ -937,6 +938,7 @@ pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *w)
     }
     uint32_t good = w->count - st.nan_count;
     st.density_avg = w->count > 0 ? (float)(sum / (good > 0 ? good : 1)) : 0.0f;
+    st.density_error_avg = w->count > 0 ? (float)(err / (good > 0 ? good : 1)) : 0.0f;
     return st;
 }
 

@@ -35,6 +35,7 @@ typedef struct pbf_cpu_stats {
     uint32_t particles;
     float density_avg;       ///< kg/m^3, mean over particles with finite state
     float density_max;       ///< kg/m^3
+    float density_error_avg; ///< mean of max(rho / rho0 - 1, 0)
     uint32_t nan_count;      ///< particles with a non-finite position or velocity
     uint32_t outside_count;  ///< particles outside the domain
     uint32_t overflow_count; ///< particles with more neighbours than max_neighbours

@@ -780,6 +780,7 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)slot * (GLintptr)sizeof m, sizeof m, &m);
     out->density_avg = m.density_avg;
     out->density_max = m.density_max;
+    out->density_error_avg = m.error_avg;
     out->nan_count = m.nan_count;
     out->outside_count = m.outside_count;
     out->overflow_count = m.overflow_count;

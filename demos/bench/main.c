@@ -25,7 +25,8 @@ typedef struct options {
     int particle_count;
     long iterations[MAX_LIST];
     int iteration_count;
-    int substeps;
+    long substeps[MAX_LIST];
+    int substep_count;
     int steps, warmup;
     double dt;
     const char *json;
@@ -42,6 +43,7 @@ typedef struct result {
     double cpu_ms;        // process CPU time per step (on a CPU driver such as llvmpipe this
                           // is the work itself, less sensitive to other load than wall time)
     double rho_err_avg;   // mean over measured steps of (rho_avg / rho0 - 1)
+    double err_avg;       // mean over measured steps of mean max(rho / rho0 - 1, 0)
     double rho_err_max;   // max over measured steps of (rho_max / rho0 - 1)
     uint32_t nan_count, outside_count, overflow_count;
 } result;
@@ -91,18 +93,18 @@ static int parse_list(const char *s, long *out, int *count, const char *name, lo
     return *count > 0;
 }
 
-static int run_one(const options *o, long n, int iterations, result *r)
+static int run_one(const options *o, long n, int iterations, int substeps, result *r)
 {
     memset(r, 0, sizeof *r);
     r->particles_asked = n;
     r->iterations = iterations;
-    r->substeps = o->substeps;
+    r->substeps = substeps;
     double spacing = cbrt(1.0 / (double)n);
     pbf_world_def d = pbf_default_world_def();
     d.params.particle_radius = (float)(0.5 * spacing);
     d.params.kernel_radius = (float)(2.0 * spacing);
     d.params.iterations = iterations;
-    d.params.substeps = o->substeps;
+    d.params.substeps = substeps;
     d.params.vorticity = 0.0f; // the reference solver runs PBF with XSPH viscosity only
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
     d.capacity = (uint32_t)(n + n / 4 + 1024);
@@ -130,7 +132,7 @@ static int run_one(const options *o, long n, int iterations, result *r)
     double *stage[PBF_STAGE_COUNT];
     for (int s = 0; s < PBF_STAGE_COUNT; s++) stage[s] = calloc((size_t)cap, sizeof(double));
     int got = 0;
-    double rho_sum = 0.0;
+    double rho_sum = 0.0, err_sum = 0.0;
     pbf_step_stats st[16];
     glFinish();
     double t0 = now_s(), c0 = cpu_s();
@@ -142,6 +144,7 @@ static int run_one(const options *o, long n, int iterations, result *r)
                 step[got] = st[j].step_ms;
                 for (int s = 0; s < PBF_STAGE_COUNT; s++) stage[s][got] = st[j].stage_ms[s];
                 rho_sum += st[j].density_avg / st[j].rest_density - 1.0;
+                err_sum += st[j].density_error_avg;
                 double e = st[j].density_max / st[j].rest_density - 1.0;
                 if (e > r->rho_err_max) r->rho_err_max = e;
                 r->nan_count += st[j].nan_count;
@@ -157,6 +160,7 @@ static int run_one(const options *o, long n, int iterations, result *r)
     r->step_ms = median(step, got);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) r->stage_ms[s] = median(stage[s], got);
     r->rho_err_avg = got ? rho_sum / got : 0.0;
+    r->err_avg = got ? err_sum / got : 0.0;
     free(step);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) free(stage[s]);
     pbf_world_destroy(w);
@@ -165,9 +169,10 @@ static int run_one(const options *o, long n, int iterations, result *r)
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S]\n"
+    fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--json FILE] [--shaders DIR]\n"
-               "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n");
+               "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
+               "lists (comma-separated) of particles, iterations and substeps run every combination\n");
 }
 
 int main(int argc, char **argv)
@@ -179,7 +184,8 @@ int main(int argc, char **argv)
     o.particle_count = 2;
     o.iterations[0] = 3;
     o.iteration_count = 1;
-    o.substeps = 1;
+    o.substeps[0] = 1;
+    o.substep_count = 1;
     o.steps = 60;
     o.warmup = 10;
     o.dt = 0.004;
@@ -201,8 +207,7 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--iterations") == 0) {
             if (!parse_list(v, o.iterations, &o.iteration_count, "--iterations", 1, 100)) return 2;
         } else if (strcmp(a, "--substeps") == 0) {
-            if (!parse_list(v, tmp, &cnt, "--substeps", 1, 64) || cnt != 1) return 2;
-            o.substeps = (int)tmp[0];
+            if (!parse_list(v, o.substeps, &o.substep_count, "--substeps", 1, 64)) return 2;
         } else if (strcmp(a, "--steps") == 0) {
             if (!parse_list(v, tmp, &cnt, "--steps", 1, 100000) || cnt != 1) return 2;
             o.steps = (int)tmp[0];
@@ -235,9 +240,9 @@ int main(int argc, char **argv)
     eng_context *ctx = eng_context_create(&cd, &cst, err, sizeof err);
     if (!ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? 3 : 2;
     printf("renderer: %s\n", eng_context_renderer(ctx));
-    printf("scene: dam break, 1 m^3 block in a 4 x 3 x 1.5 m tank, h = 2 spacings, dt %.4g s, %d substep(s), "
+    printf("scene: dam break, 1 m^3 block in a 4 x 3 x 1.5 m tank, h = 2 spacings, dt %.4g s, "
            "XSPH on, vorticity off; median of %d steps after %d warm-up\n",
-           o.dt, o.substeps, o.steps, o.warmup);
+           o.dt, o.steps, o.warmup);
     FILE *js = NULL;
     if (o.json) {
         js = fopen(o.json, "w");
@@ -246,30 +251,31 @@ int main(int argc, char **argv)
             eng_context_destroy(ctx);
             return 2;
         }
-        fprintf(js, "{\n  \"renderer\": \"%s\",\n  \"dt\": %g,\n  \"substeps\": %d,\n  \"steps\": %d,\n  \"runs\": [",
-                eng_context_renderer(ctx), o.dt, o.substeps, o.steps);
+        fprintf(js, "{\n  \"renderer\": \"%s\",\n  \"dt\": %g,\n  \"steps\": %d,\n  \"warmup\": %d,\n  \"runs\": [",
+                eng_context_renderer(ctx), o.dt, o.steps, o.warmup);
     }
-    printf("%9s %5s %9s %9s %9s %9s %9s", "particles", "iter", "step_ms", "wall_ms", "cpu_ms", "rho_avg%", "rho_max%");
+    printf("%9s %5s %4s %9s %9s %9s %9s %9s %9s", "particles", "iter", "sub", "step_ms", "wall_ms", "cpu_ms", "rho_avg%", "err_avg%", "rho_max%");
     for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %s", pbf_stage_name((pbf_stage)s));
     printf("\n");
     int ok = 1, first = 1;
     for (int pi = 0; pi < o.particle_count && ok; pi++)
+        for (int si = 0; si < o.substep_count && ok; si++)
         for (int ii = 0; ii < o.iteration_count && ok; ii++) {
             result r;
-            if (!run_one(&o, o.particles[pi], (int)o.iterations[ii], &r)) {
+            if (!run_one(&o, o.particles[pi], (int)o.iterations[ii], (int)o.substeps[si], &r)) {
                 ok = 0;
                 break;
             }
-            printf("%9u %5d %9.2f %9.2f %9.2f %9.3f %9.3f", r.particles, r.iterations, r.step_ms, r.wall_ms,
-                   r.cpu_ms, 100.0 * r.rho_err_avg, 100.0 * r.rho_err_max);
+            printf("%9u %5d %4d %9.2f %9.2f %9.2f %9.3f %9.3f %9.3f", r.particles, r.iterations, r.substeps, r.step_ms,
+                   r.wall_ms, r.cpu_ms, 100.0 * r.rho_err_avg, 100.0 * r.err_avg, 100.0 * r.rho_err_max);
             for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %.2f", r.stage_ms[s]);
             printf("%s\n", r.nan_count || r.outside_count ? "  (NaN or lost particles!)" : "");
             fflush(stdout);
             if (js) {
                 fprintf(js, "%s\n    {\"particles\": %u, \"iterations\": %d, \"substeps\": %d, \"step_ms\": %.4f, "
-                            "\"wall_ms\": %.4f, \"cpu_ms\": %.4f, \"rho_err_avg\": %.6f, \"rho_err_max\": %.6f, \"nan\": %u, \"outside\": %u, "
+                            "\"wall_ms\": %.4f, \"cpu_ms\": %.4f, \"rho_err_avg\": %.6f, \"err_avg\": %.6f, \"rho_err_max\": %.6f, \"nan\": %u, \"outside\": %u, "
                             "\"overflow\": %u, \"stage_ms\": {",
-                        first ? "" : ",", r.particles, r.iterations, r.substeps, r.step_ms, r.wall_ms, r.cpu_ms, r.rho_err_avg,
+                        first ? "" : ",", r.particles, r.iterations, r.substeps, r.step_ms, r.wall_ms, r.cpu_ms, r.rho_err_avg, r.err_avg,
                         r.rho_err_max, r.nan_count, r.outside_count, r.overflow_count);
                 for (int s = 0; s < PBF_STAGE_COUNT; s++)
                     fprintf(js, "%s\"%s\": %.4f", s ? ", " : "", pbf_stage_name((pbf_stage)s), r.stage_ms[s]);

@@ -40,7 +40,8 @@ void main()
     vec3 wall_grad;
     container_boundary(xi, wall_grad);
     dp += li * wall_grad;
-    colliders_delta(xi, li, dp);
+    // (uniform branches: without bodies the collider code costs nothing)
+    if (P.collider_count > 0u) colliders_delta(xi, li, dp);
     vec3 x = xi + P.omega * dp;
     // Collisions: keep a particle radius away from every boundary.
     for (uint p = 0u; p < P.plane_count; p++) {
@@ -48,7 +49,7 @@ void main()
         float d = plane_distance(p, x, n);
         if (d < P.radius) x += (P.radius - d) * n;
     }
-    x = colliders_collide(i, x);
+    if (P.collider_count > 0u) x = colliders_collide(i, x);
     x = clamp(x, P.domain_min.xyz + P.radius, P.domain_max.xyz - P.radius);
     pred_out[i] = vec4(x, 0.0);
 }

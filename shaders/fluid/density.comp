@@ -32,7 +32,7 @@ void main()
     vec3 wall_grad;
     rho += P.rest_density * container_boundary(xi, wall_grad);
     grad_i += wall_grad;
-    colliders_density(xi, rho, grad_i);
+    if (P.collider_count > 0u) colliders_density(xi, rho, grad_i);
     float C = max(rho * P.inv_rest_density - 1.0, 0.0);
     float lambda = -C / (dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
     lambda_rho[i] = vec2(lambda, rho);

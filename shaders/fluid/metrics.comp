@@ -13,6 +13,7 @@ layout(local_size_x = PBF_WG) in;
 layout(std430, binding = PBF_B_REDUCE) buffer Reduce { pbf_gpu_reduce partial[]; };
 
 shared float s_sum[PBF_WG];
+shared float s_err[PBF_WG];
 shared float s_max[PBF_WG];
 shared uint s_nan[PBF_WG];
 shared uint s_out[PBF_WG];
@@ -40,12 +41,13 @@ void main()
             vec3 unused_wall_grad;
             rho += P.rest_density * container_boundary(xi, unused_wall_grad);
             vec3 unused_grad = vec3(0.0);
-            colliders_density(xi, rho, unused_grad);
+            if (P.collider_count > 0u) colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;
             if (any(lessThan(xi, P.domain_min.xyz)) || any(greaterThan(xi, P.domain_max.xyz))) outside = 1u;
         }
     }
     s_sum[t] = rho;
+    s_err[t] = max(rho * P.inv_rest_density - 1.0, 0.0);
     s_max[t] = rho;
     s_nan[t] = bad;
     s_out[t] = outside;
@@ -54,6 +56,7 @@ void main()
         barrier();
         if (t < s) {
             s_sum[t] += s_sum[t + s];
+            s_err[t] += s_err[t + s];
             s_max[t] = max(s_max[t], s_max[t + s]);
             s_nan[t] += s_nan[t + s];
             s_out[t] += s_out[t + s];
@@ -62,6 +65,7 @@ void main()
     }
     if (t == 0u) {
         partial[gl_WorkGroupID.x].density_sum = s_sum[0];
+        partial[gl_WorkGroupID.x].error_sum = s_err[0];
         partial[gl_WorkGroupID.x].density_max = s_max[0];
         partial[gl_WorkGroupID.x].nan_count = s_nan[0];
         partial[gl_WorkGroupID.x].outside_count = s_out[0];

@@ -8,6 +8,7 @@ layout(std430, binding = PBF_B_METRICS) buffer Metrics { pbf_gpu_metrics metrics
 uniform uint frame;
 
 shared float s_sum[PBF_WG];
+shared float s_err[PBF_WG];
 shared float s_max[PBF_WG];
 shared uint s_nan[PBF_WG];
 shared uint s_out[PBF_WG];
@@ -16,17 +17,19 @@ shared uint s_ovf[PBF_WG];
 void main()
 {
     uint t = gl_LocalInvocationID.x;
-    float sum = 0.0, mx = 0.0;
+    float sum = 0.0, mx = 0.0, err = 0.0;
     uint bad = 0u, outside = 0u, overflow = 0u;
     uint groups = state.groups_x;
     for (uint g = t; g < groups; g += PBF_WG) {
         sum += partial[g].density_sum;
+        err += partial[g].error_sum;
         mx = max(mx, partial[g].density_max);
         bad += partial[g].nan_count;
         outside += partial[g].outside_count;
         overflow += partial[g].overflow_count;
     }
     s_sum[t] = sum;
+    s_err[t] = err;
     s_max[t] = mx;
     s_nan[t] = bad;
     s_out[t] = outside;
@@ -35,6 +38,7 @@ void main()
         barrier();
         if (t < s) {
             s_sum[t] += s_sum[t + s];
+            s_err[t] += s_err[t + s];
             s_max[t] = max(s_max[t], s_max[t + s]);
             s_nan[t] += s_nan[t + s];
             s_out[t] += s_out[t + s];
@@ -44,7 +48,9 @@ void main()
     if (t == 0u) {
         uint n = particle_count();
         uint slot = P.metrics_slot;
-        metrics[slot].density_avg = n > 0u ? s_sum[0] / float(n - s_nan[0] > 0u ? n - s_nan[0] : 1u) : 0.0;
+        float good = float(n - s_nan[0] > 0u ? n - s_nan[0] : 1u);
+        metrics[slot].density_avg = n > 0u ? s_sum[0] / good : 0.0;
+        metrics[slot].error_avg = n > 0u ? s_err[0] / good : 0.0;
         metrics[slot].density_max = s_max[0];
         metrics[slot].nan_count = s_nan[0];
         metrics[slot].outside_count = s_out[0];

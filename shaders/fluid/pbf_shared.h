@@ -181,7 +181,8 @@ PBF_STRUCT(pbf_gpu_reduce) {
     PBF_UINT nan_count;      // particles with a non-finite position or velocity
     PBF_UINT outside_count;  // particles outside the domain
     PBF_UINT overflow_count; // particles with more neighbours than their list holds
-    PBF_UINT pad0, pad1, pad2;
+    PBF_FLOAT error_sum;     // sum of max(rho / rho0 - 1, 0): the compression error
+    PBF_UINT pad0, pad1;
 } PBF_END(pbf_gpu_reduce);
 
 PBF_STRUCT(pbf_gpu_metrics) {
@@ -192,7 +193,7 @@ PBF_STRUCT(pbf_gpu_metrics) {
     PBF_UINT count;
     PBF_UINT frame;
     PBF_UINT overflow_count;
-    PBF_UINT pad0;
+    PBF_FLOAT error_avg;     // mean of max(rho / rho0 - 1, 0) over the particles
 } PBF_END(pbf_gpu_metrics);
 
 #endif
