@@ -1,0 +1,248 @@
+// The runner's contract (docs/runner.md): exit statuses and one-line messages for good and
+// bad command lines, and the files it writes. Each test runs build/bin/seiche as a child
+// process (headless, a tiny scene) and reads its exit status, stdout and stderr.
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "tests/support.h"
+
+typedef struct run_result {
+    int status;      // exit status, or 128 + signal
+    char out[8192];  // stdout
+    char err[8192];  // stderr
+} run_result;
+
+static void slurp(const char *path, char *buf, size_t size)
+{
+    buf[0] = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) return;
+    size_t n = fread(buf, 1, size - 1, f);
+    buf[n] = 0;
+    fclose(f);
+}
+
+// Runs the runner with argv (NULL-terminated, without the program) and extra environment
+// "NAME=VALUE" (or NULL); kills it after 120 s.
+static void run(run_result *r, const char *env, const char *const *args)
+{
+    char exe[1024], dir[1024];
+    support_source_path("build/bin/seiche", exe, sizeof exe);
+    support_source_dir(dir, sizeof dir);
+    const char *out_path = "/tmp/seiche_test_runner.out", *err_path = "/tmp/seiche_test_runner.err";
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        if (chdir(dir) != 0) _exit(120);
+        int o = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        dup2(o, 1);
+        dup2(e, 2);
+        if (env) {
+            char name[128];
+            const char *eq = strchr(env, '=');
+            snprintf(name, sizeof name, "%.*s", (int)(eq - env), env);
+            setenv(name, eq + 1, 1);
+        }
+        const char *argv[32];
+        int n = 0;
+        argv[n++] = exe;
+        for (const char *const *a = args; *a && n < 31; a++) argv[n++] = *a;
+        argv[n] = NULL;
+        alarm(120);
+        execv(exe, (char *const *)argv);
+        _exit(121);
+    }
+    int st = 0;
+    waitpid(pid, &st, 0);
+    r->status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    slurp(out_path, r->out, sizeof r->out);
+    slurp(err_path, r->err, sizeof r->err);
+    if (getenv("SEICHE_TEST_VERBOSE")) print_message("exit %d\nstdout: %s\nstderr: %s\n", r->status, r->out, r->err);
+}
+
+static int lines(const char *s)
+{
+    int n = 0;
+    for (; *s; s++) n += *s == '\n';
+    return n;
+}
+
+#define SCENE "tests/scripts/check_fails.lua"
+#define GOOD "tests/fixtures/tiny_scene.lua"
+
+static void good_run_exits_0_and_prints_a_summary(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "5", GOOD, NULL });
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "5 frames"));
+    assert_non_null(strstr(r.out, "particles"));
+}
+
+static void unknown_option_is_a_usage_error(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headles", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "unknown option '--headles'"));
+}
+
+static void option_without_its_value_is_a_usage_error(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ GOOD, "--frames", NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--frames needs a value"));
+}
+
+static void negative_frames_are_refused(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "-1", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--frames"));
+    assert_non_null(strstr(r.err, "-1"));
+}
+
+static void bad_dt_is_refused(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--dt", "0", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--dt"));
+}
+
+static void missing_script_is_named(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "no/such/scene.lua", NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "no/such/scene.lua"));
+    assert_true(lines(r.err) <= 2);
+}
+
+static void no_script_is_a_usage_error(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "no script"));
+}
+
+static void missing_shader_directory_names_the_shader_file(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "2", "--shaders", "/tmp/no-such-shaders", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "no-such-shaders"));
+    assert_non_null(strstr(r.err, "cannot open"));
+}
+
+static void unknown_set_key_lists_the_known_ones(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--set", "fluid.iteratoins=4", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "iteratoins"));
+    assert_non_null(strstr(r.err, "iterations"));
+    run(&r, NULL, (const char *const[]){ "--headless", "--set", "fluid.iterations=0", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "iterations must be in [1, 100] (got 0)"));
+}
+
+static void failed_check_exits_1_with_file_and_line(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "3", SCENE, NULL });
+    assert_int_equal(r.status, 1);
+    assert_non_null(strstr(r.err, "check_fails.lua:"));
+    assert_non_null(strstr(r.err, "check failed"));
+}
+
+static void no_compute_context_exits_3(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, "MESA_GL_VERSION_OVERRIDE=3.3", (const char *const[]){ "--headless", "--frames", "2", GOOD, NULL });
+    assert_int_equal(r.status, 3);
+    assert_non_null(strstr(r.err, "4.3"));
+}
+
+static void hash_is_printed_and_repeats(void **state)
+{
+    (void)state;
+    run_result a, b;
+    run(&a, NULL, (const char *const[]){ "--headless", "--frames", "8", "--hash", GOOD, NULL });
+    run(&b, NULL, (const char *const[]){ "--headless", "--frames", "8", "--hash", GOOD, NULL });
+    assert_int_equal(a.status, 0);
+    const char *ha = strstr(a.out, "state hash: "), *hb = strstr(b.out, "state hash: ");
+    assert_non_null(ha);
+    assert_non_null(hb);
+    assert_memory_equal(ha, hb, 12 + 16);
+}
+
+static void metrics_and_screenshot_are_written(void **state)
+{
+    (void)state;
+    const char *csv = "/tmp/seiche_test_runner.csv", *png = "/tmp/seiche_test_runner.png";
+    unlink(csv);
+    unlink(png);
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "6", "--size", "160x120", "--metrics", csv,
+                                        "--screenshot", png, GOOD, NULL });
+    assert_int_equal(r.status, 0);
+    char text[16384];
+    slurp(csv, text, sizeof text);
+    const char *need[] = { "frame", "time", "particles", "rho0", "rho_max", "rho_avg", "step_ms", "predict_ms",
+                           "density_ms", "delta_ms", "metrics_ms" };
+    for (size_t i = 0; i < sizeof need / sizeof need[0]; i++) assert_non_null(strstr(text, need[i]));
+    assert_int_equal(lines(text), 1 + 6); // header and one row per frame
+    unsigned char sig[8] = { 0 };
+    FILE *f = fopen(png, "rb");
+    assert_non_null(f);
+    assert_int_equal(fread(sig, 1, 8, f), 8);
+    fclose(f);
+    assert_memory_equal(sig, "\x89PNG\r\n\x1a\n", 8);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(good_run_exits_0_and_prints_a_summary),
+        cmocka_unit_test(unknown_option_is_a_usage_error),
+        cmocka_unit_test(option_without_its_value_is_a_usage_error),
+        cmocka_unit_test(negative_frames_are_refused),
+        cmocka_unit_test(bad_dt_is_refused),
+        cmocka_unit_test(missing_script_is_named),
+        cmocka_unit_test(no_script_is_a_usage_error),
+        cmocka_unit_test(missing_shader_directory_names_the_shader_file),
+        cmocka_unit_test(unknown_set_key_lists_the_known_ones),
+        cmocka_unit_test(failed_check_exits_1_with_file_and_line),
+        cmocka_unit_test(no_compute_context_exits_3),
+        cmocka_unit_test(hash_is_printed_and_repeats),
+        cmocka_unit_test(metrics_and_screenshot_are_written),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
