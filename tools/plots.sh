@@ -16,7 +16,7 @@ for scene in dam_break prefilled_drop; do
 
     gnuplot <<GP
 set datafile separator ","
-set terminal pngcairo size 900,500 font "sans,11"
+set terminal pngcairo size 900,500 font "sans,11" noenhanced
 set output "$out/${scene}_density.png"
 set title "$scene: density against rest density (GPU reduction, every frame)"
 set xlabel "time (s)"
@@ -34,7 +34,7 @@ GP
              END { for (i = 8; i <= last; i++) { s = name[i]; sub(/_ms$/, "", s); printf "%s %.4f\n", s, sum[i] / n } }' \
         "$csv" > "$out/${scene}_stages.dat"
     gnuplot <<GP
-set terminal pngcairo size 900,500 font "sans,11"
+set terminal pngcairo size 900,500 font "sans,11" noenhanced
 set output "$out/${scene}_stages.png"
 set title "$scene: mean GPU time per stage and step (all substeps and iterations)"
 set ylabel "ms"
