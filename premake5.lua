@@ -61,11 +61,13 @@ local function cpp_project(name, k)
 end
 
 -- The libraries, bottom up (see docs and ../shared/ARCHITECTURE.md for the rules).
-local system_libs = { "epoxy", "EGL", "glfw", "lua5.4", "BulletDynamics", "BulletCollision",
+local system_libs = { "imgui", "epoxy", "EGL", "glfw", "lua5.4", "BulletDynamics", "BulletCollision",
                       "LinearMath", "cglm", "stb", "stdc++", "m", "dl", "pthread" }
 -- The coupling library appears with fluid/bullet/coupling.c.
 local have_coupling = #os.matchfiles("fluid/bullet/coupling.c") > 0
-local seiche_libs = { "seiche_engine" }
+-- seiche_ui (the ImGui shim, C++) comes after seiche_engine, which calls it: static
+-- libraries are searched in order.
+local seiche_libs = { "seiche_engine", "seiche_ui" }
 if have_coupling then table.insert(seiche_libs, "seiche_coupling") end
 table.insert(seiche_libs, "seiche_phys")
 table.insert(seiche_libs, "seiche_fluid")
@@ -83,6 +85,11 @@ end
 
 c_project("seiche_engine", "StaticLib")
    files { "engine/*.c", "engine/*.h" }
+
+-- The runner's on-screen UI: a C API (engine/ui.h) over Dear ImGui (libimgui-dev).
+cpp_project("seiche_ui", "StaticLib")
+   files { "engine/ui_imgui.cpp", "engine/ui.h" }
+   includedirs { "/usr/include/imgui" }
 
 local function program(name, dir)
    c_project(name, "ConsoleApp")

@@ -1,7 +1,8 @@
-// The engine's frame loop: a context (window or headless), a scene script, the fluid
-// world built from it, the renderer; fixed time step, pause, single step, reset/reload,
+// The engine's frame loop: a context (window or headless), a scene script, the worlds
+// built from it (fluid, Bullet, their coupling), the renderer and, in a window, the UI;
+// fixed time step, pause, single step, reset / reload (keys, and on saving the script),
 // metrics CSV, screenshots, video, and the state hash. The runner (demos/seiche) is a
-// thin command line over eng_app_run.
+// thin command line over eng_app_run; docs/runner.md describes both.
 #ifndef ENG_APP_H
 #define ENG_APP_H
 
@@ -31,6 +32,9 @@ typedef struct eng_app_options {
     int width, height;           ///< pixels
     const char *shader_dir;      ///< NULL: found next to the executable, or SEICHE_SHADER_DIR
     bool quiet;                  ///< no summary line
+    double budget_s;             ///< longest a callback may run, s; 0: 5 headless, 2 in a window
+    bool watch;                  ///< window: reload the script when its file changes (default true)
+    bool ui;                     ///< window: the on-screen panel and error box (default true)
 } eng_app_options;
 
 eng_app_options eng_default_app_options(void);

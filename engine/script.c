@@ -1,4 +1,14 @@
 // Lua host for scene scripts. See script.h and docs/lua-api.md.
+//
+// Layout of this file:
+//   objects      the handles a script holds (emitters, sinks, bodies, timers, grabs): slots
+//                with a generation, full userdata {slot, generation} with named metatables
+//   commands     world edits queued by the script, applied by eng_script_apply
+//   arguments    readers that check type, NaN/inf and range and name fn, field, value, rule
+//   bindings     seiche.* functions and the methods of each handle type
+//   running      pcall with a traceback handler, the time budget hook, a memory limit
+//   apply        the commands against the pbf_world / phys_world / coupling / scene graph
+//   callbacks    on_start, on_step (+ timers), input callbacks, on_reload
 #include "engine/script.h"
 
 #define GLFW_INCLUDE_NONE
@@ -13,21 +23,137 @@
 #include <string.h>
 #include <time.h>
 
+#define PI 3.14159265358979323846
+/// Positions a script may give, m (far beyond any scene; keeps Bullet and the grid sane).
+#define MAX_COORD 1.0e5
+/// Speeds a script may give, m/s (and rad/s).
+#define MAX_SPEED 1.0e4
+/// The most memory a script's Lua state may hold.
+#define LUA_MEMORY_LIMIT ((size_t)512 << 20)
+
+// ---- objects -------------------------------------------------------------------------
+
+typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_KIND_COUNT } obj_kind;
+static const char *const KIND_NAME[OBJ_KIND_COUNT] = { "emitter", "sink", "body", "timer", "grab" };
+static const char *const KIND_META[OBJ_KIND_COUNT] = { "seiche.emitter", "seiche.sink", "seiche.body", "seiche.timer",
+                                                       "seiche.grab" };
+
+typedef enum obj_state {
+    OBJ_FREE = 0, // slot unused
+    OBJ_PENDING,  // created by the script, its creation still queued
+    OBJ_LIVE,     // exists in the world
+} obj_state;
+
+typedef enum body_shape {
+    SHAPE_BOX = 0, SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_CYLINDER, SHAPE_PLANE, SHAPE_HULL, SHAPE_MESH, SHAPE_COUNT
+} body_shape;
+static const char *const SHAPE_NAME[SHAPE_COUNT] = { "box", "sphere", "capsule", "cylinder", "plane", "hull", "mesh" };
+static const char *const BODY_KIND_NAME[3] = { "static", "kinematic", "dynamic" }; // = phys_body_type
+
+typedef struct body_rec {
+    body_shape shape;
+    float dims[4];          // box: half extents; sphere: r; capsule/cylinder: r, half height; plane: n, offset
+    float *points;          // hull points / mesh vertices, xyz, m (owned)
+    uint32_t point_count;
+    uint32_t *indices;      // mesh, 0-based (owned)
+    uint32_t index_count;
+    phys_body_def def;      // everything but the shape
+    bool two_way;
+    float color[3];
+    bool visible;
+    phys_body_id id;
+    phys_shape_id shape_id;
+    eng_node_id node;
+    eng_mesh_id mesh;
+    bool target_mode;       // moving towards a move_to target
+    uint64_t target_step;   // the step (frame + 1) the target was set for
+} body_rec;
+
+typedef struct obj {
+    obj_kind kind;
+    obj_state state;
+    uint32_t generation;
+    int ref;                // registry reference to the userdata (LUA_NOREF: none yet)
+    union {
+        struct { pbf_emitter_def def; pbf_emitter_id id; } emitter;
+        struct { float min[3], max[3]; pbf_sink_id id; } sink;
+        body_rec body;
+        struct { double due, period; int fn; uint64_t fired; } timer;
+        struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
+    } u;
+} obj;
+
+typedef struct handle {
+    uint32_t slot;
+    uint32_t generation;
+} handle;
+
+// ---- commands ------------------------------------------------------------------------
+
+typedef enum cmd_type {
+    CMD_BLOCK = 1, CMD_SPHERE, CMD_PARTICLES,
+    CMD_EMITTER_ADD, CMD_EMITTER_SET, CMD_EMITTER_REMOVE,
+    CMD_SINK_ADD, CMD_SINK_REMOVE,
+    CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
+    CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
+    CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
+    CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA, CMD_INJECT,
+} cmd_type;
+
+typedef struct command {
+    cmd_type type;
+    char where[160];        // "file:line:" of the call
+    const char *fn;         // "seiche.block", "body:move_to", ...
+    uint32_t slot, gen;     // the object it concerns, if any
+    union {
+        pbf_block_def block;
+        struct { float center[3], radius, velocity[3]; } sphere;
+        struct { float *pos, *vel; uint32_t n; } particles;
+        pbf_emitter_def emitter;
+        pbf_emitter_id emitter_id;
+        pbf_sink_id sink_id;
+        struct { phys_body_id id; phys_shape_id shape; eng_node_id node; eng_mesh_id mesh; } body;
+        struct { float v[3], p[3]; bool at_point; } vec;
+        struct { float pos[3], rot[4]; } pose;
+        struct { float color[3]; bool visible; } look;
+        phys_constraint_id constraint;
+        pbf_params params;
+        float gravity[3];
+        struct { float eye[3], target[3], fov; int mode; bool has_eye, has_target, has_fov, has_mode; } camera;
+        eng_event event;
+    } u;
+} command;
+
 struct eng_script {
     lua_State *L;
     eng_logger log;
     double budget_s;
-    double deadline;      // monotonic seconds; 0 when no callback runs
-    const char *running;  // name of the running callback, for messages
+    double deadline;        // monotonic seconds; 0 when no callback runs
+    const char *running;    // name of the running callback, for messages
+    size_t memory;          // bytes held by the Lua state
+    bool out_of_memory;
     char path[512];
-    char error[4096];
+    char error[8192];
     bool check_failed;
     bool quit;
     bool scene_called;
+    bool in_main_chunk;
     eng_scene_config config;
-    eng_command *commands;
+    command *commands;
     int command_count, command_cap;
+    obj *objs;
+    uint32_t obj_count, obj_cap;
     eng_script_host host;
+    pbf_params pending_params;   // the parameters after the queued set_param calls
+    bool have_pending_params;
+    float pending_gravity[3];
+    bool have_pending_gravity;
+    bool capacity_warned;
+    // The particle download shared by the queries of one frame (surface_height, ...).
+    float *cache;
+    uint32_t cache_count, cache_cap;
+    uint64_t cache_frame;
+    bool cache_valid;
 };
 
 static const char *const REGISTRY_KEY = "seiche.script";
@@ -37,6 +163,21 @@ static double now_s(void)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+eng_look eng_default_look(void)
+{
+    eng_look k;
+    memset(&k, 0, sizeof k);
+    eng_renderer_def rd = eng_default_renderer_def();
+    memcpy(k.sky, rd.sky_color, sizeof k.sky);
+    k.light = rd.light;
+    k.water = eng_default_particle_style();
+    k.ground = true;
+    k.ground_height = 0.0f;
+    k.container = true;
+    k.panel = true;
+    return k;
 }
 
 eng_scene_config eng_default_scene_config(void)
@@ -50,10 +191,16 @@ eng_scene_config eng_default_scene_config(void)
     c.camera_eye[1] = 1.5f;
     c.camera_eye[2] = 3.0f;
     c.camera_fov = 50.0f;
+    c.camera_mode = ENG_CAMERA_ORBIT;
+    c.look = eng_default_look();
     return c;
 }
 
-static eng_script *get_script(lua_State *L)
+// The script of a binding: an upvalue of every function (lmathlib style), and the
+// registry for the budget hook, which has no upvalues.
+static eng_script *get_script(lua_State *L) { return lua_touserdata(L, lua_upvalueindex(1)); }
+
+static eng_script *registry_script(lua_State *L)
 {
     lua_getfield(L, LUA_REGISTRYINDEX, REGISTRY_KEY);
     eng_script *s = lua_touserdata(L, -1);
@@ -70,7 +217,7 @@ static int raise(lua_State *L, const char *fmt, ...)
     ;
 static int raise(lua_State *L, const char *fmt, ...)
 {
-    char msg[1024];
+    char msg[1536];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
@@ -81,81 +228,213 @@ static int raise(lua_State *L, const char *fmt, ...)
     return lua_error(L);
 }
 
-// ---- argument helpers: every message names the function, the field, the value given and
-// what is allowed; luaL_error prefixes the script's file:line.
+// ---- arguments -----------------------------------------------------------------------
+// Every message names the function, the field or argument, the value given and what is
+// allowed: "seiche.emitter: field 'rate' must be a number in [0, 1e+06] particles/s (got -5)".
 
-static const char *describe(lua_State *L, int idx, char *buf, size_t size)
+static const char *fmt_number(double v, char *buf, size_t size)
 {
-    int t = lua_type(L, idx);
-    if (t == LUA_TNUMBER) snprintf(buf, size, "%s", lua_tostring(L, idx));
-    else if (t == LUA_TSTRING) snprintf(buf, size, "\"%s\"", lua_tostring(L, idx));
-    else snprintf(buf, size, "%s", luaL_typename(L, idx));
+    if (isnan(v)) snprintf(buf, size, "nan");
+    else if (isinf(v)) snprintf(buf, size, v > 0 ? "inf" : "-inf");
+    else snprintf(buf, size, "%.10g", v);
     return buf;
 }
 
-// Reads t[field] as a finite number in [lo, hi]; `has` tells whether it was present.
-static bool opt_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi,
-                       double *out)
+// What the value at idx is, for "(got ...)": numbers and short strings as written, other
+// types by name.
+static const char *describe(lua_State *L, int idx, char *buf, size_t size)
 {
-    lua_getfield(L, t, field);
-    if (lua_isnil(L, -1)) {
+    int t = lua_type(L, idx);
+    if (t == LUA_TNUMBER) {
+        if (lua_isinteger(L, idx)) snprintf(buf, size, "%lld", (long long)lua_tointeger(L, idx));
+        else fmt_number(lua_tonumber(L, idx), buf, size);
+    } else if (t == LUA_TSTRING) {
+        snprintf(buf, size, "\"%.40s%s\"", lua_tostring(L, idx), lua_rawlen(L, idx) > 40 ? "..." : "");
+    } else if (t == LUA_TBOOLEAN) {
+        snprintf(buf, size, "%s", lua_toboolean(L, idx) ? "true" : "false");
+    } else if (t == LUA_TUSERDATA && luaL_getmetafield(L, idx, "__name") == LUA_TSTRING) {
+        snprintf(buf, size, "%s", lua_tostring(L, -1));
         lua_pop(L, 1);
-        return false;
+    } else {
+        snprintf(buf, size, "%s", luaL_typename(L, idx));
     }
-    char buf[64];
-    if (!lua_isnumber(L, -1) || lua_type(L, -1) != LUA_TNUMBER)
-        raise(L, "%s: field '%s' must be a number in [%g, %g] (got %s)", fn, field, lo, hi, describe(L, -1, buf, sizeof buf));
-    double v = lua_tonumber(L, -1);
-    if (!isfinite(v) || v < lo || v > hi)
-        raise(L, "%s: field '%s' must be a finite number in [%g, %g] (got %s)", fn, field, lo, hi, describe(L, -1, buf, sizeof buf));
-    lua_pop(L, 1);
-    *out = v;
+    return buf;
+}
+
+enum { OPEN_LO = 1, OPEN_HI = 2, WHOLE = 4 };
+
+// "in [0, 100] m/s", "in (0, 1]", "a finite number" (unbounded).
+static const char *range_text(double lo, double hi, int flags, const char *unit, char *buf, size_t size)
+{
+    char a[32], b[32];
+    const char *kind = flags & WHOLE ? "a whole number" : "a number";
+    if (lo <= -MAX_COORD * 1e3 && hi >= MAX_COORD * 1e3) snprintf(buf, size, "a finite number%s%s", unit && *unit ? " in " : "", unit ? unit : "");
+    else snprintf(buf, size, "%s in %c%s, %s%c%s%s", kind, flags & OPEN_LO ? '(' : '[', fmt_number(lo, a, sizeof a),
+                  fmt_number(hi, b, sizeof b), flags & OPEN_HI ? ')' : ']', unit && *unit ? " " : "", unit ? unit : "");
+    return buf;
+}
+
+static bool in_range(double v, double lo, double hi, int flags)
+{
+    if (!isfinite(v)) return false;
+    if (flags & OPEN_LO ? !(v > lo) : !(v >= lo)) return false;
+    if (flags & OPEN_HI ? !(v < hi) : !(v <= hi)) return false;
+    if ((flags & WHOLE) && v != floor(v)) return false;
     return true;
 }
 
-static bool opt_vec3(lua_State *L, int t, const char *fn, const char *field, float out[3])
+// `what` names the place: "field 'rate'" or "argument #2 'speed'".
+static double check_number_at(lua_State *L, int idx, const char *fn, const char *what, double lo, double hi, int flags,
+                              const char *unit)
+{
+    char got[64], rule[128];
+    if (lua_type(L, idx) != LUA_TNUMBER || !in_range(lua_tonumber(L, idx), lo, hi, flags))
+        raise(L, "%s: %s must be %s (got %s)", fn, what, range_text(lo, hi, flags, unit, rule, sizeof rule),
+              describe(L, idx, got, sizeof got));
+    return lua_tonumber(L, idx);
+}
+
+static bool field_present(lua_State *L, int t, const char *field)
 {
     lua_getfield(L, t, field);
     if (lua_isnil(L, -1)) {
         lua_pop(L, 1);
         return false;
     }
-    char buf[64];
-    if (!lua_istable(L, -1) || luaL_len(L, -1) != 3)
-        raise(L, "%s: field '%s' must be a table of 3 numbers {x, y, z} (got %s)", fn, field, describe(L, -1, buf, sizeof buf));
-    for (int k = 0; k < 3; k++) {
-        lua_geti(L, -1, k + 1);
-        if (lua_type(L, -1) != LUA_TNUMBER || !isfinite(lua_tonumber(L, -1)))
-            raise(L, "%s: field '%s'[%d] must be a finite number (got %s)", fn, field, k + 1, describe(L, -1, buf, sizeof buf));
+    return true; // value left on the stack
+}
+
+static bool opt_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi, int flags,
+                       const char *unit, double *out)
+{
+    if (!field_present(L, t, field)) return false;
+    char what[96];
+    snprintf(what, sizeof what, "field '%s'", field);
+    *out = check_number_at(L, -1, fn, what, lo, hi, flags, unit);
+    lua_pop(L, 1);
+    return true;
+}
+
+static double req_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi, int flags,
+                         const char *unit)
+{
+    double v = 0.0;
+    if (!opt_number(L, t, fn, field, lo, hi, flags, unit, &v)) {
+        char rule[128];
+        raise(L, "%s: field '%s' is required: %s (got nil)", fn, field, range_text(lo, hi, flags, unit, rule, sizeof rule));
+    }
+    return v;
+}
+
+static double arg_number(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, int flags,
+                         const char *unit)
+{
+    char what[96];
+    snprintf(what, sizeof what, "argument #%d '%s'", idx, name);
+    return check_number_at(L, idx, fn, what, lo, hi, flags, unit);
+}
+
+// A vector of n numbers: {a, b, c} or {x = a, y = b, z = c} (w for the fourth).
+static void check_vec_at(lua_State *L, int idx, const char *fn, const char *what, int n, double lo, double hi,
+                         int flags, const char *unit, float *out)
+{
+    static const char *const names[4] = { "x", "y", "z", "w" };
+    char got[64], rule[128];
+    idx = lua_absindex(L, idx);
+    const char *shape = n == 4 ? "{x, y, z, w}" : "{x, y, z}";
+    if (!lua_istable(L, idx))
+        raise(L, "%s: %s must be a table of %d numbers %s%s%s (got %s)", fn, what, n, shape, unit && *unit ? " in " : "",
+              unit ? unit : "", describe(L, idx, got, sizeof got));
+    lua_geti(L, idx, 1);
+    bool named = lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (!named && luaL_len(L, idx) != n)
+        raise(L, "%s: %s must be a table of %d numbers %s (got a table of %lld)", fn, what, n, shape,
+              (long long)luaL_len(L, idx));
+    for (int k = 0; k < n; k++) {
+        if (named) lua_getfield(L, idx, names[k]);
+        else lua_geti(L, idx, k + 1);
+        if (lua_type(L, -1) != LUA_TNUMBER || !in_range(lua_tonumber(L, -1), lo, hi, flags))
+            raise(L, "%s: %s.%s must be %s (got %s)", fn, what, names[k], range_text(lo, hi, flags, unit, rule, sizeof rule),
+                  describe(L, -1, got, sizeof got));
         out[k] = (float)lua_tonumber(L, -1);
         lua_pop(L, 1);
     }
+}
+
+static bool opt_vec(lua_State *L, int t, const char *fn, const char *field, int n, double lo, double hi, int flags,
+                    const char *unit, float *out)
+{
+    if (!field_present(L, t, field)) return false;
+    char what[96];
+    snprintf(what, sizeof what, "field '%s'", field);
+    check_vec_at(L, -1, fn, what, n, lo, hi, flags, unit, out);
     lua_pop(L, 1);
     return true;
 }
 
-static void req_vec3(lua_State *L, int t, const char *fn, const char *field, float out[3])
+static bool opt_position(lua_State *L, int t, const char *fn, const char *field, float out[3])
 {
-    if (!opt_vec3(L, t, fn, field, out)) raise(L, "%s: field '%s' is required: a table of 3 numbers {x, y, z} (got nil)", fn, field);
+    return opt_vec(L, t, fn, field, 3, -MAX_COORD, MAX_COORD, 0, "m", out);
+}
+
+static void req_position(lua_State *L, int t, const char *fn, const char *field, float out[3])
+{
+    if (!opt_position(L, t, fn, field, out))
+        raise(L, "%s: field '%s' is required: a table of 3 numbers {x, y, z} in m (got nil)", fn, field);
+}
+
+static void arg_vec(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, const char *unit,
+                    float out[3])
+{
+    char what[96];
+    snprintf(what, sizeof what, "argument #%d '%s'", idx, name);
+    check_vec_at(L, idx, fn, what, 3, lo, hi, 0, unit, out);
 }
 
 static bool opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *out)
 {
-    lua_getfield(L, t, field);
-    if (lua_isnil(L, -1)) {
-        lua_pop(L, 1);
-        return false;
-    }
-    char buf[64];
-    if (!lua_isboolean(L, -1)) raise(L, "%s: field '%s' must be a boolean (got %s)", fn, field, describe(L, -1, buf, sizeof buf));
+    if (!field_present(L, t, field)) return false;
+    char got[64];
+    if (!lua_isboolean(L, -1)) raise(L, "%s: field '%s' must be true or false (got %s)", fn, field, describe(L, -1, got, sizeof got));
     *out = lua_toboolean(L, -1);
     lua_pop(L, 1);
     return true;
 }
 
+static bool opt_color(lua_State *L, int t, const char *fn, const char *field, float out[3])
+{
+    return opt_vec(L, t, fn, field, 3, 0.0, 1.0, 0, "", out);
+}
+
+// One of a list of names; returns its index or -1 when the field is absent.
+static int opt_enum(lua_State *L, int t, const char *fn, const char *field, const char *const *names, int n)
+{
+    if (!field_present(L, t, field)) return -1;
+    if (lua_type(L, -1) == LUA_TSTRING)
+        for (int i = 0; i < n; i++)
+            if (strcmp(lua_tostring(L, -1), names[i]) == 0) {
+                lua_pop(L, 1);
+                return i;
+            }
+    char list[256] = "", got[64];
+    size_t len = 0;
+    for (int i = 0; i < n && len < sizeof list; i++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s\"%s\"", i ? ", " : "", names[i]);
+    return raise(L, "%s: field '%s' must be one of %s (got %s)", fn, field, list, describe(L, -1, got, sizeof got));
+}
+
+static void check_table_arg(lua_State *L, int idx, const char *fn, const char *fields)
+{
+    char got[64];
+    if (!lua_istable(L, idx))
+        raise(L, "%s: argument #%d must be a table {%s} (got %s)", fn, idx, fields, describe(L, idx, got, sizeof got));
+}
+
 // Rejects keys of table t that are not in `known` (a misspelt field is an error, not a no-op).
 static void check_fields(lua_State *L, int t, const char *fn, const char *const *known)
 {
+    t = lua_absindex(L, t);
     lua_pushnil(L);
     while (lua_next(L, t)) {
         lua_pop(L, 1);
@@ -166,7 +445,7 @@ static void check_fields(lua_State *L, int t, const char *fn, const char *const 
                 if (strcmp(*p, k) == 0) ok = true;
         }
         if (!ok) {
-            char list[512] = "";
+            char list[640] = "";
             size_t n = 0;
             for (const char *const *p = known; *p && n < sizeof list; p++)
                 n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", p == known ? "" : ", ", *p);
@@ -176,160 +455,111 @@ static void check_fields(lua_State *L, int t, const char *fn, const char *const 
     }
 }
 
-// ---- seiche.* --------------------------------------------------------------------------
-
-static void read_fluid(lua_State *L, int t, pbf_params *p)
+// A rotation: a unit quaternion {x, y, z, w} (normalised when its length is within 1 %
+// of 1) or {axis = {x, y, z}, angle = radians}.
+static bool opt_rotation(lua_State *L, int t, const char *fn, const char *field, float q[4])
 {
-    int n;
-    const pbf_param_info *tab = pbf_param_table(&n);
-    const char *known[32];
-    for (int i = 0; i < n && i < 30; i++) known[i] = tab[i].name;
-    known[n < 30 ? n : 30] = NULL;
-    check_fields(L, t, "seiche.scene: fluid", known);
-    for (int i = 0; i < n; i++) {
-        double v;
-        if (!opt_number(L, t, "seiche.scene: fluid", tab[i].name, -1e30, 1e30, &v)) continue;
-        char err[512];
-        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) raise(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
+    if (!field_present(L, t, field)) return false;
+    int v = lua_gettop(L);
+    char what[96], got[64];
+    snprintf(what, sizeof what, "field '%s'", field);
+    if (!lua_istable(L, v))
+        raise(L, "%s: %s must be a unit quaternion {x, y, z, w} or {axis = {x, y, z}, angle = radians} (got %s)", fn,
+              what, describe(L, v, got, sizeof got));
+    lua_getfield(L, v, "axis");
+    bool axis_angle = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (axis_angle) {
+        static const char *const known[] = { "axis", "angle", NULL };
+        char sub[128];
+        snprintf(sub, sizeof sub, "%s: field '%s'", fn, field);
+        check_fields(L, v, sub, known);
+        float axis[3];
+        opt_vec(L, v, sub, "axis", 3, -1e6, 1e6, 0, "", axis);
+        double angle = req_number(L, v, sub, "angle", -1e6, 1e6, 0, "radians");
+        double len = sqrt((double)axis[0] * axis[0] + (double)axis[1] * axis[1] + (double)axis[2] * axis[2]);
+        if (!(len > 1e-9)) raise(L, "%s: field '%s'.axis must not be zero (got {0, 0, 0})", fn, field);
+        double sn = sin(angle / 2.0) / len;
+        q[0] = (float)(axis[0] * sn);
+        q[1] = (float)(axis[1] * sn);
+        q[2] = (float)(axis[2] * sn);
+        q[3] = (float)cos(angle / 2.0);
+    } else {
+        check_vec_at(L, v, fn, what, 4, -2.0, 2.0, 0, "", q);
+        double len = sqrt((double)q[0] * q[0] + (double)q[1] * q[1] + (double)q[2] * q[2] + (double)q[3] * q[3]);
+        if (!(fabs(len - 1.0) <= 0.01))
+            raise(L, "%s: %s must be a unit quaternion {x, y, z, w} (length 1; got length %.6g); or use {axis = "
+                  "{x, y, z}, angle = radians}", fn, what, len);
+        for (int k = 0; k < 4; k++) q[k] = (float)(q[k] / len);
+    }
+    lua_pop(L, 1);
+    return true;
+}
+
+// ---- small vector and quaternion helpers ------------------------------------------------
+
+static void quat_mul(const float a[4], const float b[4], float out[4])
+{
+    float r[4] = {
+        a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
+        a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
+        a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],
+        a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2],
+    };
+    memcpy(out, r, sizeof r);
+}
+
+static void quat_rotate(const float q[4], const float v[3], float out[3])
+{
+    // v' = v + 2 w (u x v) + 2 u x (u x v)
+    float u[3] = { q[0], q[1], q[2] }, w = q[3];
+    float t[3] = { 2 * (u[1] * v[2] - u[2] * v[1]), 2 * (u[2] * v[0] - u[0] * v[2]), 2 * (u[0] * v[1] - u[1] * v[0]) };
+    float r[3] = { v[0] + w * t[0] + (u[1] * t[2] - u[2] * t[1]), v[1] + w * t[1] + (u[2] * t[0] - u[0] * t[2]),
+                   v[2] + w * t[2] + (u[0] * t[1] - u[1] * t[0]) };
+    memcpy(out, r, sizeof r);
+}
+
+// The rotation taking +Y to the unit vector n.
+static void quat_from_y(const float n[3], float q[4])
+{
+    float d = n[1];
+    if (d < -0.999999f) {
+        q[0] = 1, q[1] = 0, q[2] = 0, q[3] = 0;
+        return;
+    }
+    // axis = y x n = (n.z, 0, -n.x), q = (axis, 1 + d) normalised
+    float x = n[2], z = -n[0], w = 1.0f + d;
+    float len = sqrtf(x * x + z * z + w * w);
+    q[0] = x / len, q[1] = 0.0f, q[2] = z / len, q[3] = w / len;
+}
+
+static phys_vec3 pv(const float v[3]) { return (phys_vec3){ v[0], v[1], v[2] }; }
+static phys_quat pq(const float q[4]) { return (phys_quat){ q[0], q[1], q[2], q[3] }; }
+
+// Pushes {x, y, z} as a table with both an array part and named fields.
+static void push_vec3(lua_State *L, double x, double y, double z)
+{
+    lua_createtable(L, 3, 3);
+    double v[3] = { x, y, z };
+    static const char *const names[3] = { "x", "y", "z" };
+    for (int k = 0; k < 3; k++) {
+        lua_pushnumber(L, v[k]);
+        lua_rawseti(L, -2, k + 1);
+        lua_pushnumber(L, v[k]);
+        lua_setfield(L, -2, names[k]);
     }
 }
 
-static int l_scene(lua_State *L)
+static void push_quat(lua_State *L, const float q[4])
 {
-    eng_script *s = get_script(L);
-    luaL_checktype(L, 1, LUA_TTABLE);
-    if (s->host.world) raise(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
-    static const char *const known[] = { "name", "preset", "fluid", "gravity", "capacity", "container", "domain", "camera", NULL };
-    check_fields(L, 1, "seiche.scene", known);
-    eng_scene_config *c = &s->config;
-    lua_getfield(L, 1, "preset");
-    if (!lua_isnil(L, -1)) {
-        const char *preset = lua_tostring(L, -1);
-        if (preset && strcmp(preset, "default") == 0) c->params = pbf_default_params();
-        else if (preset && strcmp(preset, "seed") == 0) c->params = pbf_seed_params();
-        else {
-            char buf[64];
-            raise(L, "seiche.scene: field 'preset' must be \"default\" or \"seed\" (got %s)", describe(L, -1, buf, sizeof buf));
-        }
+    lua_createtable(L, 4, 4);
+    static const char *const names[4] = { "x", "y", "z", "w" };
+    for (int k = 0; k < 4; k++) {
+        lua_pushnumber(L, q[k]);
+        lua_rawseti(L, -2, k + 1);
+        lua_pushnumber(L, q[k]);
+        lua_setfield(L, -2, names[k]);
     }
-    lua_pop(L, 1);
-    lua_getfield(L, 1, "name");
-    if (lua_type(L, -1) == LUA_TSTRING) snprintf(c->name, sizeof c->name, "%s", lua_tostring(L, -1));
-    else if (!lua_isnil(L, -1)) raise(L, "seiche.scene: field 'name' must be a string");
-    lua_pop(L, 1);
-    lua_getfield(L, 1, "fluid");
-    if (lua_istable(L, -1)) read_fluid(L, lua_gettop(L), &c->params);
-    else if (!lua_isnil(L, -1)) raise(L, "seiche.scene: field 'fluid' must be a table of fluid parameters");
-    lua_pop(L, 1);
-    float g[3];
-    if (opt_vec3(L, 1, "seiche.scene", "gravity", g)) {
-        for (int k = 0; k < 3; k++)
-            if (fabsf(g[k]) > 1000.0f) raise(L, "seiche.scene: field 'gravity'[%d] must be in [-1000, 1000] m/s^2 (got %g)", k + 1, (double)g[k]);
-        memcpy(c->params.gravity, g, sizeof g);
-    }
-    double cap;
-    if (opt_number(L, 1, "seiche.scene", "capacity", 1, 67108864, &cap)) {
-        if (cap != floor(cap)) raise(L, "seiche.scene: field 'capacity' must be a whole number (got %g)", cap);
-        c->capacity = (uint32_t)cap;
-    }
-    lua_getfield(L, 1, "container");
-    if (lua_istable(L, -1)) {
-        int t = lua_gettop(L);
-        static const char *const ck[] = { "min", "max", "closed_top", NULL };
-        check_fields(L, t, "seiche.scene: container", ck);
-        req_vec3(L, t, "seiche.scene: container", "min", c->container_min);
-        req_vec3(L, t, "seiche.scene: container", "max", c->container_max);
-        for (int k = 0; k < 3; k++)
-            if (!(c->container_max[k] > c->container_min[k]))
-                raise(L, "seiche.scene: container.max[%d] must be greater than container.min[%d] (got min %g, max %g)",
-                           k + 1, k + 1, (double)c->container_min[k], (double)c->container_max[k]);
-        c->closed_top = false;
-        opt_bool(L, t, "seiche.scene: container", "closed_top", &c->closed_top);
-        c->has_container = true;
-    } else if (!lua_isnil(L, -1)) {
-        raise(L, "seiche.scene: field 'container' must be a table {min = {x,y,z}, max = {x,y,z}, closed_top = false}");
-    }
-    lua_pop(L, 1);
-    lua_getfield(L, 1, "domain");
-    if (lua_istable(L, -1)) {
-        int t = lua_gettop(L);
-        req_vec3(L, t, "seiche.scene: domain", "min", c->domain_min);
-        req_vec3(L, t, "seiche.scene: domain", "max", c->domain_max);
-        c->has_domain = true;
-    } else if (!lua_isnil(L, -1)) {
-        raise(L, "seiche.scene: field 'domain' must be a table {min = {x,y,z}, max = {x,y,z}}");
-    }
-    lua_pop(L, 1);
-    lua_getfield(L, 1, "camera");
-    if (lua_istable(L, -1)) {
-        int t = lua_gettop(L);
-        static const char *const ck[] = { "eye", "target", "fov", NULL };
-        check_fields(L, t, "seiche.scene: camera", ck);
-        opt_vec3(L, t, "seiche.scene: camera", "eye", c->camera_eye);
-        opt_vec3(L, t, "seiche.scene: camera", "target", c->camera_target);
-        double fov;
-        if (opt_number(L, t, "seiche.scene: camera", "fov", 1, 170, &fov)) c->camera_fov = (float)fov;
-    } else if (!lua_isnil(L, -1)) {
-        raise(L, "seiche.scene: field 'camera' must be a table {eye = {x,y,z}, target = {x,y,z}, fov = degrees}");
-    }
-    lua_pop(L, 1);
-    s->scene_called = true;
-    return 0;
-}
-
-static eng_command *push_command(lua_State *L, eng_script *s, eng_command_type type)
-{
-    if (s->command_count == s->command_cap) {
-        int cap = s->command_cap ? 2 * s->command_cap : 16;
-        eng_command *c = realloc(s->commands, (size_t)cap * sizeof *c);
-        if (!c) raise(L, "out of memory");
-        s->commands = c;
-        s->command_cap = cap;
-    }
-    eng_command *c = &s->commands[s->command_count++];
-    memset(c, 0, sizeof *c);
-    c->type = type;
-    luaL_where(L, 1);
-    snprintf(c->where, sizeof c->where, "%s", lua_tostring(L, -1));
-    lua_pop(L, 1);
-    return c;
-}
-
-static int l_block(lua_State *L)
-{
-    eng_script *s = get_script(L);
-    luaL_checktype(L, 1, LUA_TTABLE);
-    static const char *const known[] = { "min", "max", "velocity", NULL };
-    check_fields(L, 1, "seiche.block", known);
-    pbf_block_def b = pbf_default_block_def();
-    req_vec3(L, 1, "seiche.block", "min", b.min);
-    req_vec3(L, 1, "seiche.block", "max", b.max);
-    opt_vec3(L, 1, "seiche.block", "velocity", b.velocity);
-    for (int k = 0; k < 3; k++)
-        if (!(b.max[k] > b.min[k]))
-            raise(L, "seiche.block: max[%d] must be greater than min[%d] (got min %g, max %g)", k + 1, k + 1,
-                       (double)b.min[k], (double)b.max[k]);
-    eng_command *c = push_command(L, s, ENG_CMD_BLOCK);
-    c->block = b;
-    return 0;
-}
-
-static int l_check(lua_State *L)
-{
-    eng_script *s = get_script(L);
-    luaL_checkany(L, 1);
-    if (lua_toboolean(L, 1)) return 0;
-    const char *msg = luaL_optstring(L, 2, "(no message)");
-    s->check_failed = true;
-    luaL_where(L, 1);
-    lua_pushfstring(L, "%scheck failed: %s", lua_tostring(L, -1), msg);
-    return lua_error(L);
-}
-
-static int l_quit(lua_State *L)
-{
-    get_script(L)->quit = true;
-    return 0;
 }
 
 static void set_num(lua_State *L, const char *k, double v)
@@ -338,13 +568,1478 @@ static void set_num(lua_State *L, const char *k, double v)
     lua_setfield(L, -2, k);
 }
 
+// ---- objects and handles --------------------------------------------------------------
+
+static obj *obj_at(eng_script *s, uint32_t slot, uint32_t gen)
+{
+    if (slot >= s->obj_count) return NULL;
+    obj *o = &s->objs[slot];
+    return o->state != OBJ_FREE && o->generation == gen ? o : NULL;
+}
+
+static uint32_t obj_new(lua_State *L, eng_script *s, obj_kind kind)
+{
+    uint32_t slot = s->obj_count;
+    for (uint32_t i = 0; i < s->obj_count; i++)
+        if (s->objs[i].state == OBJ_FREE) {
+            slot = i;
+            break;
+        }
+    if (slot == s->obj_count) {
+        if (s->obj_count == s->obj_cap) {
+            uint32_t cap = s->obj_cap ? 2 * s->obj_cap : 32;
+            if (cap > (1u << 20)) raise(L, "seiche: more than %u live objects (emitters, sinks, bodies, timers)", 1u << 20);
+            obj *o = realloc(s->objs, (size_t)cap * sizeof *o);
+            if (!o) raise(L, "seiche: out of memory");
+            memset(o + s->obj_cap, 0, (size_t)(cap - s->obj_cap) * sizeof *o);
+            s->objs = o;
+            s->obj_cap = cap;
+        }
+        s->obj_count++;
+    }
+    obj *o = &s->objs[slot];
+    uint32_t gen = o->generation + 1;
+    memset(o, 0, sizeof *o);
+    o->generation = gen;
+    o->kind = kind;
+    o->state = OBJ_PENDING;
+    o->ref = LUA_NOREF;
+    return slot;
+}
+
+static void body_free_data(body_rec *b)
+{
+    free(b->points);
+    free(b->indices);
+    b->points = NULL;
+    b->indices = NULL;
+}
+
+// Frees the slot: every handle to it becomes stale ("attempt to use a destroyed ...").
+static void obj_release(eng_script *s, uint32_t slot)
+{
+    obj *o = &s->objs[slot];
+    if (o->ref != LUA_NOREF) luaL_unref(s->L, LUA_REGISTRYINDEX, o->ref);
+    if (o->kind == OBJ_TIMER && o->u.timer.fn != LUA_NOREF) luaL_unref(s->L, LUA_REGISTRYINDEX, o->u.timer.fn);
+    if (o->kind == OBJ_BODY) body_free_data(&o->u.body);
+    uint32_t gen = o->generation;
+    memset(o, 0, sizeof *o);
+    o->generation = gen;
+    o->state = OBJ_FREE;
+    o->ref = LUA_NOREF;
+}
+
+// Pushes the (one) userdata of an object, making it on first use.
+static void push_handle(lua_State *L, eng_script *s, uint32_t slot)
+{
+    obj *o = &s->objs[slot];
+    if (o->ref != LUA_NOREF) {
+        lua_rawgeti(L, LUA_REGISTRYINDEX, o->ref);
+        return;
+    }
+    handle *h = lua_newuserdatauv(L, sizeof *h, 1);
+    h->slot = slot;
+    h->generation = o->generation;
+    lua_newtable(L);
+    lua_setiuservalue(L, -2, 1);
+    luaL_setmetatable(L, KIND_META[o->kind]);
+    lua_pushvalue(L, -1);
+    o->ref = luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+// The object behind argument 1 of a method `fn` ("body:position"): a live handle of the
+// right kind, or an error that says what went wrong.
+static obj *check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_out)
+{
+    eng_script *s = get_script(L);
+    handle *h = luaL_testudata(L, 1, KIND_META[kind]);
+    if (!h) {
+        char got[64];
+        raise(L, "%s: argument #1 'self' must be %s %s (got %s); call methods with a colon: x:%s(...)", fn,
+              kind == OBJ_EMITTER ? "an" : "a", KIND_NAME[kind], describe(L, 1, got, sizeof got), strchr(fn, ':') + 1);
+    }
+    obj *o = obj_at(s, h->slot, h->generation);
+    if (!o) raise(L, "%s: attempt to use a destroyed %s", fn, KIND_NAME[kind]);
+    if (slot_out) *slot_out = h->slot;
+    return o;
+}
+
+// ---- commands ---------------------------------------------------------------------------
+
+static command *push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn)
+{
+    if (s->command_count == s->command_cap) {
+        int cap = s->command_cap ? 2 * s->command_cap : 32;
+        if (cap > (1 << 22)) raise(L, "%s: more than %d edits queued in one frame", fn, 1 << 22);
+        command *c = realloc(s->commands, (size_t)cap * sizeof *c);
+        if (!c) raise(L, "%s: out of memory", fn);
+        s->commands = c;
+        s->command_cap = cap;
+    }
+    command *c = &s->commands[s->command_count++];
+    memset(c, 0, sizeof *c);
+    c->type = type;
+    c->fn = fn;
+    luaL_where(L, 1);
+    snprintf(c->where, sizeof c->where, "%s", lua_tostring(L, -1));
+    lua_pop(L, 1);
+    return c;
+}
+
+static void free_command(command *c)
+{
+    if (c->type == CMD_PARTICLES) {
+        free(c->u.particles.pos);
+        free(c->u.particles.vel);
+        c->u.particles.pos = c->u.particles.vel = NULL;
+    }
+}
+
+static void clear_commands(eng_script *s)
+{
+    for (int i = 0; i < s->command_count; i++) free_command(&s->commands[i]);
+    s->command_count = 0;
+}
+
+// The fluid parameters as they will be once the queued changes are applied.
+static const pbf_params *current_params(eng_script *s)
+{
+    if (s->have_pending_params) return &s->pending_params;
+    return s->host.world ? pbf_world_params(s->host.world) : &s->config.params;
+}
+
+static void require_world(lua_State *L, eng_script *s, const char *fn)
+{
+    if (!s->host.world)
+        raise(L, "%s: the world is built after the script's main chunk; call this from a callback (on_start, "
+              "on_step, ...)", fn);
+}
+
+// ---- seiche.scene and the look -------------------------------------------------------------
+
+static void read_fluid(lua_State *L, int t, pbf_params *p)
+{
+    int n;
+    const pbf_param_info *tab = pbf_param_table(&n);
+    const char *known[40];
+    int k = 0;
+    for (int i = 0; i < n && k < 38; i++) known[k++] = tab[i].name;
+    known[k] = NULL;
+    check_fields(L, t, "seiche.scene: fluid", known);
+    for (int i = 0; i < n; i++) {
+        double v;
+        if (!opt_number(L, t, "seiche.scene: fluid", tab[i].name, -1e30, 1e30, 0, tab[i].unit, &v)) continue;
+        char err[512];
+        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) raise(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
+    }
+}
+
+static const char *const CAMERA_MODES[2] = { "orbit", "fly" };
+
+// camera = {eye, target, fov, mode}: fills what is given; `has` bits: 1 eye, 2 target,
+// 4 fov, 8 mode.
+static int read_camera(lua_State *L, int t, const char *fn, float eye[3], float target[3], float *fov, int *mode)
+{
+    static const char *const known[] = { "eye", "target", "fov", "mode", NULL };
+    check_fields(L, t, fn, known);
+    int has = 0;
+    if (opt_position(L, t, fn, "eye", eye)) has |= 1;
+    if (opt_position(L, t, fn, "target", target)) has |= 2;
+    double f;
+    if (opt_number(L, t, fn, "fov", 1, 170, 0, "degrees", &f)) {
+        *fov = (float)f;
+        has |= 4;
+    }
+    int m = opt_enum(L, t, fn, "mode", CAMERA_MODES, 2);
+    if (m >= 0) {
+        *mode = m;
+        has |= 8;
+    }
+    return has;
+}
+
+static void read_look(lua_State *L, int t, const char *fn, eng_look *k)
+{
+    static const char *const known[] = { "sky", "light", "water", "ground", "ground_height", "container", "panel", NULL };
+    check_fields(L, t, fn, known);
+    opt_color(L, t, fn, "sky", k->sky);
+    char sub[96];
+    if (field_present(L, t, "light")) {
+        int l = lua_gettop(L);
+        snprintf(sub, sizeof sub, "%s: light", fn);
+        check_table_arg(L, l, sub, "direction, color, ambient");
+        static const char *const lk[] = { "direction", "color", "ambient", NULL };
+        check_fields(L, l, sub, lk);
+        float d[3];
+        if (opt_vec(L, l, sub, "direction", 3, -1e6, 1e6, 0, "", d)) {
+            if (!(fabsf(d[0]) + fabsf(d[1]) + fabsf(d[2]) > 0.0f))
+                raise(L, "%s: field 'direction' must not be zero (it points from the scene towards the light)", sub);
+            memcpy(k->light.direction, d, sizeof d);
+        }
+        opt_vec(L, l, sub, "color", 3, 0.0, 4.0, 0, "", k->light.color);
+        opt_color(L, l, sub, "ambient", k->light.ambient);
+        lua_pop(L, 1);
+    }
+    if (field_present(L, t, "water")) {
+        int w = lua_gettop(L);
+        snprintf(sub, sizeof sub, "%s: water", fn);
+        check_table_arg(L, w, sub, "low, mid, high, specular, shininess");
+        static const char *const wk[] = { "low", "mid", "high", "specular", "shininess", NULL };
+        check_fields(L, w, sub, wk);
+        opt_color(L, w, sub, "low", k->water.color_low);
+        opt_color(L, w, sub, "mid", k->water.color_mid);
+        opt_color(L, w, sub, "high", k->water.color_high);
+        double v;
+        if (opt_number(L, w, sub, "specular", 0, 1, 0, "", &v)) k->water.specular = (float)v;
+        if (opt_number(L, w, sub, "shininess", 1, 1024, 0, "", &v)) k->water.shininess = (float)v;
+        lua_pop(L, 1);
+    }
+    opt_bool(L, t, fn, "ground", &k->ground);
+    double gh;
+    if (opt_number(L, t, fn, "ground_height", -MAX_COORD, MAX_COORD, 0, "m", &gh)) k->ground_height = (float)gh;
+    opt_bool(L, t, fn, "container", &k->container);
+    opt_bool(L, t, fn, "panel", &k->panel);
+}
+
+static void read_box(lua_State *L, int t, const char *fn, float mn[3], float mx[3])
+{
+    req_position(L, t, fn, "min", mn);
+    req_position(L, t, fn, "max", mx);
+    static const char axis[] = "xyz";
+    for (int k = 0; k < 3; k++)
+        if (!(mx[k] > mn[k]))
+            raise(L, "%s: max.%c must be greater than min.%c (got min %g, max %g)", fn, axis[k], axis[k], (double)mn[k],
+                  (double)mx[k]);
+}
+
+static int l_scene(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.scene", "name, preset, fluid, gravity, capacity, container, domain, camera, look");
+    if (s->host.world || !s->in_main_chunk)
+        raise(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
+    if (s->scene_called) raise(L, "seiche.scene: called twice (the first call was at %s)", s->config.scene_where);
+    static const char *const known[] = { "name", "preset", "fluid", "gravity", "capacity", "container", "domain", "camera",
+                                         "look", NULL };
+    check_fields(L, 1, "seiche.scene", known);
+    eng_scene_config *c = &s->config;
+    static const char *const presets[] = { "default", "seed" };
+    int preset = opt_enum(L, 1, "seiche.scene", "preset", presets, 2);
+    if (preset == 0) c->params = pbf_default_params();
+    if (preset == 1) c->params = pbf_seed_params();
+    if (field_present(L, 1, "name")) {
+        char got[64];
+        if (lua_type(L, -1) != LUA_TSTRING || lua_rawlen(L, -1) == 0 || lua_rawlen(L, -1) >= sizeof c->name)
+            raise(L, "seiche.scene: field 'name' must be a string of 1 to %zu characters (got %s)", sizeof c->name - 1,
+                  describe(L, -1, got, sizeof got));
+        snprintf(c->name, sizeof c->name, "%s", lua_tostring(L, -1));
+        lua_pop(L, 1);
+    }
+    if (field_present(L, 1, "fluid")) {
+        char got[64];
+        if (!lua_istable(L, -1))
+            raise(L, "seiche.scene: field 'fluid' must be a table of fluid parameters {iterations = 3, ...} (got %s)",
+                  describe(L, -1, got, sizeof got));
+        read_fluid(L, lua_gettop(L), &c->params);
+        lua_pop(L, 1);
+    }
+    opt_vec(L, 1, "seiche.scene", "gravity", 3, -1000, 1000, 0, "m/s^2", c->params.gravity);
+    double cap;
+    if (opt_number(L, 1, "seiche.scene", "capacity", 1, 67108864, WHOLE, "particles", &cap)) c->capacity = (uint32_t)cap;
+    if (field_present(L, 1, "container")) {
+        int t = lua_gettop(L);
+        check_table_arg(L, t, "seiche.scene: container", "min = {x, y, z}, max = {x, y, z}, closed_top = false");
+        static const char *const ck[] = { "min", "max", "closed_top", NULL };
+        check_fields(L, t, "seiche.scene: container", ck);
+        read_box(L, t, "seiche.scene: container", c->container_min, c->container_max);
+        c->closed_top = false;
+        opt_bool(L, t, "seiche.scene: container", "closed_top", &c->closed_top);
+        c->has_container = true;
+        lua_pop(L, 1);
+    }
+    if (field_present(L, 1, "domain")) {
+        int t = lua_gettop(L);
+        check_table_arg(L, t, "seiche.scene: domain", "min = {x, y, z}, max = {x, y, z}");
+        static const char *const dk[] = { "min", "max", NULL };
+        check_fields(L, t, "seiche.scene: domain", dk);
+        read_box(L, t, "seiche.scene: domain", c->domain_min, c->domain_max);
+        c->has_domain = true;
+        lua_pop(L, 1);
+    }
+    if (c->has_domain && c->has_container) {
+        static const char axis[] = "xyz";
+        for (int k = 0; k < 3; k++)
+            if (c->container_min[k] < c->domain_min[k] || c->container_max[k] > c->domain_max[k])
+                raise(L, "seiche.scene: the container's %c range [%g, %g] must lie inside the domain's [%g, %g]", axis[k],
+                      (double)c->container_min[k], (double)c->container_max[k], (double)c->domain_min[k],
+                      (double)c->domain_max[k]);
+    }
+    if (field_present(L, 1, "camera")) {
+        int t = lua_gettop(L);
+        check_table_arg(L, t, "seiche.scene: camera", "eye, target, fov, mode");
+        int mode = c->camera_mode;
+        read_camera(L, t, "seiche.scene: camera", c->camera_eye, c->camera_target, &c->camera_fov, &mode);
+        c->camera_mode = (eng_camera_mode)mode;
+        lua_pop(L, 1);
+    }
+    {
+        float d[3] = { c->camera_eye[0] - c->camera_target[0], c->camera_eye[1] - c->camera_target[1],
+                       c->camera_eye[2] - c->camera_target[2] };
+        if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-8f))
+            raise(L, "seiche.scene: camera eye and target must differ (both at {%g, %g, %g})", (double)c->camera_eye[0],
+                  (double)c->camera_eye[1], (double)c->camera_eye[2]);
+    }
+    if (field_present(L, 1, "look")) {
+        int t = lua_gettop(L);
+        check_table_arg(L, t, "seiche.scene: look", "sky, light, water, ground, ground_height, container, panel");
+        read_look(L, t, "seiche.scene: look", &c->look);
+        lua_pop(L, 1);
+    }
+    luaL_where(L, 1);
+    snprintf(c->scene_where, sizeof c->scene_where, "%s", lua_tostring(L, -1));
+    lua_pop(L, 1);
+    s->scene_called = true;
+    return 0;
+}
+
+static int l_set_look(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.set_look", "sky, light, water, ground, ground_height, container, panel");
+    eng_look k = s->config.look;
+    read_look(L, 1, "seiche.set_look", &k);
+    s->config.look = k; // read by the app every frame; not a world edit
+    return 0;
+}
+
+static void push_color(lua_State *L, const float c[3])
+{
+    lua_createtable(L, 3, 0);
+    for (int k = 0; k < 3; k++) {
+        lua_pushnumber(L, c[k]);
+        lua_rawseti(L, -2, k + 1);
+    }
+}
+
+static int l_look(lua_State *L)
+{
+    const eng_look *k = &get_script(L)->config.look;
+    lua_createtable(L, 0, 7);
+    push_color(L, k->sky);
+    lua_setfield(L, -2, "sky");
+    lua_createtable(L, 0, 3);
+    push_vec3(L, k->light.direction[0], k->light.direction[1], k->light.direction[2]);
+    lua_setfield(L, -2, "direction");
+    push_color(L, k->light.color);
+    lua_setfield(L, -2, "color");
+    push_color(L, k->light.ambient);
+    lua_setfield(L, -2, "ambient");
+    lua_setfield(L, -2, "light");
+    lua_createtable(L, 0, 5);
+    push_color(L, k->water.color_low);
+    lua_setfield(L, -2, "low");
+    push_color(L, k->water.color_mid);
+    lua_setfield(L, -2, "mid");
+    push_color(L, k->water.color_high);
+    lua_setfield(L, -2, "high");
+    set_num(L, "specular", k->water.specular);
+    set_num(L, "shininess", k->water.shininess);
+    lua_setfield(L, -2, "water");
+    lua_pushboolean(L, k->ground);
+    lua_setfield(L, -2, "ground");
+    set_num(L, "ground_height", k->ground_height);
+    lua_pushboolean(L, k->container);
+    lua_setfield(L, -2, "container");
+    lua_pushboolean(L, k->panel);
+    lua_setfield(L, -2, "panel");
+    return 1;
+}
+
+static int l_set_camera(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.set_camera", "eye, target, fov, mode");
+    float eye[3] = { 0 }, target[3] = { 0 }, fov = 0;
+    int mode = 0;
+    int has = read_camera(L, 1, "seiche.set_camera", eye, target, &fov, &mode);
+    if ((has & 3) == 3 && eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
+        raise(L, "seiche.set_camera: eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
+              (double)eye[2]);
+    command *c = push_command(L, s, CMD_CAMERA, "seiche.set_camera");
+    memcpy(c->u.camera.eye, eye, sizeof eye);
+    memcpy(c->u.camera.target, target, sizeof target);
+    c->u.camera.fov = fov;
+    c->u.camera.mode = mode;
+    c->u.camera.has_eye = has & 1;
+    c->u.camera.has_target = has & 2;
+    c->u.camera.has_fov = has & 4;
+    c->u.camera.has_mode = has & 8;
+    return 0;
+}
+
+static int l_camera(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const eng_scene_config *c = &s->config;
+    const eng_camera *cam = s->host.camera;
+    lua_createtable(L, 0, 4);
+    if (cam) push_vec3(L, cam->position[0], cam->position[1], cam->position[2]);
+    else push_vec3(L, c->camera_eye[0], c->camera_eye[1], c->camera_eye[2]);
+    lua_setfield(L, -2, "eye");
+    if (cam) push_vec3(L, cam->target[0], cam->target[1], cam->target[2]);
+    else push_vec3(L, c->camera_target[0], c->camera_target[1], c->camera_target[2]);
+    lua_setfield(L, -2, "target");
+    set_num(L, "fov", cam ? cam->fov_y * 180.0 / PI : c->camera_fov);
+    lua_pushstring(L, CAMERA_MODES[cam ? (int)cam->mode : (int)c->camera_mode]);
+    lua_setfield(L, -2, "mode");
+    return 1;
+}
+
+// ---- fluid content --------------------------------------------------------------------
+
+static void check_velocity_field(lua_State *L, int t, const char *fn, const char *field, float out[3])
+{
+    opt_vec(L, t, fn, field, 3, -MAX_SPEED, MAX_SPEED, 0, "m/s", out);
+}
+
+static int l_block(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.block", "min = {x, y, z}, max = {x, y, z}, velocity = {x, y, z}");
+    static const char *const known[] = { "min", "max", "velocity", NULL };
+    check_fields(L, 1, "seiche.block", known);
+    pbf_block_def b = pbf_default_block_def();
+    read_box(L, 1, "seiche.block", b.min, b.max);
+    check_velocity_field(L, 1, "seiche.block", "velocity", b.velocity);
+    command *c = push_command(L, s, CMD_BLOCK, "seiche.block");
+    c->u.block = b;
+    return 0;
+}
+
+static int l_sphere(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.sphere", "center = {x, y, z}, radius = m, velocity = {x, y, z}");
+    static const char *const known[] = { "center", "radius", "velocity", NULL };
+    check_fields(L, 1, "seiche.sphere", known);
+    float center[3], vel[3] = { 0, 0, 0 };
+    req_position(L, 1, "seiche.sphere", "center", center);
+    double r = req_number(L, 1, "seiche.sphere", "radius", 0, 1000, OPEN_LO, "m");
+    check_velocity_field(L, 1, "seiche.sphere", "velocity", vel);
+    command *c = push_command(L, s, CMD_SPHERE, "seiche.sphere");
+    memcpy(c->u.sphere.center, center, sizeof center);
+    c->u.sphere.radius = (float)r;
+    memcpy(c->u.sphere.velocity, vel, sizeof vel);
+    return 0;
+}
+
+// A list of n points {{x, y, z}, ...}: pushes a userdata holding 3n floats (garbage
+// collected, so nothing leaks when a later check raises) and returns its memory.
+static float *read_point_list(lua_State *L, int t, const char *fn, const char *field, double lo, double hi,
+                              const char *unit, uint32_t *n_out, uint32_t min_n, uint32_t max_n)
+{
+    char got[64];
+    t = lua_absindex(L, t);
+    if (!field_present(L, t, field))
+        raise(L, "%s: field '%s' is required: a list of %u to %u points {{x, y, z}, ...}", fn, field, min_n, max_n);
+    int v = lua_gettop(L);
+    if (!lua_istable(L, v))
+        raise(L, "%s: field '%s' must be a list of points {{x, y, z}, ...} (got %s)", fn, field, describe(L, v, got, sizeof got));
+    lua_Integer n = luaL_len(L, v);
+    if (n < (lua_Integer)min_n || n > (lua_Integer)max_n)
+        raise(L, "%s: field '%s' must hold %u to %u points (got %lld)", fn, field, min_n, max_n, (long long)n);
+    float *out = lua_newuserdatauv(L, (size_t)(n > 0 ? n : 1) * 3 * sizeof(float), 0);
+    for (lua_Integer i = 1; i <= n; i++) {
+        char what[96];
+        snprintf(what, sizeof what, "field '%s'[%lld]", field, (long long)i);
+        lua_geti(L, v, i);
+        check_vec_at(L, -1, fn, what, 3, lo, hi, 0, unit, out + 3 * (i - 1));
+        lua_pop(L, 1);
+    }
+    lua_remove(L, v);
+    *n_out = (uint32_t)n;
+    return out;
+}
+
+static float *copy_floats(lua_State *L, const char *fn, const float *src, size_t count)
+{
+    float *p = malloc(count * sizeof(float) + 4);
+    if (!p) raise(L, "%s: out of memory", fn);
+    memcpy(p, src, count * sizeof(float));
+    return p;
+}
+
+static uint32_t capacity_of(eng_script *s)
+{
+    return s->host.world ? pbf_world_capacity(s->host.world) : s->config.capacity;
+}
+
+static int l_particles(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.particles", "positions = {{x, y, z}, ...}, velocities = {{x, y, z}, ...} or velocity");
+    static const char *const known[] = { "positions", "velocities", "velocity", NULL };
+    check_fields(L, 1, "seiche.particles", known);
+    uint32_t cap = capacity_of(s);
+    uint32_t n = 0, nv = 0;
+    const float *pos = read_point_list(L, 1, "seiche.particles", "positions", -MAX_COORD, MAX_COORD, "m", &n, 1, cap);
+    const float *vel = NULL;
+    float v[3] = { 0, 0, 0 };
+    lua_getfield(L, 1, "velocities");
+    bool has_list = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (has_list) {
+        lua_getfield(L, 1, "velocity");
+        bool both = !lua_isnil(L, -1);
+        lua_pop(L, 1);
+        if (both) raise(L, "seiche.particles: give either 'velocities' (one per point) or 'velocity' (one for all), not both");
+        vel = read_point_list(L, 1, "seiche.particles", "velocities", -MAX_SPEED, MAX_SPEED, "m/s", &nv, n, n);
+    } else {
+        check_velocity_field(L, 1, "seiche.particles", "velocity", v);
+    }
+    // The command first (push_command may raise), then the arrays it owns.
+    command *c = push_command(L, s, CMD_PARTICLES, "seiche.particles");
+    c->u.particles.pos = copy_floats(L, "seiche.particles", pos, 3 * (size_t)n);
+    if (vel || v[0] != 0 || v[1] != 0 || v[2] != 0) {
+        float *q = malloc(3 * (size_t)n * sizeof(float) + 1);
+        if (!q) raise(L, "seiche.particles: out of memory");
+        for (uint32_t i = 0; i < n; i++) memcpy(q + 3 * i, vel ? vel + 3 * i : v, 3 * sizeof(float));
+        c->u.particles.vel = q;
+    }
+    c->u.particles.n = n;
+    return 0;
+}
+
+// ---- emitters ----------------------------------------------------------------------------
+
+// Reads the emitter fields of table t over `d` (which holds the current values).
+static void read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d)
+{
+    static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", NULL };
+    check_fields(L, t, fn, known);
+    opt_position(L, t, fn, "position", d->position);
+    float dir[3];
+    if (opt_vec(L, t, fn, "direction", 3, -1e6, 1e6, 0, "", dir)) {
+        if (!(fabsf(dir[0]) + fabsf(dir[1]) + fabsf(dir[2]) > 0.0f))
+            raise(L, "%s: field 'direction' must not be zero (got {0, 0, 0})", fn);
+        memcpy(d->direction, dir, sizeof dir);
+    }
+    double v;
+    if (opt_number(L, t, fn, "speed", 0, 100, OPEN_LO, "m/s", &v)) d->speed = (float)v;
+    const pbf_params *p = current_params(s);
+    if (opt_number(L, t, fn, "radius", p->particle_radius, 10, 0, "m (the particle radius at least)", &v))
+        d->radius = (float)v;
+    if (s->host.world) {
+        double max_rate = pbf_emitter_max_rate(s->host.world, d->speed, d->radius);
+        char unit[160];
+        snprintf(unit, sizeof unit, "particles/s for speed %g m/s and radius %g m (raise speed or radius for more)",
+                 (double)d->speed, (double)d->radius);
+        if (opt_number(L, t, fn, "rate", 0, max_rate * 1.0001, 0, unit, &v)) d->rate = (float)v;
+        if (d->rate > max_rate * 1.0001)
+            raise(L, "%s: field 'rate' must be %s (it is %g)", fn, range_text(0, max_rate, 0, unit, unit, sizeof unit),
+                  (double)d->rate);
+    } else if (opt_number(L, t, fn, "rate", 0, 1e9, 0, "particles/s", &v)) {
+        d->rate = (float)v; // the upper bound depends on the world; checked when applied
+    }
+    opt_bool(L, t, fn, "enabled", &d->enabled);
+}
+
+static int l_emitter(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.emitter", "position, direction, speed, rate, radius, enabled");
+    pbf_emitter_def d = pbf_default_emitter_def();
+    lua_getfield(L, 1, "position");
+    bool has_pos = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (!has_pos) raise(L, "seiche.emitter: field 'position' is required: a table of 3 numbers {x, y, z} in m (got nil)");
+    read_emitter(L, s, 1, "seiche.emitter", &d);
+    uint32_t slot = obj_new(L, s, OBJ_EMITTER);
+    s->objs[slot].u.emitter.def = d;
+    command *c = push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
+    c->slot = slot;
+    c->gen = s->objs[slot].generation;
+    c->u.emitter = d;
+    push_handle(L, s, slot);
+    return 1;
+}
+
+static int m_emitter_set(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_EMITTER, "emitter:set", &slot);
+    check_table_arg(L, 2, "emitter:set", "position, direction, speed, rate, radius, enabled");
+    pbf_emitter_def d = o->u.emitter.def;
+    read_emitter(L, s, 2, "emitter:set", &d);
+    o->u.emitter.def = d;
+    command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set");
+    c->slot = slot;
+    c->gen = o->generation;
+    c->u.emitter = d;
+    return 0;
+}
+
+static int m_emitter_set_enabled(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_EMITTER, "emitter:set_enabled", &slot);
+    char got[64];
+    if (!lua_isboolean(L, 2))
+        raise(L, "emitter:set_enabled: argument #1 'on' must be true or false (got %s)", describe(L, 2, got, sizeof got));
+    o->u.emitter.def.enabled = lua_toboolean(L, 2);
+    command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled");
+    c->slot = slot;
+    c->gen = o->generation;
+    c->u.emitter = o->u.emitter.def;
+    return 0;
+}
+
+static int m_emitter_get(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_EMITTER, "emitter:get", NULL);
+    const pbf_emitter_def *d = &o->u.emitter.def;
+    lua_createtable(L, 0, 6);
+    push_vec3(L, d->position[0], d->position[1], d->position[2]);
+    lua_setfield(L, -2, "position");
+    push_vec3(L, d->direction[0], d->direction[1], d->direction[2]);
+    lua_setfield(L, -2, "direction");
+    set_num(L, "speed", d->speed);
+    set_num(L, "rate", d->rate);
+    set_num(L, "radius", d->radius);
+    lua_pushboolean(L, d->enabled);
+    lua_setfield(L, -2, "enabled");
+    return 1;
+}
+
+static int m_emitter_remove(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_EMITTER, "emitter:remove", &slot);
+    if (o->state == OBJ_LIVE) {
+        command *c = push_command(L, s, CMD_EMITTER_REMOVE, "emitter:remove");
+        c->u.emitter_id = o->u.emitter.id;
+    }
+    obj_release(s, slot);
+    return 0;
+}
+
+// ---- sinks ----------------------------------------------------------------------------
+
+static int l_sink(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    check_table_arg(L, 1, "seiche.sink", "min = {x, y, z}, max = {x, y, z}");
+    static const char *const known[] = { "min", "max", NULL };
+    check_fields(L, 1, "seiche.sink", known);
+    float mn[3], mx[3];
+    read_box(L, 1, "seiche.sink", mn, mx);
+    uint32_t slot = obj_new(L, s, OBJ_SINK);
+    memcpy(s->objs[slot].u.sink.min, mn, sizeof mn);
+    memcpy(s->objs[slot].u.sink.max, mx, sizeof mx);
+    command *c = push_command(L, s, CMD_SINK_ADD, "seiche.sink");
+    c->slot = slot;
+    c->gen = s->objs[slot].generation;
+    push_handle(L, s, slot);
+    return 1;
+}
+
+static int m_sink_get(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_SINK, "sink:get", NULL);
+    lua_createtable(L, 0, 2);
+    push_vec3(L, o->u.sink.min[0], o->u.sink.min[1], o->u.sink.min[2]);
+    lua_setfield(L, -2, "min");
+    push_vec3(L, o->u.sink.max[0], o->u.sink.max[1], o->u.sink.max[2]);
+    lua_setfield(L, -2, "max");
+    return 1;
+}
+
+static int m_sink_remove(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_SINK, "sink:remove", &slot);
+    if (o->state == OBJ_LIVE) {
+        command *c = push_command(L, s, CMD_SINK_REMOVE, "sink:remove");
+        c->u.sink_id = o->u.sink.id;
+    }
+    obj_release(s, slot);
+    return 0;
+}
+
+// x:is_valid() for every handle type: false once removed or destroyed.
+static int m_is_valid(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    bool ok = false;
+    for (int k = 0; k < OBJ_KIND_COUNT && !ok; k++) {
+        handle *h = luaL_testudata(L, 1, KIND_META[k]);
+        if (h) ok = obj_at(s, h->slot, h->generation) != NULL;
+    }
+    lua_pushboolean(L, ok);
+    return 1;
+}
+
+// ---- bodies ------------------------------------------------------------------------------
+
+static const float PALETTE[6][3] = {
+    { 0.86f, 0.42f, 0.18f }, { 0.90f, 0.76f, 0.26f }, { 0.36f, 0.66f, 0.32f },
+    { 0.78f, 0.26f, 0.30f }, { 0.50f, 0.40f, 0.70f }, { 0.62f, 0.46f, 0.30f },
+};
+
+// Volume of a shape whose dimensions are known here (not hulls or meshes), m^3.
+static double shape_volume(const body_rec *b)
+{
+    const float *d = b->dims;
+    switch (b->shape) {
+    case SHAPE_BOX: return 8.0 * d[0] * d[1] * d[2];
+    case SHAPE_SPHERE: return 4.0 / 3.0 * PI * d[0] * d[0] * d[0];
+    case SHAPE_CAPSULE: return PI * d[0] * d[0] * (2.0 * d[1] + 4.0 / 3.0 * d[0]);
+    case SHAPE_CYLINDER: return PI * d[0] * d[0] * 2.0 * d[1];
+    default: return 0.0;
+    }
+}
+
+static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", "normal", "offset", "points", "vertices",
+                                           "indices", "kind", "density", "mass", "position", "rotation", "velocity",
+                                           "angular_velocity", "friction", "restitution", "linear_damping",
+                                           "angular_damping", "two_way", "color", "visible", NULL };
+
+// The fields each shape takes (besides the common ones).
+static void check_shape_fields(lua_State *L, body_shape shape)
+{
+    static const char *const own[SHAPE_COUNT][4] = {
+        { "size" }, { "radius" }, { "radius", "height" }, { "radius", "height" },
+        { "normal", "offset" }, { "points" }, { "vertices", "indices" },
+    };
+    static const char *const geometric[] = { "size", "radius", "height", "normal", "offset", "points", "vertices",
+                                             "indices", NULL };
+    for (const char *const *g = geometric; *g; g++) {
+        bool mine = false;
+        for (int k = 0; k < 4 && own[shape][k]; k++)
+            if (strcmp(own[shape][k], *g) == 0) mine = true;
+        if (mine) continue;
+        lua_getfield(L, 1, *g);
+        bool given = !lua_isnil(L, -1);
+        lua_pop(L, 1);
+        if (given) {
+            char list[96] = "";
+            size_t n = 0;
+            for (int k = 0; k < 4 && own[shape][k]; k++)
+                n += (size_t)snprintf(list + n, sizeof list - n, "%s'%s'", k ? ", " : "", own[shape][k]);
+            raise(L, "seiche.body: field '%s' does not apply to shape \"%s\" (it takes %s)", *g, SHAPE_NAME[shape], list);
+        }
+    }
+}
+
+static int l_body(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.body";
+    check_table_arg(L, 1, fn, "shape = \"box\", size = {x, y, z}, position = {x, y, z}, ...");
+    check_fields(L, 1, fn, BODY_FIELDS);
+    int shape = opt_enum(L, 1, fn, "shape", SHAPE_NAME, SHAPE_COUNT);
+    if (shape < 0)
+        raise(L, "seiche.body: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\", "
+              "\"plane\", \"hull\", \"mesh\" (got nil)");
+    check_shape_fields(L, (body_shape)shape);
+    int kind = opt_enum(L, 1, fn, "kind", BODY_KIND_NAME, 3);
+    if (kind < 0) kind = (shape == SHAPE_PLANE || shape == SHAPE_MESH) ? PHYS_BODY_STATIC : PHYS_BODY_DYNAMIC;
+    if (kind == PHYS_BODY_DYNAMIC && (shape == SHAPE_PLANE || shape == SHAPE_MESH))
+        raise(L, "seiche.body: shape \"%s\" has no volume and must be kind \"static\" or \"kinematic\" (got kind \"dynamic\")",
+              SHAPE_NAME[shape]);
+
+    body_rec b;
+    memset(&b, 0, sizeof b);
+    b.shape = (body_shape)shape;
+    b.def = phys_default_body_def();
+    b.def.type = (phys_body_type)kind;
+    b.def.allow_sleep = false; // bodies in fluid must feel it (the coupling keeps them awake anyway)
+    b.two_way = true;
+    b.visible = true;
+
+    // Common fields.
+    double v;
+    bool has_mass = opt_number(L, 1, fn, "mass", 0, 1e9, OPEN_LO, "kg", &v);
+    if (has_mass) b.def.mass = (float)v;
+    bool has_density = opt_number(L, 1, fn, "density", 0, 1e6, OPEN_LO, "kg/m^3", &v);
+    if (has_density) b.def.density = (float)v;
+    if ((has_mass || has_density) && kind != PHYS_BODY_DYNAMIC)
+        raise(L, "seiche.body: fields 'mass' and 'density' apply to dynamic bodies only (this one is %s: its mass is "
+              "infinite)", BODY_KIND_NAME[kind]);
+    if (has_mass && has_density) raise(L, "seiche.body: give 'mass' or 'density', not both");
+    float pos[3] = { 0, 0, 0 };
+    opt_position(L, 1, fn, "position", pos);
+    b.def.position = pv(pos);
+    float q[4];
+    if (opt_rotation(L, 1, fn, "rotation", q)) b.def.orientation = pq(q);
+    float vel[3] = { 0, 0, 0 }, ang[3] = { 0, 0, 0 };
+    bool has_v = opt_vec(L, 1, fn, "velocity", 3, -MAX_SPEED, MAX_SPEED, 0, "m/s", vel);
+    bool has_w = opt_vec(L, 1, fn, "angular_velocity", 3, -MAX_SPEED, MAX_SPEED, 0, "rad/s", ang);
+    if ((has_v || has_w) && kind == PHYS_BODY_STATIC)
+        raise(L, "seiche.body: a static body cannot move: fields 'velocity' and 'angular_velocity' need kind "
+              "\"kinematic\" or \"dynamic\"");
+    b.def.linear_velocity = pv(vel);
+    b.def.angular_velocity = pv(ang);
+    if (opt_number(L, 1, fn, "friction", 0, 100, 0, "", &v)) b.def.friction = (float)v;
+    if (opt_number(L, 1, fn, "restitution", 0, 1, 0, "", &v)) b.def.restitution = (float)v;
+    if (opt_number(L, 1, fn, "linear_damping", 0, 1, 0, "(fraction of velocity removed per second)", &v))
+        b.def.linear_damping = (float)v;
+    if (opt_number(L, 1, fn, "angular_damping", 0, 1, 0, "(fraction of angular velocity removed per second)", &v))
+        b.def.angular_damping = (float)v;
+    opt_bool(L, 1, fn, "two_way", &b.two_way);
+    bool has_color = opt_color(L, 1, fn, "color", b.color);
+    opt_bool(L, 1, fn, "visible", &b.visible);
+
+    // The shape. Point lists stay in garbage-collected userdata until everything is checked.
+    const float *pts = NULL;
+    const uint32_t *idx = NULL;
+    switch (b.shape) {
+    case SHAPE_BOX: {
+        float size[3];
+        if (!opt_vec(L, 1, fn, "size", 3, 0, 1000, OPEN_LO, "m", size))
+            raise(L, "seiche.body: field 'size' is required for a box: edge lengths {x, y, z}, each in (0, 1000] m (got nil)");
+        for (int k = 0; k < 3; k++) b.dims[k] = 0.5f * size[k];
+        break;
+    }
+    case SHAPE_SPHERE: b.dims[0] = (float)req_number(L, 1, fn, "radius", 0, 1000, OPEN_LO, "m"); break;
+    case SHAPE_CAPSULE:
+    case SHAPE_CYLINDER: {
+        double r = req_number(L, 1, fn, "radius", 0, 1000, OPEN_LO, "m");
+        double h = req_number(L, 1, fn, "height", 0, 2000, OPEN_LO, "m");
+        if (b.shape == SHAPE_CAPSULE && !(h > 2.0 * r))
+            raise(L, "seiche.body: field 'height' of a capsule is its total height and must exceed 2 radius = %g m (got %g)",
+                  2.0 * r, h);
+        b.dims[0] = (float)r;
+        b.dims[1] = b.shape == SHAPE_CAPSULE ? (float)(0.5 * h - r) : (float)(0.5 * h);
+        break;
+    }
+    case SHAPE_PLANE: {
+        float n[3] = { 0, 1, 0 };
+        opt_vec(L, 1, fn, "normal", 3, -1e6, 1e6, 0, "", n);
+        double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+        if (!(len > 1e-9)) raise(L, "seiche.body: field 'normal' must not be zero (got {0, 0, 0})");
+        for (int k = 0; k < 3; k++) b.dims[k] = (float)(n[k] / len);
+        double off = 0;
+        opt_number(L, 1, fn, "offset", -MAX_COORD, MAX_COORD, 0, "m", &off);
+        b.dims[3] = (float)off;
+        break;
+    }
+    case SHAPE_HULL:
+    case SHAPE_MESH: {
+        const char *field = b.shape == SHAPE_HULL ? "points" : "vertices";
+        pts = read_point_list(L, 1, fn, field, -MAX_COORD, MAX_COORD, "m", &b.point_count, b.shape == SHAPE_HULL ? 4 : 3,
+                              65536);
+        if (b.shape == SHAPE_MESH) {
+            if (!field_present(L, 1, "indices"))
+                raise(L, "seiche.body: field 'indices' is required for a mesh: vertex numbers (1-based), three per triangle");
+            int it = lua_gettop(L);
+            char got[64];
+            if (!lua_istable(L, it))
+                raise(L, "seiche.body: field 'indices' must be a list of vertex numbers (got %s)", describe(L, it, got, sizeof got));
+            lua_Integer m = luaL_len(L, it);
+            if (m < 3 || m % 3 != 0 || m > 3 * 262144)
+                raise(L, "seiche.body: field 'indices' must hold 3 to %d vertex numbers, a multiple of 3 (got %lld)",
+                      3 * 262144, (long long)m);
+            uint32_t *ix = lua_newuserdatauv(L, (size_t)m * sizeof *ix, 0);
+            for (lua_Integer i = 1; i <= m; i++) {
+                lua_geti(L, it, i);
+                char what[64];
+                snprintf(what, sizeof what, "field 'indices'[%lld]", (long long)i);
+                ix[i - 1] = (uint32_t)check_number_at(L, -1, fn, what, 1, b.point_count, WHOLE, "(a vertex number)") - 1;
+                lua_pop(L, 1);
+            }
+            idx = ix;
+            b.index_count = (uint32_t)m;
+        }
+        break;
+    }
+    default: break;
+    }
+    if (kind == PHYS_BODY_DYNAMIC && !has_mass && b.shape != SHAPE_HULL) {
+        double m = shape_volume(&b) * b.def.density;
+        if (!(m > 0.0 && m <= 1e9))
+            raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside (0, 1e9] kg",
+                  (double)b.def.density, shape_volume(&b), m);
+    }
+
+    uint32_t slot = obj_new(L, s, OBJ_BODY);
+    obj *o = &s->objs[slot];
+    if (!has_color) {
+        if (kind == PHYS_BODY_DYNAMIC) memcpy(b.color, PALETTE[slot % 6], sizeof b.color);
+        else b.color[0] = b.color[1] = b.color[2] = 0.55f;
+    }
+    command *c = push_command(L, s, CMD_BODY_ADD, fn);
+    c->slot = slot;
+    c->gen = o->generation;
+    if (pts) {
+        b.points = malloc((size_t)b.point_count * 3 * sizeof(float));
+        b.indices = b.index_count ? malloc((size_t)b.index_count * sizeof(uint32_t)) : NULL;
+        if (!b.points || (b.index_count && !b.indices)) {
+            body_free_data(&b);
+            s->command_count--;
+            obj_release(s, slot);
+            raise(L, "seiche.body: out of memory");
+        }
+        memcpy(b.points, pts, (size_t)b.point_count * 3 * sizeof(float));
+        if (b.index_count) memcpy(b.indices, idx, (size_t)b.index_count * sizeof(uint32_t));
+    }
+    o->u.body = b;
+    push_handle(L, s, slot);
+    return 1;
+}
+
+// The body's pose and velocities: from Bullet when it is in the world, else from its def.
+static void body_state(eng_script *s, obj *o, float pos[3], float rot[4], float vel[3], float ang[3])
+{
+    body_rec *b = &o->u.body;
+    phys_vec3 p = b->def.position, v = b->def.linear_velocity, w = b->def.angular_velocity;
+    phys_quat q = b->def.orientation;
+    if (o->state == OBJ_LIVE && s->host.phys) {
+        phys_body_get_pose(s->host.phys, b->id, &p, &q);
+        phys_body_get_linear_velocity(s->host.phys, b->id, &v);
+        phys_body_get_angular_velocity(s->host.phys, b->id, &w);
+    }
+    if (pos) pos[0] = p.x, pos[1] = p.y, pos[2] = p.z;
+    if (rot) rot[0] = q.x, rot[1] = q.y, rot[2] = q.z, rot[3] = q.w;
+    if (vel) vel[0] = v.x, vel[1] = v.y, vel[2] = v.z;
+    if (ang) ang[0] = w.x, ang[1] = w.y, ang[2] = w.z;
+}
+
+static int m_body_position(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:position", NULL);
+    float p[3];
+    body_state(get_script(L), o, p, NULL, NULL, NULL);
+    push_vec3(L, p[0], p[1], p[2]);
+    return 1;
+}
+
+static int m_body_rotation(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:rotation", NULL);
+    float q[4];
+    body_state(get_script(L), o, NULL, q, NULL, NULL);
+    push_quat(L, q);
+    return 1;
+}
+
+static int m_body_velocity(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:velocity", NULL);
+    float v[3];
+    body_state(get_script(L), o, NULL, NULL, v, NULL);
+    push_vec3(L, v[0], v[1], v[2]);
+    return 1;
+}
+
+static int m_body_angular_velocity(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:angular_velocity", NULL);
+    float w[3];
+    body_state(get_script(L), o, NULL, NULL, NULL, w);
+    push_vec3(L, w[0], w[1], w[2]);
+    return 1;
+}
+
+static int m_body_velocity_at(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:velocity_at", NULL);
+    float pt[3], p[3], v[3], w[3];
+    arg_vec(L, 2, "body:velocity_at", "point", -MAX_COORD, MAX_COORD, "m", pt);
+    body_state(get_script(L), o, p, NULL, v, w);
+    float r[3] = { pt[0] - p[0], pt[1] - p[1], pt[2] - p[2] };
+    push_vec3(L, v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2], v[2] + w[0] * r[1] - w[1] * r[0]);
+    return 1;
+}
+
+static int m_body_mass(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    obj *o = check_self(L, OBJ_BODY, "body:mass", NULL);
+    body_rec *b = &o->u.body;
+    if (b->def.type != PHYS_BODY_DYNAMIC) {
+        lua_pushnumber(L, HUGE_VAL);
+        return 1;
+    }
+    if (o->state == OBJ_LIVE && s->host.phys) {
+        phys_mass_data md;
+        if (phys_body_get_mass_data(s->host.phys, b->id, &md) == PHYS_OK) {
+            lua_pushnumber(L, md.mass);
+            return 1;
+        }
+    }
+    if (b->def.mass > 0) lua_pushnumber(L, b->def.mass);
+    else if (b->shape != SHAPE_HULL) lua_pushnumber(L, shape_volume(b) * b->def.density);
+    else raise(L, "body:mass: the hull's mass is known once the body is in the world (after this callback)");
+    return 1;
+}
+
+static int m_body_kind(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:kind", NULL);
+    lua_pushstring(L, BODY_KIND_NAME[o->u.body.def.type]);
+    return 1;
+}
+
+static int m_body_shape(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_BODY, "body:shape", NULL);
+    lua_pushstring(L, SHAPE_NAME[o->u.body.shape]);
+    return 1;
+}
+
+static int m_body_fluid_force(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    obj *o = check_self(L, OBJ_BODY, "body:fluid_force", NULL);
+    cpl_body_stats st;
+    memset(&st, 0, sizeof st);
+    if (o->state == OBJ_LIVE && s->host.coupling) cpl_body_get_stats(s->host.coupling, o->u.body.id, &st);
+    push_vec3(L, st.force[0], st.force[1], st.force[2]);
+    push_vec3(L, st.torque[0], st.torque[1], st.torque[2]);
+    return 2;
+}
+
+// A queued edit of a body that must be dynamic (forces) or may not be static (velocities).
+static command *body_edit(lua_State *L, const char *fn, cmd_type type, bool dynamic_only)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_BODY, fn, &slot);
+    phys_body_type t = o->u.body.def.type;
+    if (dynamic_only && t != PHYS_BODY_DYNAMIC)
+        raise(L, "%s: the body is %s: forces and impulses move dynamic bodies only (use move_to or set_velocity on a "
+              "kinematic body)", fn, BODY_KIND_NAME[t]);
+    if (t == PHYS_BODY_STATIC)
+        raise(L, "%s: the body is static: it never moves (make it kind = \"kinematic\" to move it by script)", fn);
+    command *c = push_command(L, s, type, fn);
+    c->slot = slot;
+    c->gen = o->generation;
+    return c;
+}
+
+static int vector_edit(lua_State *L, const char *fn, cmd_type type, const char *name, const char *unit, bool dynamic_only,
+                       bool point_allowed)
+{
+    float v[3], p[3] = { 0, 0, 0 };
+    // Check the arguments before the handle's kind so that messages name the argument.
+    check_self(L, OBJ_BODY, fn, NULL);
+    arg_vec(L, 2, fn, name, -1e9, 1e9, unit, v);
+    bool at_point = point_allowed && !lua_isnoneornil(L, 3);
+    if (at_point) arg_vec(L, 3, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
+    command *c = body_edit(L, fn, type, dynamic_only);
+    memcpy(c->u.vec.v, v, sizeof v);
+    memcpy(c->u.vec.p, p, sizeof p);
+    c->u.vec.at_point = at_point;
+    return 0;
+}
+
+// Forces act over the next step: they are applied as the impulse F dt at its start (the
+// coupling steps Bullet several times per frame and Bullet clears forces after each).
+static int m_body_apply_force(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    vector_edit(L, "body:apply_force", CMD_BODY_IMPULSE, "force", "N", true, true);
+    command *c = &s->commands[s->command_count - 1];
+    for (int k = 0; k < 3; k++) c->u.vec.v[k] *= (float)s->host.dt;
+    return 0;
+}
+
+static int m_body_apply_torque(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    vector_edit(L, "body:apply_torque", CMD_BODY_ANGULAR_IMPULSE, "torque", "N m", true, false);
+    command *c = &s->commands[s->command_count - 1];
+    for (int k = 0; k < 3; k++) c->u.vec.v[k] *= (float)s->host.dt;
+    return 0;
+}
+
+static int m_body_apply_impulse(lua_State *L)
+{
+    return vector_edit(L, "body:apply_impulse", CMD_BODY_IMPULSE, "impulse", "N s", true, true);
+}
+
+static int m_body_apply_angular_impulse(lua_State *L)
+{
+    return vector_edit(L, "body:apply_angular_impulse", CMD_BODY_ANGULAR_IMPULSE, "impulse", "N m s", true, false);
+}
+
+static int m_body_set_velocity(lua_State *L)
+{
+    return vector_edit(L, "body:set_velocity", CMD_BODY_VELOCITY, "velocity", "m/s", false, false);
+}
+
+static int m_body_set_angular_velocity(lua_State *L)
+{
+    return vector_edit(L, "body:set_angular_velocity", CMD_BODY_ANGULAR_VELOCITY, "velocity", "rad/s", false, false);
+}
+
+// pose(position [, rotation]) arguments of move_to and teleport.
+static void read_pose_args(lua_State *L, const char *fn, obj *o, float pos[3], float rot[4])
+{
+    arg_vec(L, 2, fn, "position", -MAX_COORD, MAX_COORD, "m", pos);
+    if (lua_isnoneornil(L, 3)) {
+        body_state(get_script(L), o, NULL, rot, NULL, NULL);
+        return;
+    }
+    // opt_rotation reads a field: wrap the argument in a table.
+    lua_createtable(L, 0, 1);
+    lua_pushvalue(L, 3);
+    lua_setfield(L, -2, "rotation");
+    char sub[64];
+    snprintf(sub, sizeof sub, "%s: argument #2", fn);
+    opt_rotation(L, lua_gettop(L), sub, "rotation", rot);
+    lua_pop(L, 1);
+}
+
+static int m_body_move_to(lua_State *L)
+{
+    const char *fn = "body:move_to";
+    obj *o = check_self(L, OBJ_BODY, fn, NULL);
+    float pos[3], rot[4];
+    read_pose_args(L, fn, o, pos, rot);
+    if (o->u.body.def.type != PHYS_BODY_KINEMATIC)
+        raise(L, "%s: the body is %s: move_to drives kinematic bodies (use teleport, set_velocity or forces)", fn,
+              BODY_KIND_NAME[o->u.body.def.type]);
+    command *c = body_edit(L, fn, CMD_BODY_MOVE_TO, false);
+    memcpy(c->u.pose.pos, pos, sizeof pos);
+    memcpy(c->u.pose.rot, rot, sizeof rot);
+    return 0;
+}
+
+static int m_body_teleport(lua_State *L)
+{
+    const char *fn = "body:teleport";
+    obj *o = check_self(L, OBJ_BODY, fn, NULL);
+    float pos[3], rot[4];
+    read_pose_args(L, fn, o, pos, rot);
+    command *c = body_edit(L, fn, CMD_BODY_TELEPORT, false);
+    memcpy(c->u.pose.pos, pos, sizeof pos);
+    memcpy(c->u.pose.rot, rot, sizeof rot);
+    if (o->state == OBJ_PENDING) { // not in the world yet: change its def instead
+        o->u.body.def.position = pv(pos);
+        o->u.body.def.orientation = pq(rot);
+    }
+    return 0;
+}
+
+static int m_body_set_color(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_BODY, "body:set_color", &slot);
+    float c3[3];
+    char what[] = "argument #1 'color'";
+    check_vec_at(L, 2, "body:set_color", what, 3, 0.0, 1.0, 0, "", c3);
+    memcpy(o->u.body.color, c3, sizeof c3);
+    command *c = push_command(L, s, CMD_BODY_LOOK, "body:set_color");
+    c->slot = slot;
+    c->gen = o->generation;
+    return 0;
+}
+
+static int m_body_set_visible(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_BODY, "body:set_visible", &slot);
+    char got[64];
+    if (!lua_isboolean(L, 2))
+        raise(L, "body:set_visible: argument #1 'visible' must be true or false (got %s)", describe(L, 2, got, sizeof got));
+    o->u.body.visible = lua_toboolean(L, 2);
+    command *c = push_command(L, s, CMD_BODY_LOOK, "body:set_visible");
+    c->slot = slot;
+    c->gen = o->generation;
+    return 0;
+}
+
+// Releases the grabs that hold body `slot` (Bullet destroys their constraints with it).
+static void release_grabs_of(eng_script *s, uint32_t slot, uint32_t gen)
+{
+    for (uint32_t i = 0; i < s->obj_count; i++) {
+        obj *g = &s->objs[i];
+        if (g->state != OBJ_FREE && g->kind == OBJ_GRAB && g->u.grab.body == slot && g->u.grab.body_gen == gen)
+            obj_release(s, i);
+    }
+}
+
+static int m_body_destroy(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_BODY, "body:destroy", &slot);
+    if (o->state == OBJ_LIVE) {
+        command *c = push_command(L, s, CMD_BODY_REMOVE, "body:destroy");
+        c->u.body.id = o->u.body.id;
+        c->u.body.shape = o->u.body.shape_id;
+        c->u.body.node = o->u.body.node;
+        c->u.body.mesh = o->u.body.mesh;
+    }
+    release_grabs_of(s, slot, o->generation);
+    obj_release(s, slot);
+    return 0;
+}
+
+static int m_body_grab(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "body:grab";
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_BODY, fn, &slot);
+    float p[3];
+    arg_vec(L, 2, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
+    double max_force = 0;
+    if (!lua_isnoneornil(L, 3)) max_force = arg_number(L, 3, fn, "max_force", 0, 1e9, OPEN_LO, "N");
+    if (o->u.body.def.type != PHYS_BODY_DYNAMIC)
+        raise(L, "%s: the body is %s: only dynamic bodies can be grabbed", fn, BODY_KIND_NAME[o->u.body.def.type]);
+    uint32_t body_gen = o->generation;
+    uint32_t g = obj_new(L, s, OBJ_GRAB);
+    obj *go = &s->objs[g];
+    go->u.grab.body = slot;
+    go->u.grab.body_gen = body_gen;
+    memcpy(go->u.grab.pivot, p, sizeof p);
+    go->u.grab.max_force = (float)max_force;
+    command *c = push_command(L, s, CMD_GRAB_ADD, fn);
+    c->slot = g;
+    c->gen = go->generation;
+    push_handle(L, s, g);
+    return 1;
+}
+
+// ---- grabs ------------------------------------------------------------------------------
+
+static int m_grab_move(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_GRAB, "grab:move", &slot);
+    float p[3];
+    arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
+    memcpy(o->u.grab.pivot, p, sizeof p);
+    command *c = push_command(L, s, CMD_GRAB_MOVE, "grab:move");
+    c->slot = slot;
+    c->gen = o->generation;
+    memcpy(c->u.vec.v, p, sizeof p);
+    return 0;
+}
+
+static int m_grab_release(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    uint32_t slot;
+    obj *o = check_self(L, OBJ_GRAB, "grab:release", &slot);
+    if (o->state == OBJ_LIVE) {
+        command *c = push_command(L, s, CMD_GRAB_REMOVE, "grab:release");
+        c->u.constraint = o->u.grab.id;
+    }
+    obj_release(s, slot);
+    return 0;
+}
+
+static int m_grab_body(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    obj *o = check_self(L, OBJ_GRAB, "grab:body", NULL);
+    push_handle(L, s, o->u.grab.body);
+    return 1;
+}
+
+static int m_grab_pivot(lua_State *L)
+{
+    obj *o = check_self(L, OBJ_GRAB, "grab:pivot", NULL);
+    push_vec3(L, o->u.grab.pivot[0], o->u.grab.pivot[1], o->u.grab.pivot[2]);
+    return 1;
+}
+
+// ---- timers -----------------------------------------------------------------------------
+
+static int new_timer(lua_State *L, const char *fn, bool repeat)
+{
+    eng_script *s = get_script(L);
+    double d = arg_number(L, 1, fn, repeat ? "period" : "delay", repeat ? 0 : 0, 1e9, repeat ? OPEN_LO : 0, "s");
+    char got[64];
+    if (!lua_isfunction(L, 2))
+        raise(L, "%s: argument #2 'callback' must be a function (got %s)", fn, describe(L, 2, got, sizeof got));
+    uint32_t slot = obj_new(L, s, OBJ_TIMER);
+    obj *o = &s->objs[slot];
+    lua_pushvalue(L, 2);
+    o->u.timer.fn = luaL_ref(L, LUA_REGISTRYINDEX);
+    o->u.timer.due = s->host.time + d;
+    o->u.timer.period = repeat ? d : 0.0;
+    o->state = OBJ_LIVE; // timers are the script's own: nothing to queue
+    push_handle(L, s, slot);
+    return 1;
+}
+
+static int l_after(lua_State *L) { return new_timer(L, "seiche.after", false); }
+static int l_every(lua_State *L) { return new_timer(L, "seiche.every", true); }
+
+static int m_timer_cancel(lua_State *L)
+{
+    uint32_t slot;
+    check_self(L, OBJ_TIMER, "timer:cancel", &slot);
+    obj_release(get_script(L), slot);
+    return 0;
+}
+
+static int m_timer_remaining(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    obj *o = check_self(L, OBJ_TIMER, "timer:remaining", NULL);
+    double r = o->u.timer.due - s->host.time;
+    lua_pushnumber(L, r > 0 ? r : 0);
+    return 1;
+}
+
+// ---- handle metamethods -------------------------------------------------------------------
+
+static int m_tostring(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    for (int k = 0; k < OBJ_KIND_COUNT; k++) {
+        handle *h = luaL_testudata(L, 1, KIND_META[k]);
+        if (!h) continue;
+        obj *o = obj_at(s, h->slot, h->generation);
+        if (!o) lua_pushfstring(L, "%s #%d (destroyed)", KIND_NAME[k], (int)h->slot + 1);
+        else if (k == OBJ_BODY)
+            lua_pushfstring(L, "body #%d (%s %s%s)", (int)h->slot + 1, BODY_KIND_NAME[o->u.body.def.type],
+                            SHAPE_NAME[o->u.body.shape], o->state == OBJ_PENDING ? ", not yet in the world" : "");
+        else lua_pushfstring(L, "%s #%d%s", KIND_NAME[k], (int)h->slot + 1, o->state == OBJ_PENDING ? " (not yet in the world)" : "");
+        return 1;
+    }
+    return luaL_tolstring(L, 1, NULL) != NULL;
+}
+
+// h.key: a method, else the handle's own field (scripts may keep data on handles).
+static int m_index(lua_State *L)
+{
+    lua_getmetatable(L, 1);
+    lua_getfield(L, -1, "methods");
+    lua_pushvalue(L, 2);
+    lua_rawget(L, -2);
+    if (!lua_isnil(L, -1)) return 1;
+    lua_getiuservalue(L, 1, 1);
+    lua_pushvalue(L, 2);
+    lua_rawget(L, -2);
+    return 1;
+}
+
+static int m_newindex(lua_State *L)
+{
+    lua_getmetatable(L, 1);
+    lua_getfield(L, -1, "methods");
+    lua_pushvalue(L, 2);
+    lua_rawget(L, -2);
+    if (!lua_isnil(L, -1)) {
+        lua_getfield(L, -3, "__name");
+        return raise(L, "%s: '%s' is a method and cannot be assigned", lua_tostring(L, -1),
+                     lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "?");
+    }
+    lua_getiuservalue(L, 1, 1);
+    lua_pushvalue(L, 2);
+    lua_pushvalue(L, 3);
+    lua_rawset(L, -3);
+    return 0;
+}
+
+// ---- runtime settings ------------------------------------------------------------------
+
+static const pbf_param_info *check_param_name(lua_State *L, int idx, const char *fn)
+{
+    char got[64];
+    const pbf_param_info *info = lua_type(L, idx) == LUA_TSTRING ? pbf_param_find(lua_tostring(L, idx)) : NULL;
+    if (!info) {
+        int n;
+        const pbf_param_info *tab = pbf_param_table(&n);
+        char list[512] = "";
+        size_t len = 0;
+        for (int i = 0; i < n && len < sizeof list; i++) len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "", tab[i].name);
+        raise(L, "%s: argument #%d 'name' must be a fluid parameter name (one of %s) (got %s)", fn, idx, list,
+              describe(L, idx, got, sizeof got));
+    }
+    return info;
+}
+
+static int l_set_param(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.set_param";
+    const pbf_param_info *info = check_param_name(L, 1, fn);
+    char what[96];
+    snprintf(what, sizeof what, "argument #2 'value' (%s)", info->name);
+    double v = check_number_at(L, 2, fn, what, info->min, info->max, info->is_int ? WHOLE : 0, info->unit);
+    pbf_params p = *current_params(s);
+    char err[512];
+    if (pbf_params_set(&p, info->name, v, err, sizeof err) != PBF_OK) raise(L, "%s: %s", fn, err);
+    if (!s->host.world) { // main chunk: part of the scene description
+        s->config.params = p;
+        return 0;
+    }
+    s->pending_params = p;
+    s->have_pending_params = true;
+    command *c = push_command(L, s, CMD_PARAMS, fn);
+    c->u.params = p;
+    return 0;
+}
+
+static int l_param(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const pbf_param_info *info = check_param_name(L, 1, "seiche.param");
+    lua_pushnumber(L, pbf_params_get(current_params(s), info));
+    return 1;
+}
+
+static int l_params(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    int n;
+    const pbf_param_info *tab = pbf_param_table(&n);
+    const pbf_params *p = current_params(s);
+    lua_createtable(L, 0, n);
+    for (int i = 0; i < n; i++) set_num(L, tab[i].name, pbf_params_get(p, &tab[i]));
+    return 1;
+}
+
+static int l_set_gravity(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    float g[3];
+    arg_vec(L, 1, "seiche.set_gravity", "gravity", -1000, 1000, "m/s^2", g);
+    if (!s->host.world) {
+        memcpy(s->config.params.gravity, g, sizeof g);
+        return 0;
+    }
+    pbf_params p = *current_params(s);
+    memcpy(p.gravity, g, sizeof g);
+    s->pending_params = p;
+    s->have_pending_params = true;
+    command *c = push_command(L, s, CMD_GRAVITY, "seiche.set_gravity");
+    memcpy(c->u.gravity, g, sizeof g);
+    return 0;
+}
+
+static int l_gravity(lua_State *L)
+{
+    const float *g = current_params(get_script(L))->gravity;
+    push_vec3(L, g[0], g[1], g[2]);
+    return 1;
+}
+
+// ---- queries --------------------------------------------------------------------------
+
 static int l_stats(lua_State *L)
 {
     eng_script *s = get_script(L);
     const pbf_step_stats *st = s->host.stats;
-    lua_createtable(L, 0, 10);
-    set_num(L, "particles", s->host.world ? pbf_world_particle_count(s->host.world) : 0);
-    set_num(L, "rho0", s->config.params.rest_density);
+    lua_createtable(L, 0, 12);
+    set_num(L, "particles", st ? st->particles : (s->host.world ? pbf_world_particle_count(s->host.world) : 0));
+    set_num(L, "capacity", capacity_of(s));
+    set_num(L, "rho0", current_params(s)->rest_density);
     set_num(L, "rho_avg", st ? st->density_avg : 0.0);
     set_num(L, "rho_max", st ? st->density_max : 0.0);
     set_num(L, "nan", st ? st->nan_count : 0);
@@ -353,6 +2048,9 @@ static int l_stats(lua_State *L)
     set_num(L, "step_ms", st ? st->step_ms : 0.0);
     set_num(L, "step", st ? (double)st->step : -1.0);
     set_num(L, "time", st ? st->time : 0.0);
+    lua_createtable(L, 0, PBF_STAGE_COUNT);
+    for (int k = 0; k < PBF_STAGE_COUNT; k++) set_num(L, pbf_stage_name((pbf_stage)k), st ? st->stage_ms[k] : 0.0);
+    lua_setfield(L, -2, "stage_ms");
     return 1;
 }
 
@@ -365,6 +2063,12 @@ static int l_time(lua_State *L)
 static int l_frame(lua_State *L)
 {
     lua_pushinteger(L, (lua_Integer)get_script(L)->host.frame);
+    return 1;
+}
+
+static int l_dt(lua_State *L)
+{
+    lua_pushnumber(L, get_script(L)->host.dt);
     return 1;
 }
 
@@ -388,24 +2092,359 @@ static int l_particle_count(lua_State *L)
     return 1;
 }
 
-static int l_param(lua_State *L)
+static int l_capacity(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    const char *name = luaL_checkstring(L, 1);
-    const pbf_param_info *info = pbf_param_find(name);
-    if (!info) luaL_argerror(L, 1, lua_pushfstring(L, "unknown fluid parameter '%s'", name));
-    const pbf_params *p = s->host.world ? pbf_world_params(s->host.world) : &s->config.params;
-    lua_pushnumber(L, pbf_params_get(p, info));
+    lua_pushinteger(L, capacity_of(get_script(L)));
     return 1;
 }
 
+static int l_max_emitter_rate(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.max_emitter_rate";
+    double speed = arg_number(L, 1, fn, "speed", 0, 100, OPEN_LO, "m/s");
+    double radius = arg_number(L, 2, fn, "radius", current_params(s)->particle_radius, 10, 0, "m (the particle radius at least)");
+    require_world(L, s, fn);
+    lua_pushnumber(L, pbf_emitter_max_rate(s->host.world, (float)speed, (float)radius));
+    return 1;
+}
+
+// Downloads the particle positions once per frame for the queries that need them.
+static const float *particle_positions(lua_State *L, eng_script *s, const char *fn, uint32_t *count)
+{
+    require_world(L, s, fn);
+    if (!s->cache_valid || s->cache_frame != s->host.frame) {
+        uint32_t n = pbf_world_particle_count(s->host.world);
+        if (n > s->cache_cap) {
+            float *c = realloc(s->cache, (size_t)n * 4 * sizeof(float));
+            if (!c) raise(L, "%s: out of memory for %u particles", fn, n);
+            s->cache = c;
+            s->cache_cap = n;
+        }
+        s->cache_count = n ? pbf_world_read_particles(s->host.world, s->cache, NULL, NULL, n) : 0;
+        s->cache_frame = s->host.frame;
+        s->cache_valid = true;
+    }
+    *count = s->cache_count;
+    return s->cache;
+}
+
+static int l_surface_height(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.surface_height";
+    double x = arg_number(L, 1, fn, "x", -MAX_COORD, MAX_COORD, 0, "m");
+    double z = arg_number(L, 2, fn, "z", -MAX_COORD, MAX_COORD, 0, "m");
+    const pbf_params *p = current_params(s);
+    double r = p->kernel_radius;
+    if (!lua_isnoneornil(L, 3)) r = arg_number(L, 3, fn, "radius", 0, 100, OPEN_LO, "m");
+    uint32_t n;
+    const float *pos = particle_positions(L, s, fn, &n);
+    double best = -HUGE_VAL;
+    for (uint32_t i = 0; i < n; i++) {
+        double dx = pos[4 * i] - x, dz = pos[4 * i + 2] - z;
+        if (dx * dx + dz * dz <= r * r && pos[4 * i + 1] > best) best = pos[4 * i + 1];
+    }
+    if (best == -HUGE_VAL) lua_pushnil(L);
+    else lua_pushnumber(L, best + p->particle_radius);
+    return 1;
+}
+
+static int l_particles_in(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.particles_in";
+    float mn[3], mx[3];
+    arg_vec(L, 1, fn, "min", -MAX_COORD, MAX_COORD, "m", mn);
+    arg_vec(L, 2, fn, "max", -MAX_COORD, MAX_COORD, "m", mx);
+    uint32_t n;
+    const float *pos = particle_positions(L, s, fn, &n);
+    lua_Integer count = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const float *q = pos + 4 * i;
+        if (q[0] >= mn[0] && q[0] <= mx[0] && q[1] >= mn[1] && q[1] <= mx[1] && q[2] >= mn[2] && q[2] <= mx[2]) count++;
+    }
+    lua_pushinteger(L, count);
+    return 1;
+}
+
+static int find_body_slot(eng_script *s, phys_body_id id)
+{
+    for (uint32_t i = 0; i < s->obj_count; i++) {
+        obj *o = &s->objs[i];
+        if (o->state == OBJ_LIVE && o->kind == OBJ_BODY && o->u.body.id.index1 == id.index1 &&
+            o->u.body.id.generation == id.generation && o->u.body.id.world0 == id.world0)
+            return (int)i;
+    }
+    return -1;
+}
+
+static int l_ray_cast(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.ray_cast";
+    float a[3], b[3];
+    arg_vec(L, 1, fn, "from", -MAX_COORD, MAX_COORD, "m", a);
+    arg_vec(L, 2, fn, "to", -MAX_COORD, MAX_COORD, "m", b);
+    if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) raise(L, "%s: arguments 'from' and 'to' must differ", fn);
+    require_world(L, s, fn);
+    phys_ray_hit hit;
+    if (phys_world_ray_cast(s->host.phys, pv(a), pv(b), &hit) != PHYS_OK) raise(L, "%s: %s", fn, phys_world_last_error(s->host.phys));
+    if (!hit.hit) {
+        lua_pushnil(L);
+        return 1;
+    }
+    lua_createtable(L, 0, 4);
+    int slot = find_body_slot(s, hit.body);
+    if (slot >= 0) {
+        push_handle(L, s, (uint32_t)slot);
+        lua_setfield(L, -2, "body");
+    }
+    push_vec3(L, hit.point.x, hit.point.y, hit.point.z);
+    lua_setfield(L, -2, "point");
+    push_vec3(L, hit.normal.x, hit.normal.y, hit.normal.z);
+    lua_setfield(L, -2, "normal");
+    set_num(L, "fraction", hit.fraction);
+    return 1;
+}
+
+static int l_screen_ray(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.screen_ray";
+    int w = s->host.view_width > 0 ? s->host.view_width : 1, h = s->host.view_height > 0 ? s->host.view_height : 1;
+    double x = arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
+    double y = arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
+    if (!s->host.camera) raise(L, "%s: there is no camera yet; call this from a callback", fn);
+    mat4 view, proj, vp, inv;
+    eng_camera_view(s->host.camera, view);
+    eng_camera_projection(s->host.camera, (float)w / (float)h, proj);
+    glm_mat4_mul(proj, view, vp);
+    glm_mat4_inv(vp, inv);
+    float nx = (float)(2.0 * x / w - 1.0), ny = (float)(1.0 - 2.0 * y / h);
+    vec4 pn = { nx, ny, -1.0f, 1.0f }, pf = { nx, ny, 1.0f, 1.0f }, wn, wf;
+    glm_mat4_mulv(inv, pn, wn);
+    glm_mat4_mulv(inv, pf, wf);
+    float o[3], d[3];
+    for (int k = 0; k < 3; k++) {
+        o[k] = wn[k] / wn[3];
+        d[k] = wf[k] / wf[3] - o[k];
+    }
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++) d[k] /= len;
+    push_vec3(L, o[0], o[1], o[2]);
+    push_vec3(L, d[0], d[1], d[2]);
+    return 2;
+}
+
+static int l_bodies(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    lua_newtable(L);
+    lua_Integer n = 0;
+    for (uint32_t i = 0; i < s->obj_count; i++)
+        if (s->objs[i].state != OBJ_FREE && s->objs[i].kind == OBJ_BODY) {
+            push_handle(L, s, i);
+            lua_rawseti(L, -2, ++n);
+        }
+    return 1;
+}
+
+static int check_key_name(lua_State *L, int idx, const char *fn)
+{
+    char got[64];
+    int code = lua_type(L, idx) == LUA_TSTRING ? eng_key_code(lua_tostring(L, idx)) : -1;
+    if (code < 0)
+        raise(L, "%s: argument #%d 'key' must be a key name: \"a\"..\"z\", \"0\"..\"9\", \"f1\"..\"f12\", \"space\", "
+              "\"enter\", \"escape\", \"tab\", \"backspace\", \"left\", \"right\", \"up\", \"down\", \"shift\", \"ctrl\" (got %s)",
+              fn, idx, describe(L, idx, got, sizeof got));
+    return code;
+}
+
+static int l_key_down(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    int code = check_key_name(L, 1, "seiche.key_down");
+    bool down = s->host.input && eng_input_key_down(s->host.input, code);
+    if (!down && code == GLFW_KEY_LEFT_SHIFT && s->host.input) down = eng_input_key_down(s->host.input, GLFW_KEY_RIGHT_SHIFT);
+    if (!down && code == GLFW_KEY_LEFT_CONTROL && s->host.input) down = eng_input_key_down(s->host.input, GLFW_KEY_RIGHT_CONTROL);
+    lua_pushboolean(L, down);
+    return 1;
+}
+
+static int l_mouse_down(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    int b = (int)arg_number(L, 1, "seiche.mouse_down", "button", 1, ENG_INPUT_MAX_BUTTONS, WHOLE, "(1 left, 2 right, 3 middle)");
+    lua_pushboolean(L, s->host.input && eng_input_mouse_down(s->host.input, b - 1));
+    return 1;
+}
+
+static int l_mouse_position(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    double x = 0, y = 0;
+    if (s->host.input) eng_input_mouse_position(s->host.input, &x, &y);
+    lua_pushnumber(L, x);
+    lua_pushnumber(L, y);
+    return 2;
+}
+
+// ---- test support ----------------------------------------------------------------------
+
+static int l_check(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    luaL_checkany(L, 1);
+    if (lua_toboolean(L, 1)) return 0;
+    const char *msg = lua_isnoneornil(L, 2) ? "(no message)" : luaL_tolstring(L, 2, NULL);
+    s->check_failed = true;
+    luaL_where(L, 1);
+    lua_pushfstring(L, "%scheck failed: %s", lua_tostring(L, -1), msg);
+    return lua_error(L);
+}
+
+static int l_quit(lua_State *L)
+{
+    get_script(L)->quit = true;
+    return 0;
+}
+
+static const char *const ACTIONS[3] = { "release", "press", "repeat" }; // = eng_action
+
+static int read_action(lua_State *L, int idx, const char *fn)
+{
+    if (lua_isnoneornil(L, idx)) return ENG_PRESS;
+    if (lua_type(L, idx) == LUA_TSTRING)
+        for (int k = 0; k < 3; k++)
+            if (strcmp(lua_tostring(L, idx), ACTIONS[k]) == 0) return k;
+    char got[64];
+    return raise(L, "%s: argument #%d 'action' must be \"press\", \"release\" or \"repeat\" (got %s)", fn, idx,
+                 describe(L, idx, got, sizeof got));
+}
+
+static int l_inject_key(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.inject_key";
+    int code = check_key_name(L, 1, fn);
+    int action = read_action(L, 2, fn);
+    command *c = push_command(L, s, CMD_INJECT, fn);
+    c->u.event.type = ENG_EVENT_KEY;
+    c->u.event.key = code;
+    c->u.event.action = action;
+    return 0;
+}
+
+static int l_inject_mouse(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.inject_mouse";
+    int b = (int)arg_number(L, 1, fn, "button", 1, ENG_INPUT_MAX_BUTTONS, WHOLE, "(1 left, 2 right, 3 middle)");
+    int action = read_action(L, 2, fn);
+    if (action == ENG_REPEAT) raise(L, "%s: argument #2 'action' must be \"press\" or \"release\" (got \"repeat\")", fn);
+    double x = 0, y = 0;
+    if (s->host.input) eng_input_mouse_position(s->host.input, &x, &y);
+    if (!lua_isnoneornil(L, 3)) x = arg_number(L, 3, fn, "x", -1e6, 1e6, 0, "pixels");
+    if (!lua_isnoneornil(L, 4)) y = arg_number(L, 4, fn, "y", -1e6, 1e6, 0, "pixels");
+    // A button event happens where the pointer is: move it there first.
+    command *c = push_command(L, s, CMD_INJECT, fn);
+    c->u.event.type = ENG_EVENT_MOTION;
+    c->u.event.x = x;
+    c->u.event.y = y;
+    c = push_command(L, s, CMD_INJECT, fn);
+    c->u.event.type = ENG_EVENT_MOUSE_BUTTON;
+    c->u.event.button = b - 1;
+    c->u.event.action = action;
+    c->u.event.x = x;
+    c->u.event.y = y;
+    return 0;
+}
+
+static int l_inject_motion(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.inject_motion";
+    double x = arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
+    double y = arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
+    command *c = push_command(L, s, CMD_INJECT, fn);
+    c->u.event.type = ENG_EVENT_MOTION;
+    c->u.event.x = x;
+    c->u.event.y = y;
+    return 0;
+}
+
+static int l_inject_scroll(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.inject_scroll";
+    double dx = arg_number(L, 1, fn, "dx", -1e4, 1e4, 0, "steps");
+    double dy = arg_number(L, 2, fn, "dy", -1e4, 1e4, 0, "steps");
+    command *c = push_command(L, s, CMD_INJECT, fn);
+    c->u.event.type = ENG_EVENT_SCROLL;
+    c->u.event.dx = dx;
+    c->u.event.dy = dy;
+    return 0;
+}
+
+// ---- registration ------------------------------------------------------------------------
+
 static const luaL_Reg seiche_functions[] = {
-    { "scene", l_scene },       { "block", l_block },       { "check", l_check },
-    { "quit", l_quit },         { "stats", l_stats },       { "time", l_time },
-    { "frame", l_frame },       { "renderer", l_renderer }, { "headless", l_headless },
-    { "particle_count", l_particle_count }, { "param", l_param },
+    // scene setup
+    { "scene", l_scene }, { "set_look", l_set_look }, { "look", l_look }, { "set_camera", l_set_camera },
+    { "camera", l_camera }, { "set_param", l_set_param }, { "param", l_param }, { "params", l_params },
+    { "set_gravity", l_set_gravity }, { "gravity", l_gravity },
+    // content
+    { "block", l_block }, { "sphere", l_sphere }, { "particles", l_particles }, { "emitter", l_emitter },
+    { "sink", l_sink }, { "body", l_body }, { "bodies", l_bodies },
+    // interaction
+    { "after", l_after }, { "every", l_every }, { "key_down", l_key_down }, { "mouse_down", l_mouse_down },
+    { "mouse_position", l_mouse_position }, { "screen_ray", l_screen_ray }, { "ray_cast", l_ray_cast },
+    // queries
+    { "particle_count", l_particle_count }, { "capacity", l_capacity }, { "stats", l_stats },
+    { "surface_height", l_surface_height }, { "particles_in", l_particles_in }, { "max_emitter_rate", l_max_emitter_rate },
+    { "time", l_time }, { "frame", l_frame }, { "dt", l_dt }, { "renderer", l_renderer }, { "headless", l_headless },
+    // test support
+    { "check", l_check }, { "quit", l_quit }, { "inject_key", l_inject_key }, { "inject_mouse", l_inject_mouse },
+    { "inject_motion", l_inject_motion }, { "inject_scroll", l_inject_scroll },
     { NULL, NULL },
 };
+
+static const luaL_Reg emitter_methods[] = {
+    { "set", m_emitter_set }, { "set_enabled", m_emitter_set_enabled }, { "get", m_emitter_get },
+    { "remove", m_emitter_remove }, { "is_valid", m_is_valid }, { NULL, NULL },
+};
+
+static const luaL_Reg sink_methods[] = {
+    { "get", m_sink_get }, { "remove", m_sink_remove }, { "is_valid", m_is_valid }, { NULL, NULL },
+};
+
+static const luaL_Reg body_methods[] = {
+    { "position", m_body_position }, { "rotation", m_body_rotation }, { "velocity", m_body_velocity },
+    { "angular_velocity", m_body_angular_velocity }, { "velocity_at", m_body_velocity_at }, { "mass", m_body_mass },
+    { "kind", m_body_kind }, { "shape", m_body_shape }, { "fluid_force", m_body_fluid_force },
+    { "apply_force", m_body_apply_force }, { "apply_torque", m_body_apply_torque },
+    { "apply_impulse", m_body_apply_impulse }, { "apply_angular_impulse", m_body_apply_angular_impulse },
+    { "set_velocity", m_body_set_velocity }, { "set_angular_velocity", m_body_set_angular_velocity },
+    { "move_to", m_body_move_to }, { "teleport", m_body_teleport }, { "set_color", m_body_set_color },
+    { "set_visible", m_body_set_visible }, { "grab", m_body_grab }, { "destroy", m_body_destroy },
+    { "is_valid", m_is_valid }, { NULL, NULL },
+};
+
+static const luaL_Reg timer_methods[] = {
+    { "cancel", m_timer_cancel }, { "remaining", m_timer_remaining }, { "is_valid", m_is_valid }, { NULL, NULL },
+};
+
+static const luaL_Reg grab_methods[] = {
+    { "move", m_grab_move }, { "release", m_grab_release }, { "body", m_grab_body }, { "pivot", m_grab_pivot },
+    { "is_valid", m_is_valid }, { NULL, NULL },
+};
+
+static const luaL_Reg *const METHODS[OBJ_KIND_COUNT] = { emitter_methods, sink_methods, body_methods, timer_methods,
+                                                         grab_methods };
+
+static const char *const CALLBACKS[] = { "on_start", "on_step", "on_key", "on_mouse", "on_mouse_move", "on_scroll",
+                                         "on_reload", NULL };
 
 const char *const *eng_script_function_names(void)
 {
@@ -414,15 +2453,79 @@ const char *const *eng_script_function_names(void)
     return names;
 }
 
+const char *const *eng_script_api_names(void)
+{
+    static char storage[4096];
+    static const char *names[160];
+    if (names[0]) return names;
+    size_t used = 0;
+    int n = 0;
+    for (const luaL_Reg *r = seiche_functions; r->name; r++) {
+        names[n++] = storage + used;
+        used += (size_t)snprintf(storage + used, sizeof storage - used, "seiche.%s", r->name) + 1;
+    }
+    for (int k = 0; k < OBJ_KIND_COUNT; k++)
+        for (const luaL_Reg *r = METHODS[k]; r->name; r++) {
+            names[n++] = storage + used;
+            used += (size_t)snprintf(storage + used, sizeof storage - used, "%s:%s", KIND_NAME[k], r->name) + 1;
+        }
+    for (const char *const *c = CALLBACKS; *c; c++) names[n++] = *c;
+    names[n] = NULL;
+    return names;
+}
+
+static void register_api(eng_script *s)
+{
+    lua_State *L = s->L;
+    lua_newtable(L);
+    lua_pushlightuserdata(L, s);
+    luaL_setfuncs(L, seiche_functions, 1);
+    lua_pushstring(L, "0.1");
+    lua_setfield(L, -2, "version");
+    lua_setglobal(L, "seiche");
+    for (int k = 0; k < OBJ_KIND_COUNT; k++) {
+        luaL_newmetatable(L, KIND_META[k]);
+        lua_newtable(L);
+        lua_pushlightuserdata(L, s);
+        luaL_setfuncs(L, METHODS[k], 1);
+        lua_setfield(L, -2, "methods");
+        static const luaL_Reg meta[] = { { "__index", m_index }, { "__newindex", m_newindex },
+                                         { "__tostring", m_tostring }, { NULL, NULL } };
+        lua_pushlightuserdata(L, s);
+        luaL_setfuncs(L, meta, 1);
+        lua_pushboolean(L, false);
+        lua_setfield(L, -2, "__metatable"); // getmetatable(h) returns false: the methods are not for editing
+        lua_pop(L, 1);
+    }
+}
+
 // ---- running Lua ---------------------------------------------------------------------
 
 static void budget_hook(lua_State *L, lua_Debug *ar)
 {
     (void)ar;
-    eng_script *s = get_script(L);
+    eng_script *s = registry_script(L);
     if (s->deadline > 0.0 && now_s() > s->deadline)
         raise(L, "%s ran longer than its budget of %g s (an endless loop?)", s->running ? s->running : "the script",
-                   s->budget_s);
+              s->budget_s);
+}
+
+static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
+{
+    eng_script *s = ud;
+    if (ptr == NULL) osize = 0;
+    if (nsize == 0) {
+        free(ptr);
+        s->memory -= osize;
+        return NULL;
+    }
+    if (nsize > osize && s->memory + (nsize - osize) > LUA_MEMORY_LIMIT) {
+        s->out_of_memory = true;
+        return NULL;
+    }
+    void *p = realloc(ptr, nsize);
+    if (p) s->memory = s->memory - osize + nsize;
+    return p;
 }
 
 static int traceback(lua_State *L)
@@ -433,7 +2536,9 @@ static int traceback(lua_State *L)
     return 1;
 }
 
-static eng_script_status run(eng_script *s, int nargs, const char *what)
+// Calls the function below the nargs arguments on the stack with `nresults` results left
+// on the stack on success.
+static eng_script_status run(eng_script *s, int nargs, int nresults, const char *what)
 {
     lua_State *L = s->L;
     int base = lua_gettop(L) - nargs;
@@ -441,24 +2546,31 @@ static eng_script_status run(eng_script *s, int nargs, const char *what)
     lua_insert(L, base);
     s->running = what;
     s->deadline = now_s() + s->budget_s;
-    int rc = lua_pcall(L, nargs, 0, base);
+    s->out_of_memory = false;
+    int rc = lua_pcall(L, nargs, nresults, base);
     s->deadline = 0.0;
     s->running = NULL;
     lua_remove(L, base);
     if (rc == LUA_OK) return ENG_SCRIPT_OK;
-    snprintf(s->error, sizeof s->error, "%s", lua_tostring(L, -1) ? lua_tostring(L, -1) : "(unknown error)");
+    if (rc == LUA_ERRMEM || s->out_of_memory)
+        snprintf(s->error, sizeof s->error, "%s: %s used more than the script's %zu MiB of memory (%s)", s->path, what,
+                 LUA_MEMORY_LIMIT >> 20, lua_tostring(L, -1) ? lua_tostring(L, -1) : "not enough memory");
+    else
+        snprintf(s->error, sizeof s->error, "%s", lua_tostring(L, -1) ? lua_tostring(L, -1) : "(unknown error)");
     lua_pop(L, 1);
     return s->check_failed ? ENG_SCRIPT_CHECK_FAILED : ENG_SCRIPT_ERROR;
 }
 
 eng_script *eng_script_create(const eng_logger *log, double budget_s)
 {
+    if (!(budget_s > 0.0 && budget_s <= 3600.0)) return NULL;
     eng_script *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->log = log ? *log : eng_default_logger();
     s->budget_s = budget_s;
     s->config = eng_default_scene_config();
-    s->L = luaL_newstate();
+    s->host.dt = 1.0 / 60.0;
+    s->L = lua_newstate(limited_alloc, s);
     if (!s->L) {
         free(s);
         return NULL;
@@ -466,8 +2578,7 @@ eng_script *eng_script_create(const eng_logger *log, double budget_s)
     luaL_openlibs(s->L);
     lua_pushlightuserdata(s->L, s);
     lua_setfield(s->L, LUA_REGISTRYINDEX, REGISTRY_KEY);
-    luaL_newlib(s->L, seiche_functions);
-    lua_setglobal(s->L, "seiche");
+    register_api(s);
     lua_sethook(s->L, budget_hook, LUA_MASKCOUNT, 10000);
     return s;
 }
@@ -475,9 +2586,32 @@ eng_script *eng_script_create(const eng_logger *log, double budget_s)
 void eng_script_destroy(eng_script *s)
 {
     if (!s) return;
+    for (uint32_t i = 0; i < s->obj_count; i++) {
+        obj *o = &s->objs[i];
+        if (o->state == OBJ_FREE || o->kind != OBJ_BODY) continue;
+        if (s->host.scene && o->u.body.node.index1) eng_node_destroy(s->host.scene, o->u.body.node);
+        if (s->host.meshes && o->u.body.mesh.index1) eng_mesh_destroy(s->host.meshes, o->u.body.mesh);
+        body_free_data(&o->u.body);
+    }
+    clear_commands(s);
     lua_close(s->L);
     free(s->commands);
+    free(s->objs);
+    free(s->cache);
     free(s);
+}
+
+static eng_script_status load_chunk(eng_script *s, int rc)
+{
+    if (rc != LUA_OK) {
+        snprintf(s->error, sizeof s->error, "%s", lua_tostring(s->L, -1) ? lua_tostring(s->L, -1) : "(load error)");
+        lua_pop(s->L, 1);
+        return ENG_SCRIPT_ERROR;
+    }
+    s->in_main_chunk = true;
+    eng_script_status st = run(s, 0, 0, "the script's main chunk");
+    s->in_main_chunk = false;
+    return st;
 }
 
 eng_script_status eng_script_load(eng_script *s, const char *path)
@@ -489,12 +2623,15 @@ eng_script_status eng_script_load(eng_script *s, const char *path)
         return ENG_SCRIPT_ERROR;
     }
     fclose(f);
-    if (luaL_loadfile(s->L, path) != LUA_OK) {
-        snprintf(s->error, sizeof s->error, "%s", lua_tostring(s->L, -1));
-        lua_pop(s->L, 1);
-        return ENG_SCRIPT_ERROR;
-    }
-    return run(s, 0, "the script's main chunk");
+    return load_chunk(s, luaL_loadfile(s->L, path));
+}
+
+eng_script_status eng_script_load_string(eng_script *s, const char *chunk_name, const char *code)
+{
+    snprintf(s->path, sizeof s->path, "%s", chunk_name);
+    char name[520];
+    snprintf(name, sizeof name, "@%s", chunk_name);
+    return load_chunk(s, luaL_loadbuffer(s->L, code, strlen(code), name));
 }
 
 const char *eng_script_error(const eng_script *s) { return s->error; }
@@ -502,14 +2639,484 @@ const char *eng_script_path(const eng_script *s) { return s->path; }
 eng_scene_config *eng_script_config(eng_script *s) { return &s->config; }
 void eng_script_set_host(eng_script *s, const eng_script_host *host) { s->host = *host; }
 bool eng_script_quit_requested(const eng_script *s) { return s->quit; }
+int eng_script_pending(const eng_script *s) { return s->command_count; }
 
-int eng_script_commands(eng_script *s, const eng_command **out)
+bool eng_script_set_param(eng_script *s, const char *name, double value, char *err, size_t err_size)
 {
-    *out = s->commands;
-    return s->command_count;
+    pbf_params p = *current_params(s);
+    if (pbf_params_set(&p, name, value, err, err_size) != PBF_OK) return false;
+    if (s->host.world) {
+        if (pbf_world_set_params(s->host.world, &p) != PBF_OK) {
+            snprintf(err, err_size, "%s", pbf_world_last_error(s->host.world));
+            return false;
+        }
+        if (s->have_pending_params) s->pending_params = p;
+    } else {
+        s->config.params = p;
+    }
+    return true;
 }
 
-void eng_script_clear_commands(eng_script *s) { s->command_count = 0; }
+// ---- applying the queued edits ------------------------------------------------------------
+
+static eng_script_status refuse(eng_script *s, const command *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+static eng_script_status refuse(eng_script *s, const command *c, const char *fmt, ...)
+{
+    char msg[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    snprintf(s->error, sizeof s->error, "%s%s: %s", c->where, c->fn, msg);
+    return ENG_SCRIPT_ERROR;
+}
+
+// A triangle mesh of a convex hull: each face's points in order around its normal.
+static eng_mesh_id hull_mesh(eng_mesh_store *store, const phys_shape_desc *d)
+{
+    const phys_hull_desc *h = &d->hull;
+    uint32_t np = h->point_count;
+    float *pos = malloc((size_t)h->plane_count * np * 3 * sizeof(float) + 4);
+    uint32_t *idx = malloc((size_t)h->plane_count * np * 3 * sizeof(uint32_t) + 4);
+    uint32_t *face = malloc((size_t)np * sizeof(uint32_t) + 4);
+    float *ang = malloc((size_t)np * sizeof(float) + 4);
+    eng_mesh_id id = ENG_NULL_MESH;
+    if (!pos || !idx || !face || !ang) goto done;
+    float scale = 0;
+    for (uint32_t i = 0; i < np; i++)
+        scale = fmaxf(scale, fmaxf(fabsf(h->points[i].x), fmaxf(fabsf(h->points[i].y), fabsf(h->points[i].z))));
+    float eps = 1e-4f * scale + 1e-6f;
+    int nv = 0, ni = 0;
+    for (uint32_t f = 0; f < h->plane_count; f++) {
+        const phys_hull_plane *pl = &h->planes[f];
+        float n[3] = { pl->normal.x, pl->normal.y, pl->normal.z };
+        uint32_t k = 0;
+        float c[3] = { 0, 0, 0 };
+        for (uint32_t i = 0; i < np; i++) {
+            const phys_vec3 *p = &h->points[i];
+            if (fabsf(n[0] * p->x + n[1] * p->y + n[2] * p->z - pl->offset) <= eps) {
+                face[k++] = i;
+                c[0] += p->x, c[1] += p->y, c[2] += p->z;
+            }
+        }
+        if (k < 3) continue;
+        for (int a = 0; a < 3; a++) c[a] /= (float)k;
+        float u[3] = { 1, 0, 0 };
+        if (fabsf(n[0]) > 0.9f) u[0] = 0, u[1] = 1;
+        float dn = u[0] * n[0] + u[1] * n[1] + u[2] * n[2];
+        for (int a = 0; a < 3; a++) u[a] -= dn * n[a];
+        float v[3] = { n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0] };
+        for (uint32_t i = 0; i < k; i++) {
+            const phys_vec3 *p = &h->points[face[i]];
+            float r[3] = { p->x - c[0], p->y - c[1], p->z - c[2] };
+            ang[i] = atan2f(r[0] * v[0] + r[1] * v[1] + r[2] * v[2], r[0] * u[0] + r[1] * u[1] + r[2] * u[2]);
+        }
+        for (uint32_t i = 1; i < k; i++) // insertion sort by angle (faces are small)
+            for (uint32_t j = i; j > 0 && ang[j - 1] > ang[j]; j--) {
+                float ta = ang[j];
+                ang[j] = ang[j - 1], ang[j - 1] = ta;
+                uint32_t tf = face[j];
+                face[j] = face[j - 1], face[j - 1] = tf;
+            }
+        int base = nv;
+        for (uint32_t i = 0; i < k; i++) {
+            const phys_vec3 *p = &h->points[face[i]];
+            pos[3 * nv] = p->x, pos[3 * nv + 1] = p->y, pos[3 * nv + 2] = p->z;
+            nv++;
+        }
+        for (uint32_t i = 1; i + 1 < k; i++) {
+            idx[ni++] = (uint32_t)base;
+            idx[ni++] = (uint32_t)base + i;
+            idx[ni++] = (uint32_t)base + i + 1;
+        }
+    }
+    if (ni > 0) id = eng_mesh_create_triangles(store, pos, nv, idx, ni);
+done:
+    free(pos);
+    free(idx);
+    free(face);
+    free(ang);
+    return id;
+}
+
+static eng_mesh_id body_mesh(eng_script *s, body_rec *b)
+{
+    eng_mesh_store *m = s->host.meshes;
+    switch (b->shape) {
+    case SHAPE_BOX: return eng_mesh_create_box(m, b->dims);
+    case SHAPE_SPHERE: return eng_mesh_create_sphere(m, b->dims[0]);
+    case SHAPE_CAPSULE: return eng_mesh_create_capsule(m, b->dims[0], b->dims[1]);
+    case SHAPE_CYLINDER: return eng_mesh_create_cylinder(m, b->dims[0], b->dims[1]);
+    case SHAPE_PLANE: return eng_mesh_create_plane(m, 10.0f, 10.0f);
+    case SHAPE_MESH:
+        return eng_mesh_create_triangles(m, b->points, (int)b->point_count, b->indices, (int)b->index_count);
+    case SHAPE_HULL: {
+        phys_shape_desc d;
+        if (phys_shape_get_desc(s->host.phys, b->shape_id, &d) != PHYS_OK) return ENG_NULL_MESH;
+        return hull_mesh(m, &d);
+    }
+    default: return ENG_NULL_MESH;
+    }
+}
+
+static void body_transform(const body_rec *b, const float pos[3], const float rot[4], eng_transform *t)
+{
+    *t = eng_identity_transform();
+    if (b->shape == SHAPE_PLANE) {
+        float qa[4], off[3] = { b->dims[0] * b->dims[3], b->dims[1] * b->dims[3], b->dims[2] * b->dims[3] }, w[3];
+        quat_from_y(b->dims, qa);
+        quat_mul(rot, qa, t->rotation);
+        quat_rotate(rot, off, w);
+        for (int k = 0; k < 3; k++) t->translation[k] = pos[k] + w[k];
+    } else {
+        memcpy(t->translation, pos, 3 * sizeof(float));
+        memcpy(t->rotation, rot, 4 * sizeof(float));
+    }
+    float len = sqrtf(t->rotation[0] * t->rotation[0] + t->rotation[1] * t->rotation[1] + t->rotation[2] * t->rotation[2] +
+                      t->rotation[3] * t->rotation[3]);
+    for (int k = 0; k < 4; k++) t->rotation[k] /= len;
+}
+
+static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
+{
+    body_rec *b = &o->u.body;
+    phys_world *w = s->host.phys;
+    phys_result r = PHYS_OK;
+    switch (b->shape) {
+    case SHAPE_BOX: {
+        phys_box box = { { b->dims[0], b->dims[1], b->dims[2] } };
+        r = phys_shape_create_box(w, &box, &b->shape_id);
+        break;
+    }
+    case SHAPE_SPHERE: {
+        phys_sphere sp = { b->dims[0] };
+        r = phys_shape_create_sphere(w, &sp, &b->shape_id);
+        break;
+    }
+    case SHAPE_CAPSULE: {
+        phys_capsule cp = { b->dims[0], b->dims[1] };
+        r = phys_shape_create_capsule(w, &cp, &b->shape_id);
+        break;
+    }
+    case SHAPE_CYLINDER: {
+        phys_cylinder cy = { b->dims[0], b->dims[1] };
+        r = phys_shape_create_cylinder(w, &cy, &b->shape_id);
+        break;
+    }
+    case SHAPE_PLANE: {
+        phys_plane pl = { { b->dims[0], b->dims[1], b->dims[2] }, b->dims[3] };
+        r = phys_shape_create_plane(w, &pl, &b->shape_id);
+        break;
+    }
+    case SHAPE_HULL: {
+        phys_convex_hull h = { (const phys_vec3 *)b->points, b->point_count };
+        r = phys_shape_create_convex_hull(w, &h, &b->shape_id);
+        break;
+    }
+    case SHAPE_MESH: {
+        phys_triangle_mesh m = { (const phys_vec3 *)b->points, b->point_count, b->indices, b->index_count / 3 };
+        r = phys_shape_create_triangle_mesh(w, &m, &b->shape_id);
+        break;
+    }
+    default: break;
+    }
+    if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(w));
+    phys_body_def d = b->def;
+    d.shape = b->shape_id;
+    if (phys_body_create(w, &d, &b->id) != PHYS_OK) {
+        eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
+        phys_shape_destroy(w, b->shape_id);
+        return st;
+    }
+    if (s->host.coupling) {
+        cpl_body_def cd = cpl_default_body_def();
+        cd.two_way = b->two_way;
+        if (cpl_add_body(s->host.coupling, b->id, &cd) != CPL_OK) {
+            eng_script_status st = refuse(s, c, "%s", cpl_last_error(s->host.coupling));
+            phys_body_destroy(w, b->id);
+            phys_shape_destroy(w, b->shape_id);
+            return st;
+        }
+    }
+    o->state = OBJ_LIVE;
+    if (s->host.scene && s->host.meshes) {
+        b->mesh = body_mesh(s, b);
+        eng_node_def nd = eng_default_node_def();
+        nd.parent = s->host.root;
+        nd.mesh = b->mesh;
+        memcpy(nd.color, b->color, sizeof nd.color);
+        nd.visible = b->visible;
+        float pos[3] = { d.position.x, d.position.y, d.position.z }, rot[4] = { d.orientation.x, d.orientation.y,
+                                                                                   d.orientation.z, d.orientation.w };
+        body_transform(b, pos, rot, &nd.local);
+        b->node = eng_node_create(s->host.scene, &nd);
+    }
+    return ENG_SCRIPT_OK;
+}
+
+static void body_remove_ids(eng_script *s, phys_body_id id, phys_shape_id shape, eng_node_id node, eng_mesh_id mesh)
+{
+    if (s->host.coupling && cpl_has_body(s->host.coupling, id)) cpl_remove_body(s->host.coupling, id);
+    if (s->host.phys && phys_body_is_valid(s->host.phys, id)) phys_body_destroy(s->host.phys, id);
+    if (s->host.phys && phys_shape_is_valid(s->host.phys, shape)) phys_shape_destroy(s->host.phys, shape);
+    if (s->host.scene && node.index1) eng_node_destroy(s->host.scene, node);
+    if (s->host.meshes && mesh.index1) eng_mesh_destroy(s->host.meshes, mesh);
+}
+
+// Velocities that take a kinematic body from its pose to (pos, rot) in one step of dt.
+static eng_script_status apply_move_to(eng_script *s, const command *c, body_rec *b)
+{
+    phys_world *w = s->host.phys;
+    phys_vec3 p;
+    phys_quat q;
+    phys_body_get_pose(w, b->id, &p, &q);
+    double dt = s->host.dt;
+    phys_vec3 v = { (float)((c->u.pose.pos[0] - p.x) / dt), (float)((c->u.pose.pos[1] - p.y) / dt),
+                    (float)((c->u.pose.pos[2] - p.z) / dt) };
+    // Rotation delta: target * conj(current), as axis * angle, the short way round.
+    float cur[4] = { q.x, q.y, q.z, q.w }, inv[4] = { -q.x, -q.y, -q.z, q.w }, dq[4];
+    (void)cur;
+    quat_mul(c->u.pose.rot, inv, dq);
+    if (dq[3] < 0) for (int k = 0; k < 4; k++) dq[k] = -dq[k];
+    double sn = sqrt((double)dq[0] * dq[0] + (double)dq[1] * dq[1] + (double)dq[2] * dq[2]);
+    double angle = 2.0 * atan2(sn, dq[3]);
+    phys_vec3 om = { 0, 0, 0 };
+    if (sn > 1e-9) {
+        double k = angle / (sn * dt);
+        om = (phys_vec3){ (float)(dq[0] * k), (float)(dq[1] * k), (float)(dq[2] * k) };
+    }
+    if (phys_body_set_linear_velocity(w, b->id, v) != PHYS_OK || phys_body_set_angular_velocity(w, b->id, om) != PHYS_OK)
+        return refuse(s, c, "%s", phys_world_last_error(w));
+    b->target_mode = true;
+    b->target_step = s->host.frame + 1;
+    return ENG_SCRIPT_OK;
+}
+
+static eng_script_status apply_one(eng_script *s, const command *c)
+{
+    pbf_world *fw = s->host.world;
+    phys_world *pw = s->host.phys;
+    obj *o = c->slot || c->gen ? obj_at(s, c->slot, c->gen) : NULL;
+    switch (c->type) {
+    case CMD_BLOCK:
+        if (pbf_world_add_block(fw, &c->u.block, NULL) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        break;
+    case CMD_SPHERE: {
+        const pbf_params *p = pbf_world_params(fw);
+        float sp = 2.0f * p->particle_radius, r = c->u.sphere.radius;
+        static const char axis[] = "xyz";
+        const eng_scene_config *cf = &s->config;
+        for (int k = 0; k < 3; k++)
+            if (c->u.sphere.center[k] - r < cf->domain_min[k] || c->u.sphere.center[k] + r > cf->domain_max[k])
+                return refuse(s, c, "the sphere's %c range [%g, %g] must lie inside the domain [%g, %g]", axis[k],
+                              (double)(c->u.sphere.center[k] - r), (double)(c->u.sphere.center[k] + r),
+                              (double)cf->domain_min[k], (double)cf->domain_max[k]);
+        int n = (int)floorf(r / sp);
+        uint64_t est = (uint64_t)(2 * n + 1) * (uint64_t)(2 * n + 1) * (uint64_t)(2 * n + 1);
+        uint32_t room = pbf_world_capacity(fw) - pbf_world_particle_count(fw);
+        if (est / 2 > room) // a sphere fills about half its bounding cube
+            return refuse(s, c, "the sphere holds about %llu particles but only %u of capacity %u are free",
+                          (unsigned long long)(est * 0.5236), room, pbf_world_capacity(fw));
+        float *pos = malloc((size_t)est * 3 * sizeof(float) + 4), *vel = malloc((size_t)est * 3 * sizeof(float) + 4);
+        if (!pos || !vel) {
+            free(pos);
+            free(vel);
+            return refuse(s, c, "out of memory");
+        }
+        uint32_t m = 0;
+        for (int z = -n; z <= n; z++)
+            for (int y = -n; y <= n; y++)
+                for (int x = -n; x <= n; x++) {
+                    float d[3] = { (float)x * sp, (float)y * sp, (float)z * sp };
+                    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > r * r) continue;
+                    for (int k = 0; k < 3; k++) {
+                        pos[3 * m + k] = c->u.sphere.center[k] + d[k];
+                        vel[3 * m + k] = c->u.sphere.velocity[k];
+                    }
+                    m++;
+                }
+        pbf_result pr = pbf_world_add_particles(fw, pos, vel, m);
+        free(pos);
+        free(vel);
+        if (pr != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        break;
+    }
+    case CMD_PARTICLES:
+        if (c->u.particles.n &&
+            pbf_world_add_particles(fw, c->u.particles.pos, c->u.particles.vel, c->u.particles.n) != PBF_OK)
+            return refuse(s, c, "%s", pbf_world_last_error(fw));
+        break;
+    case CMD_EMITTER_ADD:
+    case CMD_EMITTER_SET: {
+        if (!o) break; // removed before it was applied
+        const pbf_emitter_def *d = &c->u.emitter;
+        float max_rate = pbf_emitter_max_rate(fw, d->speed, d->radius);
+        if (d->rate > max_rate * 1.0001f)
+            return refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s for speed %g m/s and radius %g m "
+                          "(got %g; raise speed or radius for more)", (double)max_rate, (double)d->speed,
+                          (double)d->radius, (double)d->rate);
+        pbf_result r = c->type == CMD_EMITTER_ADD ? pbf_world_add_emitter(fw, d, &o->u.emitter.id)
+                                                  : pbf_world_set_emitter(fw, o->u.emitter.id, d);
+        if (r != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        o->state = OBJ_LIVE;
+        break;
+    }
+    case CMD_EMITTER_REMOVE:
+        if (pbf_emitter_is_valid(fw, c->u.emitter_id)) pbf_world_remove_emitter(fw, c->u.emitter_id);
+        break;
+    case CMD_SINK_ADD:
+        if (!o) break;
+        if (pbf_world_add_sink(fw, o->u.sink.min, o->u.sink.max, &o->u.sink.id) != PBF_OK)
+            return refuse(s, c, "%s", pbf_world_last_error(fw));
+        o->state = OBJ_LIVE;
+        break;
+    case CMD_SINK_REMOVE:
+        if (pbf_sink_is_valid(fw, c->u.sink_id)) pbf_world_remove_sink(fw, c->u.sink_id);
+        break;
+    case CMD_BODY_ADD:
+        if (!o) break;
+        return apply_body_add(s, c, o);
+    case CMD_BODY_REMOVE:
+        body_remove_ids(s, c->u.body.id, c->u.body.shape, c->u.body.node, c->u.body.mesh);
+        break;
+    case CMD_BODY_IMPULSE:
+    case CMD_BODY_ANGULAR_IMPULSE:
+    case CMD_BODY_VELOCITY:
+    case CMD_BODY_ANGULAR_VELOCITY: {
+        if (!o || o->state != OBJ_LIVE) break;
+        body_rec *b = &o->u.body;
+        phys_vec3 v = pv(c->u.vec.v);
+        phys_result r;
+        if (c->type == CMD_BODY_IMPULSE)
+            r = c->u.vec.at_point ? phys_body_apply_impulse_at_point(pw, b->id, v, pv(c->u.vec.p), true)
+                                  : phys_body_apply_impulse(pw, b->id, v, true);
+        else if (c->type == CMD_BODY_ANGULAR_IMPULSE) r = phys_body_apply_angular_impulse(pw, b->id, v, true);
+        else if (c->type == CMD_BODY_VELOCITY) r = phys_body_set_linear_velocity(pw, b->id, v);
+        else r = phys_body_set_angular_velocity(pw, b->id, v);
+        if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
+        if (c->type == CMD_BODY_VELOCITY || c->type == CMD_BODY_ANGULAR_VELOCITY) b->target_mode = false;
+        break;
+    }
+    case CMD_BODY_MOVE_TO:
+        if (!o || o->state != OBJ_LIVE) break;
+        return apply_move_to(s, c, &o->u.body);
+    case CMD_BODY_TELEPORT: {
+        if (!o || o->state != OBJ_LIVE) break;
+        body_rec *b = &o->u.body;
+        phys_vec3 p = pv(c->u.pose.pos);
+        phys_quat q = pq(c->u.pose.rot);
+        if (s->host.coupling && cpl_has_body(s->host.coupling, b->id)) {
+            if (cpl_teleport_body(s->host.coupling, b->id, p, q) != CPL_OK)
+                return refuse(s, c, "%s", cpl_last_error(s->host.coupling));
+        } else if (phys_body_set_pose(pw, b->id, p, q) != PHYS_OK) {
+            return refuse(s, c, "%s", phys_world_last_error(pw));
+        }
+        b->target_mode = false;
+        break;
+    }
+    case CMD_BODY_LOOK:
+        if (!o || !o->u.body.node.index1 || !s->host.scene) break;
+        eng_node_set_color(s->host.scene, o->u.body.node, o->u.body.color);
+        eng_node_set_visible(s->host.scene, o->u.body.node, o->u.body.visible);
+        break;
+    case CMD_GRAB_ADD: {
+        if (!o) break;
+        obj *b = obj_at(s, o->u.grab.body, o->u.grab.body_gen);
+        if (!b || b->state != OBJ_LIVE) break;
+        phys_point_constraint_def d = phys_default_point_constraint_def();
+        d.body = b->u.body.id;
+        d.pivot = pv(o->u.grab.pivot);
+        if (o->u.grab.max_force > 0) d.max_force = o->u.grab.max_force;
+        if (phys_point_constraint_create(pw, &d, &o->u.grab.id) != PHYS_OK)
+            return refuse(s, c, "%s", phys_world_last_error(pw));
+        o->state = OBJ_LIVE;
+        break;
+    }
+    case CMD_GRAB_MOVE:
+        if (!o || o->state != OBJ_LIVE || !phys_constraint_is_valid(pw, o->u.grab.id)) break;
+        if (phys_point_constraint_set_pivot(pw, o->u.grab.id, pv(c->u.vec.v)) != PHYS_OK)
+            return refuse(s, c, "%s", phys_world_last_error(pw));
+        break;
+    case CMD_GRAB_REMOVE:
+        if (phys_constraint_is_valid(pw, c->u.constraint)) phys_constraint_destroy(pw, c->u.constraint);
+        break;
+    case CMD_PARAMS:
+        if (pbf_world_set_params(fw, &c->u.params) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        break;
+    case CMD_GRAVITY: {
+        pbf_params p = *pbf_world_params(fw);
+        memcpy(p.gravity, c->u.gravity, sizeof p.gravity);
+        if (pbf_world_set_params(fw, &p) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        if (pw && phys_world_set_gravity(pw, pv(c->u.gravity)) != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
+        break;
+    }
+    case CMD_CAMERA: {
+        eng_camera *cam = s->host.camera;
+        if (!cam) break;
+        float eye[3], target[3];
+        memcpy(eye, c->u.camera.has_eye ? c->u.camera.eye : cam->position, sizeof eye);
+        memcpy(target, c->u.camera.has_target ? c->u.camera.target : cam->target, sizeof target);
+        if (eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
+            return refuse(s, c, "eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
+                          (double)eye[2]);
+        if (c->u.camera.has_mode) eng_camera_set_mode(cam, (eng_camera_mode)c->u.camera.mode);
+        if (c->u.camera.has_eye || c->u.camera.has_target) eng_camera_look_at(cam, eye, target);
+        if (c->u.camera.has_fov) cam->fov_y = (float)(c->u.camera.fov * PI / 180.0);
+        break;
+    }
+    case CMD_INJECT:
+        if (s->host.input) eng_input_inject(s->host.input, &c->u.event);
+        break;
+    }
+    return ENG_SCRIPT_OK;
+}
+
+eng_script_status eng_script_apply(eng_script *s)
+{
+    if (!s->host.world) return ENG_SCRIPT_OK;
+    eng_script_status st = ENG_SCRIPT_OK;
+    // Commands may be added while applying? No: apply runs no Lua. Walk the queue in order.
+    for (int i = 0; i < s->command_count && st == ENG_SCRIPT_OK; i++) st = apply_one(s, &s->commands[i]);
+    clear_commands(s);
+    s->have_pending_params = false;
+    if (s->command_cap > 4096) { // give back the memory of a burst
+        free(s->commands);
+        s->commands = NULL;
+        s->command_cap = 0;
+    }
+    // Kinematic bodies whose target was not renewed for the coming step stop where they are.
+    for (uint32_t i = 0; i < s->obj_count && s->host.phys; i++) {
+        obj *o = &s->objs[i];
+        if (o->state != OBJ_LIVE || o->kind != OBJ_BODY || !o->u.body.target_mode) continue;
+        if (o->u.body.target_step == s->host.frame + 1) continue;
+        phys_vec3 zero = { 0, 0, 0 };
+        phys_body_set_linear_velocity(s->host.phys, o->u.body.id, zero);
+        phys_body_set_angular_velocity(s->host.phys, o->u.body.id, zero);
+        o->u.body.target_mode = false;
+    }
+    s->cache_valid = false;
+    return st;
+}
+
+void eng_script_sync_nodes(eng_script *s)
+{
+    if (!s->host.scene || !s->host.phys) return;
+    for (uint32_t i = 0; i < s->obj_count; i++) {
+        obj *o = &s->objs[i];
+        if (o->state != OBJ_LIVE || o->kind != OBJ_BODY || !o->u.body.node.index1) continue;
+        float pos[3], rot[4];
+        body_state(s, o, pos, rot, NULL, NULL);
+        eng_transform t;
+        body_transform(&o->u.body, pos, rot, &t);
+        eng_node_set_local(s->host.scene, o->u.body.node, &t);
+    }
+}
+
+// ---- callbacks --------------------------------------------------------------------------
 
 static bool get_callback(eng_script *s, const char *name)
 {
@@ -522,15 +3129,52 @@ static bool get_callback(eng_script *s, const char *name)
 eng_script_status eng_script_on_start(eng_script *s)
 {
     if (!get_callback(s, "on_start")) return ENG_SCRIPT_OK;
-    return run(s, 0, "on_start");
+    return run(s, 0, 0, "on_start");
+}
+
+// Fires the timers due at `time`, earliest first (a repeating timer as often as it is
+// due, so a period shorter than the frame step still fires the right number of times).
+static eng_script_status fire_timers(eng_script *s, double time)
+{
+    for (int fired = 0; fired < 100000; fired++) {
+        uint32_t best = UINT32_MAX;
+        for (uint32_t i = 0; i < s->obj_count; i++) {
+            obj *o = &s->objs[i];
+            if (o->state != OBJ_LIVE || o->kind != OBJ_TIMER || o->u.timer.due > time + 1e-9) continue;
+            if (best == UINT32_MAX || o->u.timer.due < s->objs[best].u.timer.due) best = i;
+        }
+        if (best == UINT32_MAX) return ENG_SCRIPT_OK;
+        obj *o = &s->objs[best];
+        lua_rawgeti(s->L, LUA_REGISTRYINDEX, o->u.timer.fn);
+        lua_pushnumber(s->L, time);
+        if (o->u.timer.period > 0) o->u.timer.due += o->u.timer.period;
+        else obj_release(s, best); // one-shot: done before it runs (it may make new timers)
+        eng_script_status st = run(s, 1, 0, "a timer callback");
+        if (st != ENG_SCRIPT_OK) return st;
+    }
+    return ENG_SCRIPT_OK;
 }
 
 eng_script_status eng_script_on_step(eng_script *s, double dt, double time)
 {
-    if (!get_callback(s, "on_step")) return ENG_SCRIPT_OK;
-    lua_pushnumber(s->L, dt);
-    lua_pushnumber(s->L, time);
-    return run(s, 2, "on_step");
+    if (!s->capacity_warned && s->host.world && pbf_world_particle_count(s->host.world) >= pbf_world_capacity(s->host.world)) {
+        for (uint32_t i = 0; i < s->obj_count; i++)
+            if (s->objs[i].state == OBJ_LIVE && s->objs[i].kind == OBJ_EMITTER && s->objs[i].u.emitter.def.enabled) {
+                eng_log(&s->log, ENG_LOG_WARN, "%s: the fluid is at its capacity of %u particles: emitters pour nothing "
+                        "until sinks make room (raise seiche.scene{capacity = ...})", s->path,
+                        pbf_world_capacity(s->host.world));
+                s->capacity_warned = true;
+                break;
+            }
+    }
+    eng_script_status st = ENG_SCRIPT_OK;
+    if (get_callback(s, "on_step")) {
+        lua_pushnumber(s->L, dt);
+        lua_pushnumber(s->L, time);
+        st = run(s, 2, 0, "on_step");
+    }
+    if (st == ENG_SCRIPT_OK) st = fire_timers(s, time);
+    return st;
 }
 
 eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action)
@@ -538,34 +3182,56 @@ eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *
     if (!get_callback(s, "on_key")) return ENG_SCRIPT_OK;
     lua_pushstring(s->L, key);
     lua_pushstring(s->L, action);
-    return run(s, 2, "on_key");
+    return run(s, 2, 0, "on_key");
 }
 
-eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y)
+eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y, bool *consumed)
 {
+    if (consumed) *consumed = false;
     if (!get_callback(s, "on_mouse")) return ENG_SCRIPT_OK;
     lua_pushinteger(s->L, button);
     lua_pushstring(s->L, action);
     lua_pushnumber(s->L, x);
     lua_pushnumber(s->L, y);
-    return run(s, 4, "on_mouse");
+    eng_script_status st = run(s, 4, 1, "on_mouse");
+    if (st == ENG_SCRIPT_OK) {
+        if (consumed) *consumed = lua_toboolean(s->L, -1);
+        lua_pop(s->L, 1);
+    }
+    return st;
+}
+
+eng_script_status eng_script_on_mouse_move(eng_script *s, double x, double y, double dx, double dy)
+{
+    if (!get_callback(s, "on_mouse_move")) return ENG_SCRIPT_OK;
+    lua_pushnumber(s->L, x);
+    lua_pushnumber(s->L, y);
+    lua_pushnumber(s->L, dx);
+    lua_pushnumber(s->L, dy);
+    return run(s, 4, 0, "on_mouse_move");
+}
+
+eng_script_status eng_script_on_scroll(eng_script *s, double dx, double dy)
+{
+    if (!get_callback(s, "on_scroll")) return ENG_SCRIPT_OK;
+    lua_pushnumber(s->L, dx);
+    lua_pushnumber(s->L, dy);
+    return run(s, 2, 0, "on_scroll");
 }
 
 eng_script_status eng_script_on_reload(eng_script *s)
 {
     if (!get_callback(s, "on_reload")) return ENG_SCRIPT_OK;
-    return run(s, 0, "on_reload");
+    return run(s, 0, 0, "on_reload");
 }
+
+// ---- key names ------------------------------------------------------------------------------
 
 const char *eng_key_name(int key)
 {
-    static char letter[2][2];
-    if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) {
-        int slot = key & 1;
-        letter[slot][0] = (char)('a' + (key - GLFW_KEY_A));
-        letter[slot][1] = 0;
-        return letter[slot];
-    }
+    static const char *const letters[26] = { "a", "b", "c", "d", "e", "f", "g", "h", "i", "j", "k", "l", "m",
+                                             "n", "o", "p", "q", "r", "s", "t", "u", "v", "w", "x", "y", "z" };
+    if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) return letters[key - GLFW_KEY_A];
     static const char *const digits[] = { "0", "1", "2", "3", "4", "5", "6", "7", "8", "9" };
     if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) return digits[key - GLFW_KEY_0];
     static const char *const fkeys[] = { "f1", "f2", "f3", "f4", "f5", "f6", "f7", "f8", "f9", "f10", "f11", "f12" };
@@ -584,4 +3250,14 @@ const char *eng_key_name(int key)
     case GLFW_KEY_LEFT_CONTROL: case GLFW_KEY_RIGHT_CONTROL: return "ctrl";
     default: return NULL;
     }
+}
+
+int eng_key_code(const char *name)
+{
+    if (!name) return -1;
+    for (int k = 0; k <= GLFW_KEY_LAST; k++) {
+        const char *n = eng_key_name(k);
+        if (n && strcmp(n, name) == 0) return k;
+    }
+    return -1;
 }

@@ -1,6 +1,18 @@
 // The Lua 5.4 host: runs a scene script, exposes the `seiche` table (docs/lua-api.md),
-// queues world edits made by the script and applies them between steps, and calls the
-// script's callbacks (on_start, on_step, on_key, on_mouse, on_reload) under a time budget.
+// keeps the handles a script holds (emitters, sinks, bodies, timers, grabs), queues the
+// world edits the script makes and applies them between steps (eng_script_apply), and
+// calls the script's callbacks (on_start, on_step, on_key, on_mouse, on_mouse_move,
+// on_scroll, on_reload, timers) under a time budget.
+//
+// The script never touches a world while it runs: every edit (fluid blocks, emitters,
+// bodies, forces, parameter changes, injected input, camera and look) becomes a command
+// that eng_script_apply carries out, in order, when the app calls it between steps. An
+// edit that the world refuses is the script's error at the line that asked for it.
+//
+// Ownership: the app owns the worlds (pbf_world, phys_world, cpl_coupling), the scene
+// graph and the mesh store and hands them over in eng_script_host. The script owns what
+// it created in them: its bodies' shapes, scene nodes and meshes (destroyed with the
+// body, or by eng_script_destroy), emitters, sinks and point constraints.
 #ifndef ENG_SCRIPT_H
 #define ENG_SCRIPT_H
 
@@ -8,8 +20,28 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "engine/camera.h"
+#include "engine/input.h"
 #include "engine/log.h"
+#include "engine/mesh.h"
+#include "engine/renderer.h"
+#include "engine/scene.h"
+#include "fluid/bullet/coupling.h"
+#include "fluid/bullet/phys.h"
 #include "fluid/pbf.h"
+
+/// How the scene looks (seiche.scene{look = ...}, seiche.set_look{...}).
+typedef struct eng_look {
+    float sky[3];                  ///< clear colour, linear RGB 0..1
+    eng_light light;               ///< direction, colour, ambient
+    eng_particle_style water;      ///< particle colours (by initial height), highlight
+    bool ground;                   ///< draw the checkered ground plane
+    float ground_height;           ///< m
+    bool container;                ///< draw the container's floor and far walls
+    bool panel;                    ///< show the parameter panel (window only)
+} eng_look;
+
+eng_look eng_default_look(void);
 
 /// What a script's seiche.scene{} describes; the engine builds the world from it.
 typedef struct eng_scene_config {
@@ -23,26 +55,27 @@ typedef struct eng_scene_config {
     bool has_domain;
     float camera_eye[3], camera_target[3];    ///< m
     float camera_fov;                         ///< degrees
+    eng_camera_mode camera_mode;
+    eng_look look;
+    char scene_where[192];                    ///< "file:line:" of seiche.scene, "" if none
 } eng_scene_config;
 
 eng_scene_config eng_default_scene_config(void);
 
-/// A world edit queued by the script, applied between steps. `where` is "file:line:".
-typedef enum eng_command_type {
-    ENG_CMD_BLOCK = 1,
-} eng_command_type;
-
-typedef struct eng_command {
-    eng_command_type type;
-    char where[192];
-    pbf_block_def block;
-} eng_command;
-
-/// What the script may ask of the running engine (filled in by the app each frame).
+/// What the script may use of the running engine. The app fills it in once the worlds
+/// exist and refreshes the changing fields (stats, frame, time, view size) every frame.
 typedef struct eng_script_host {
     pbf_world *world;           ///< NULL until the world exists
+    phys_world *phys;           ///< NULL until the world exists
+    cpl_coupling *coupling;     ///< NULL until the world exists
+    eng_scene *scene;           ///< bodies are drawn as nodes under `root`
+    eng_node_id root;
+    eng_mesh_store *meshes;
+    eng_input *input;           ///< injected events go here (seiche.inject_*)
+    eng_camera *camera;         ///< seiche.set_camera / seiche.camera / seiche.screen_ray
+    int view_width, view_height;///< pixels
     const pbf_step_stats *stats;///< latest completed step statistics, NULL before the first
-    uint64_t frame;
+    uint64_t frame;             ///< steps taken
     double time;                ///< s, simulated
     double dt;                  ///< s, frame step
     const char *renderer;       ///< GL renderer string
@@ -52,43 +85,72 @@ typedef struct eng_script_host {
 typedef enum eng_script_status {
     ENG_SCRIPT_OK = 0,
     ENG_SCRIPT_CHECK_FAILED,  ///< seiche.check failed (exit status 1)
-    ENG_SCRIPT_ERROR,         ///< syntax or runtime error (exit status 2)
+    ENG_SCRIPT_ERROR,         ///< syntax or runtime error, or a refused edit (exit status 2)
 } eng_script_status;
 
 typedef struct eng_script eng_script;
 
 /// `budget_s`: the longest a callback (or the script's main chunk) may run before it is
-/// stopped with an error (an endless loop), in seconds.
+/// stopped with an error (an endless loop), in seconds, (0, 3600].
 eng_script *eng_script_create(const eng_logger *log, double budget_s);
+/// Frees the Lua state and everything the script made in the host's scene graph and mesh
+/// store (call with the GL context current). Bodies in the phys_world are left to the
+/// world's owner (destroying the world frees them).
 void eng_script_destroy(eng_script *s);
 
 /// Loads and runs the file's main chunk (which describes the scene). On error the message
 /// holds file:line and a traceback: see eng_script_error.
 eng_script_status eng_script_load(eng_script *s, const char *path);
+/// The same for a chunk in memory; `chunk_name` is what messages show as the file.
+eng_script_status eng_script_load_string(eng_script *s, const char *chunk_name, const char *code);
+/// The latest error: "file:line: message" plus a traceback for runtime errors.
 const char *eng_script_error(const eng_script *s);
 const char *eng_script_path(const eng_script *s);
 
 eng_scene_config *eng_script_config(eng_script *s);
 void eng_script_set_host(eng_script *s, const eng_script_host *host);
 
-/// The queued commands; the app applies them and then clears the queue.
-int eng_script_commands(eng_script *s, const eng_command **out);
-void eng_script_clear_commands(eng_script *s);
+/// Applies the queued edits to the host's worlds, in order. Stops at the first refused
+/// edit: ENG_SCRIPT_ERROR with "file:line: seiche.fn: reason" in eng_script_error (the
+/// rest of the queue is dropped). Also stops kinematic bodies whose move_to target was
+/// not renewed for the coming step. Call between steps, with the worlds in the host.
+eng_script_status eng_script_apply(eng_script *s);
+/// Commands waiting for eng_script_apply.
+int eng_script_pending(const eng_script *s);
 
-/// Callbacks; a missing one is not an error.
+/// Moves the scene nodes of the script's bodies to their bodies' poses (before drawing).
+void eng_script_sync_nodes(eng_script *s);
+
+/// Callbacks; a missing one is not an error. eng_script_on_step also fires the timers
+/// that are due at `time`.
 eng_script_status eng_script_on_start(eng_script *s);
 eng_script_status eng_script_on_step(eng_script *s, double dt, double time);
 eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action);
-eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y);
+/// `consumed` (may be NULL) is set when on_mouse returned true: the camera should leave
+/// this press (until its release) alone.
+eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y,
+                                      bool *consumed);
+eng_script_status eng_script_on_mouse_move(eng_script *s, double x, double y, double dx, double dy);
+eng_script_status eng_script_on_scroll(eng_script *s, double dx, double dy);
 eng_script_status eng_script_on_reload(eng_script *s);
 
 /// True once the script called seiche.quit().
 bool eng_script_quit_requested(const eng_script *s);
 
-/// Every function registered in the `seiche` table, NULL-terminated (for the docs test).
+/// Changes a fluid parameter as seiche.set_param would (the parameter panel uses it).
+/// False with a message in err when the name or value is refused.
+bool eng_script_set_param(eng_script *s, const char *name, double value, char *err, size_t err_size);
+
+/// Every name the script API defines, NULL-terminated, for the docs test: functions of the
+/// `seiche` table as "seiche.NAME", methods as "emitter:NAME", "sink:NAME", "body:NAME",
+/// "timer:NAME", "grab:NAME", and the callbacks as "on_NAME".
+const char *const *eng_script_api_names(void);
+/// Only the functions registered in the `seiche` table (bare names), NULL-terminated.
 const char *const *eng_script_function_names(void);
 
 /// The name a script uses for a GLFW key code ("a", "space", "left", "f5"), or NULL.
 const char *eng_key_name(int glfw_key);
+/// The GLFW key code of a key name (the inverse of eng_key_name), or -1.
+int eng_key_code(const char *name);
 
 #endif

@@ -24,10 +24,15 @@ static void usage(FILE *f)
             "  --hash                print a hash of the final simulation state\n"
             "  --size WxH            framebuffer size in pixels (default 1280x720)\n"
             "  --shaders DIR         shader directory (default: next to the executable)\n"
+            "  --budget SECONDS      longest a script callback may run, (0, 3600] (default 5 headless,\n"
+            "                        2 in a window)\n"
+            "  --no-watch            window: do not reload the script when its file is saved\n"
+            "  --no-ui               window: no parameter panel or on-screen error box\n"
             "  --quiet               no summary line\n"
             "  --help                this text\n"
             "keys in a window: space pause, n single step, r reset, F5 reload (on_reload), c camera\n"
-            "mode, Esc quit; orbit with the left mouse button, zoom with the wheel.\n"
+            "mode, F1 panel, Esc quit; orbit with the left mouse button, zoom with the wheel.\n"
+            "Saving the script reloads it. The Lua API: docs/lua-api.md; this command: docs/runner.md.\n"
             "exit status: 0 ok, 1 a check in the script failed, 2 usage or script error,\n"
             "             3 no OpenGL 4.3 compute context\n");
 }
@@ -48,7 +53,7 @@ int main(int argc, char **argv)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         bool takes = strcmp(a, "--frames") == 0 || strcmp(a, "--dt") == 0 || strcmp(a, "--set") == 0 ||
                      strcmp(a, "--metrics") == 0 || strcmp(a, "--screenshot") == 0 || strcmp(a, "--record") == 0 ||
-                     strcmp(a, "--size") == 0 || strcmp(a, "--shaders") == 0;
+                     strcmp(a, "--size") == 0 || strcmp(a, "--shaders") == 0 || strcmp(a, "--budget") == 0;
         if (takes && !v) return bad("option %s needs a value%s", a, "");
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
@@ -59,6 +64,18 @@ int main(int argc, char **argv)
             o.hash = true;
         } else if (strcmp(a, "--quiet") == 0) {
             o.quiet = true;
+        } else if (strcmp(a, "--no-watch") == 0) {
+            o.watch = false;
+        } else if (strcmp(a, "--no-ui") == 0) {
+            o.ui = false;
+        } else if (strcmp(a, "--budget") == 0) {
+            char *end;
+            errno = 0;
+            double b = strtod(v, &end);
+            if (*end || end == v || errno || !isfinite(b) || b <= 0.0 || b > 3600.0)
+                return bad("--budget must be a number of seconds in (0, 3600] (got '%s')%s", v, "");
+            o.budget_s = b;
+            i++;
         } else if (strcmp(a, "--frames") == 0) {
             char *end;
             errno = 0;
