@@ -105,7 +105,7 @@ struct pbf_world {
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
     GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, scan, colliders, forces,
-        reduce, metrics, draw, params_ubo, nb_list, nb_count, state, stage_pos, stage_vel, stage_id;
+        reduce, metrics, draw, params_ubo, nb_list, nb_count, state, stage_pos, stage_vel, stage_id, order;
     uint32_t stage_cap;        // particles the staging buffers hold
     bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed
     GLint ssbo_align;

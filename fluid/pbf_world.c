@@ -272,6 +272,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     }
     w->cell_of = make_buffer(cap * 4);
     w->sorted = make_buffer(cap * 4);
+    w->order = make_buffer(cap * 4);
     w->lambda = make_buffer(cap * 8);
     w->omega = make_buffer(cap * 16);
     w->nb_list = make_buffer(cap * (GLsizeiptr)w->max_neighbours * 4);
@@ -310,7 +311,7 @@ void pbf_world_destroy(pbf_world *w)
     GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
                       w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega,
                       w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
-                      w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id };
+                      w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id, w->order };
     glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
     free_grid(w);
     pbf_emitters_free(w);
@@ -571,6 +572,7 @@ static void bind_all(pbf_world *w)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL_START, w->cell_start);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL_FILL, w->cell_fill);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_SORTED, w->sorted);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ORDER, w->order);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LAMBDA, w->lambda);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_OMEGA, w->omega);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_COLLIDERS, w->colliders);
@@ -727,7 +729,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     run_scan(s);
     bind_all(w);
     dispatch_particles(s, PROG_GRID_SCATTER, PBF_STAGE_GRID_SCATTER);
-    dispatch(s, PROG_GRID_SORT, groups_for(w->cells + 1, PBF_WG), PBF_STAGE_GRID_SORT);
+    dispatch_particles(s, PROG_GRID_SORT, PBF_STAGE_GRID_SORT);
     dispatch_particles(s, PROG_REORDER, PBF_STAGE_REORDER);
     w->cur_pos ^= 1;
     w->cur_vel ^= 1;

@@ -46,6 +46,9 @@ layout(std430, binding = PBF_B_CELL_FILL) buffer CellFill { uint cell_fill[]; };
 #ifdef USE_SORTED
 layout(std430, binding = PBF_B_SORTED) buffer Sorted { uint sorted_slot[]; };
 #endif
+#ifdef USE_ORDER
+layout(std430, binding = PBF_B_ORDER) buffer Order { uint order[]; };
+#endif
 #ifdef USE_LAMBDA
 layout(std430, binding = PBF_B_LAMBDA) buffer Lambda { vec2 lambda_rho[]; };
 #endif

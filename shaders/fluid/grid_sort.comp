@@ -1,23 +1,23 @@
 #version 430
-// Stage grid sort: one thread per cell sorts its slots by the particles' previous slot,
-// so the new order is a stable counting sort and runs are bit-identical.
+// Stage grid sort: the scatter put each cell's particles in its range in an order that
+// depends on thread timing; here each particle takes the rank of its previous slot among
+// its cell's, so the new order is a stable counting sort and runs are bit-identical. One
+// thread per particle (cells hold a handful), so empty cells cost nothing.
+#define USE_CELL
 #define USE_CELL_START
 #define USE_SORTED
+#define USE_ORDER
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
 void main()
 {
-    uint c = gl_GlobalInvocationID.x;
-    if (c > P.grid_dims.w) return; // the real cells and the removed cell
+    uint k = gl_GlobalInvocationID.x;
+    if (k >= particle_count()) return;
+    uint me = sorted_slot[k];
+    uint c = cell_of[me];
     uint b = cell_start[c], e = cell_start[c + 1u];
-    for (uint k = b + 1u; k < e; k++) {
-        uint v = sorted_slot[k];
-        uint m = k;
-        while (m > b && sorted_slot[m - 1u] > v) {
-            sorted_slot[m] = sorted_slot[m - 1u];
-            m--;
-        }
-        sorted_slot[m] = v;
-    }
+    uint rank = 0u;
+    for (uint m = b; m < e; m++) rank += sorted_slot[m] < me ? 1u : 0u;
+    order[b + rank] = me;
 }

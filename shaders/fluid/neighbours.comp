@@ -1,7 +1,10 @@
 #version 430
 // Stage neighbours: once per substep, after the reorder, each particle lists the slots of
 // the particles within h of its predicted position (the paper's "find neighbours"); the
-// solver iterations and the velocity passes then walk the list instead of 27 cells.
+// solver iterations and the velocity passes then walk the list instead of the grid.
+// Particles are stored in cell order with x the fastest cell index, so each row of cells
+// (fixed y, z) is one contiguous range of slots. Rows whose y-z slab lies farther than h
+// are skipped, and each row is trimmed to the x cells the kernel sphere reaches.
 // A particle with more neighbours than the list holds keeps the first max_neighbours found
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
 #define USE_PRED
@@ -10,20 +13,43 @@
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
+// Distance along one axis from coordinate x to the slab of cell k (origin o, size s).
+float slab_distance(float x, float o, float s, int k)
+{
+    float lo = o + float(k) * s;
+    return max(max(lo - x, x - (lo + s)), 0.0);
+}
+
 void main()
 {
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
     vec3 xi = pred[i].xyz;
     ivec3 c = cell_coord(xi);
+    ivec3 dims = ivec3(P.grid_dims.xyz);
+    float cs = 1.0 / P.inv_cell;
+    int reach = int(ceil(P.h * P.inv_cell - 1e-4));
+    float h2 = P.h * P.h;
     uint n = 0u;
     uint base = i * P.max_neighbours;
-    float h2 = P.h * P.h;
-    FOR_NEIGHBOURS(c, j) {
-        vec3 r = xi - pred[j].xyz;
-        if (dot(r, r) < h2 && j != i) {
-            if (n < P.max_neighbours) nb_list[base + n] = j;
-            n++;
+    for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1); z++) {
+        float dz = slab_distance(xi.z, P.grid_origin.z, cs, z);
+        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1); y++) {
+            float dy = slab_distance(xi.y, P.grid_origin.y, cs, y);
+            float ryz = dy * dy + dz * dz;
+            if (ryz >= h2) continue;
+            float rx = sqrt(h2 - ryz);
+            int x0 = max(int(floor((xi.x - rx - P.grid_origin.x) * P.inv_cell)), 0);
+            int x1 = min(int(floor((xi.x + rx - P.grid_origin.x) * P.inv_cell)), dims.x - 1);
+            uint b = cell_start[cell_index(ivec3(x0, y, z))];
+            uint e = cell_start[cell_index(ivec3(x1, y, z)) + 1u];
+            for (uint j = b; j < e; j++) {
+                vec3 r = xi - pred[j].xyz;
+                if (dot(r, r) < h2 && j != i) {
+                    if (n < P.max_neighbours) nb_list[base + n] = j;
+                    n++;
+                }
+            }
         }
     }
     nb_count[i] = n;

@@ -71,6 +71,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_STAGE_POS 25 // vec4[]: particles waiting to be appended (emitters, blocks)
 #define PBF_B_STAGE_VEL 26 // vec4[]
 #define PBF_B_STAGE_ID 27  // uint[]
+#define PBF_B_ORDER 28     // uint[cap]: new slot -> old slot, in deterministic order
 
 // Uniform block binding of pbf_gpu_params.
 #define PBF_U_PARAMS 0

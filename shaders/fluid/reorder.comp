@@ -9,7 +9,7 @@
 #define USE_VEL_OUT
 #define USE_PRED_OUT
 #define USE_ID_OUT
-#define USE_SORTED
+#define USE_ORDER
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
@@ -17,7 +17,7 @@ void main()
 {
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
-    uint j = sorted_slot[i];
+    uint j = order[i];
     pos_out[i] = pos[j];
     vel_out[i] = vel[j];
     pred_out[i] = pred[j];
