@@ -241,7 +241,7 @@ pbf_result pbf_world_step_with(pbf_world *world, float dt, pbf_substep_fn *hook,
 /// container), is kept a particle radius outside it, and is swept along when the collider
 /// moves (previous pose -> current pose within each substep, so thin or fast walls do not
 /// let fluid through). Particles found inside at the start of a substep are moved out
-/// gently (at most half a particle radius per substep). Two-way colliders accumulate the
+/// gently (at 0.5 m/s at most). Two-way colliders accumulate the
 /// fluid's force and torque on the GPU. fluid/bullet/coupling.h drives this from Bullet.
 typedef enum pbf_collider_type {
     PBF_SHAPE_PLANE = 0,  ///< size: normal xyz, offset w (fluid on the +normal side), collider frame

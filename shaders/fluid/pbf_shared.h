@@ -98,8 +98,10 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 // k = 3 counts particle-boundary contacts, k = 7 particles pushed out from inside.
 // Colliders without a size of their own (planes) use PBF_FORCE_SCALE.
 #define PBF_FORCE_SCALE 1024.0
+// Fastest a particle found inside a collider is moved out of it, m/s.
+#define PBF_PUSH_OUT_SPEED 0.5
 // Storage of hull planes and distance grids (float[]), see PBF_COLLIDER_HULL / _GRID.
-#define PBF_B_COLLIDER_DATA 28
+#define PBF_B_COLLIDER_DATA 31 // (kept apart from the fluid's bindings, which count up from 0)
 
 // Everything a pass needs to know, one uniform block (std140: vec4s first, then scalars
 // in groups of four so C and GLSL agree without padding rules).
