@@ -27,13 +27,14 @@ typedef struct body_entry {
     bool two_way;
     pbf_collider_id collider;
     cpl_body_stats stats;
-    float force[3], torque[3]; // applied in each substep of the current step
+    float force[3], torque[3]; // applied in each substep of the current step (smoothed)
 } body_entry;
 
 struct cpl_coupling {
     phys_world *phys;
     pbf_world *fluid;
     int force_latency;
+    float force_smoothing;
     float mesh_cell;
     cpl_log_fn *log;
     void *log_user;
@@ -81,6 +82,7 @@ cpl_def cpl_default_def(void)
     cpl_def d;
     memset(&d, 0, sizeof d);
     d.force_latency = 1;
+    d.force_smoothing = 0.5f;
     d.mesh_cell = 0.02f;
     return d;
 }
@@ -117,6 +119,10 @@ cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
         snprintf(err, err_size, "cpl_def.force_latency must be in [1, 7] steps (got %d)", def->force_latency);
         return NULL;
     }
+    if (!isfinite(def->force_smoothing) || def->force_smoothing < 0.0f || def->force_smoothing > 0.95f) {
+        snprintf(err, err_size, "cpl_def.force_smoothing must be in [0, 0.95] (got %g)", (double)def->force_smoothing);
+        return NULL;
+    }
     if (!isfinite(def->mesh_cell) || !(def->mesh_cell > 0.0f) || def->mesh_cell > 1.0f) {
         snprintf(err, err_size, "cpl_def.mesh_cell must be in (0, 1] m (got %g)", (double)def->mesh_cell);
         return NULL;
@@ -129,6 +135,7 @@ cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
     c->phys = def->phys;
     c->fluid = def->fluid;
     c->force_latency = def->force_latency;
+    c->force_smoothing = def->force_smoothing;
     c->mesh_cell = def->mesh_cell;
     c->log = def->log;
     c->log_user = def->log_user;
@@ -427,6 +434,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     e->collider = id;
     e->stats.two_way = two_way;
     e->stats.collider = id;
+
     return sync_pose(c, e);
 }
 
@@ -479,6 +487,12 @@ cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 posit
 
 // ---- the step ------------------------------------------------------------------------------
 
+static void apply_fluid(cpl_coupling *c, body_entry *e)
+{
+    phys_body_apply_force(c->phys, e->body, (phys_vec3){ e->force[0], e->force[1], e->force[2] }, true);
+    phys_body_apply_torque(c->phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
+}
+
 static void hook(void *user, pbf_world *fluid, int substep, float dt)
 {
     (void)fluid;
@@ -487,11 +501,7 @@ static void hook(void *user, pbf_world *fluid, int substep, float dt)
     if (c->hook_error != CPL_OK) return;
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
-        if (!e->used || !e->two_way) continue;
-        phys_vec3 f = { e->force[0], e->force[1], e->force[2] };
-        phys_vec3 t = { e->torque[0], e->torque[1], e->torque[2] };
-        phys_body_apply_force(c->phys, e->body, f, true);
-        phys_body_apply_torque(c->phys, e->body, t, true);
+        if (e->used && e->two_way) apply_fluid(c, e);
     }
     if (phys_world_step(c->phys, dt) != PHYS_OK) {
         c->hook_error = fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->phys));
@@ -528,9 +538,11 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         pbf_collider_report rep;
         if (pbf_world_collider_report(c->fluid, e->collider, c->force_latency, true, &rep) != PBF_OK)
             return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+        // Smoothed from step to step (exponential average; the force's mean is kept).
+        float keep = c->force_smoothing;
         for (int k = 0; k < 3; k++) {
-            e->force[k] = rep.force[k];
-            e->torque[k] = rep.torque[k];
+            e->force[k] = keep * e->force[k] + (1.0f - keep) * rep.force[k];
+            e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
             e->stats.force[k] = rep.force[k];
             e->stats.torque[k] = rep.torque[k];
         }

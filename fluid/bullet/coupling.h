@@ -59,6 +59,12 @@ typedef struct cpl_def {
     /// finished it yet, so the coupling is deterministic; with 1 that can stall the CPU
     /// for the rest of the previous GPU step, with 2 a GPU normally has finished it.
     int force_latency;
+    /// Share of the previous step's applied force kept when the next one arrives, [0, 0.95];
+    /// default 0.5. The measured force is noisy from step to step (particles arrive and
+    /// leave a body in bursts), and a late, noisy force makes light bodies jitter; an
+    /// exponential average keeps the mean (buoyancy) and removes the noise, at the cost of
+    /// keep / (1 - keep) steps of extra lag (1 step at 0.5).
+    float force_smoothing;
     /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
     /// Default 0: not allowed; cpl_default_def() sets 0.02 m. Grids hold at most 128
     /// samples per axis; a finer spacing is coarsened to fit (and logged).
@@ -67,7 +73,7 @@ typedef struct cpl_def {
     void *log_user;
 } cpl_def;
 
-/// Defaults: no worlds, force_latency 1, mesh_cell 0.02 m, no log.
+/// Defaults: no worlds, force_latency 1, force_smoothing 0.5, mesh_cell 0.02 m, no log.
 cpl_def cpl_default_def(void);
 
 /// Creates a coupling. Returns NULL and a message naming the field on bad input.
@@ -110,7 +116,7 @@ cpl_result cpl_step(cpl_coupling *coupling, float dt);
 
 /// What the coupling did to one body in the latest cpl_step.
 typedef struct cpl_body_stats {
-    float force[3];         ///< N, fluid force applied to the body in each substep
+    float force[3];         ///< N, the fluid's force on the body as measured in force_step
     float torque[3];        ///< N m, about the centre of mass
     uint64_t force_step;    ///< the fluid step (0-based) in which that force was measured
     uint32_t contacts;      ///< particle-boundary contacts in that step (all iterations)

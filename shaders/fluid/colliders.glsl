@@ -18,8 +18,8 @@
 // enters the collider inflated by the particle radius, the particle is put back on the
 // side it came from (so a thin wall moving fast neither lets particles through nor
 // tunnels). A particle that was already inside at the start of the substep (fluid that
-// started overlapping a body) is moved out at most half a radius per substep, with no
-// reaction force: gentle, not explosive.
+// started overlapping a body, or was squeezed in) is moved out at PBF_PUSH_OUT_SPEED, with no reaction
+// force and no boundary density (which would push it out at once): gentle, not explosive.
 
 #ifdef USE_COLLIDERS
 layout(std430, binding = PBF_B_COLLIDER_DATA) buffer ColliderData { float collider_data[]; };
@@ -193,20 +193,63 @@ float collider_distance_at(uint b, vec3 p, vec4 q, vec3 x, out vec3 n)
     return d;
 }
 
+// Share of the kernel beyond a plane at signed distance d (negative: the particle is past
+// it), and its derivative with respect to d, for the continuous kernel (beyond(0) = 1/2):
+// common.glsl's V and G carry a lattice calibration factor (V(0) = factor / 2), divided
+// out here and applied once to the combined share.
+float boundary_factor() { return 2.0 * boundary_volume(0.0); }
+float beyond(float d, float inv_factor)
+{
+    return d >= 0.0 ? boundary_volume(d) * inv_factor : 1.0 - boundary_volume(-d) * inv_factor;
+}
+float beyond_slope(float d, float inv_factor) { return -boundary_gradient(abs(d)) * inv_factor; }
+
+// The boundary share V (the fraction of a filled neighbourhood that collider b takes) at x,
+// and its gradient with respect to x (1/m), at the collider's end pose. Boxes: the product
+// over the three axes of the share of the kernel inside each slab |l_k| <= e_k, which is
+// exact for separable kernels and, unlike one half-space, right at edges, corners and for
+// boxes thinner than the kernel. Other shapes: the half-space at the signed distance.
+// Returns false when x is out of reach.
+bool collider_boundary(uint b, vec3 x, out float V, out vec3 gradV)
+{
+    V = 0.0;
+    gradV = vec3(0.0);
+    vec3 p1;
+    vec4 q1;
+    collider_end_pose(b, p1, q1);
+    if (!collider_near(p1, b, x, P.h)) return false;
+    vec3 l = quat_rotate_inv(q1, x - p1);
+    vec3 ln;
+    float d = shape_distance(b, l, ln);
+    if (d >= P.h || d < 0.0) return false; // inside: only the gentle push-out moves it
+    if (colliders[b].info.x == PBF_COLLIDER_BOX) {
+        vec3 e = colliders[b].params.xyz;
+        vec3 a = e - l, c = e + l; // distances to the + and - faces of each slab
+        float k = boundary_factor(), ik = 1.0 / k;
+        vec3 F = vec3(1.0) - vec3(beyond(a.x, ik), beyond(a.y, ik), beyond(a.z, ik)) -
+                 vec3(beyond(c.x, ik), beyond(c.y, ik), beyond(c.z, ik));
+        F = max(F, vec3(0.0));
+        // dF/dl = d/dl [1 - beyond(e - l) - beyond(e + l)] = beyond'(e - l) - beyond'(e + l)
+        vec3 dF = vec3(beyond_slope(a.x, ik) - beyond_slope(c.x, ik), beyond_slope(a.y, ik) - beyond_slope(c.y, ik),
+                       beyond_slope(a.z, ik) - beyond_slope(c.z, ik));
+        V = k * F.x * F.y * F.z;
+        gradV = k * quat_rotate(q1, vec3(dF.x * F.y * F.z, F.x * dF.y * F.z, F.x * F.y * dF.z));
+    } else {
+        V = boundary_volume(d);
+        gradV = -boundary_gradient(d) * quat_rotate(q1, ln);
+    }
+    return true;
+}
+
 // Adds the colliders' share of the density at x (kg/m^3) and of grad_i C_i (1/m).
 void colliders_density(vec3 x, inout float rho, inout vec3 grad_i)
 {
     for (uint b = 0u; b < P.collider_count; b++) {
-        vec3 p1;
-        vec4 q1;
-        collider_end_pose(b, p1, q1);
-        if (!collider_near(p1, b, x, P.h)) continue;
-        vec3 n;
-        float d = collider_distance_at(b, p1, q1, x, n);
-        if (d < P.h) {
-            rho += P.rest_density * boundary_volume(d);
-            grad_i -= boundary_gradient(d) * n;
-        }
+        float V;
+        vec3 gradV;
+        if (!collider_boundary(b, x, V, gradV)) continue;
+        rho += P.rest_density * V;
+        grad_i += gradV;
     }
 }
 
@@ -240,17 +283,20 @@ void colliders_delta(vec3 x, float lambda, inout vec3 dp)
 {
     float to_force = -P.mass * P.inv_dt * P.inv_dt * P.omega;
     for (uint b = 0u; b < P.collider_count; b++) {
-        vec3 p1;
-        vec4 q1;
-        collider_end_pose(b, p1, q1);
-        if (!collider_near(p1, b, x, P.h)) continue;
-        vec3 n;
-        float d = collider_distance_at(b, p1, q1, x, n);
-        if (d < P.h) {
-            vec3 bdp = -lambda * boundary_gradient(d) * n;
-            dp += bdp;
-            if (lambda != 0.0) add_force(b, to_force * bdp, x - d * n);
-            if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) atomicAdd(forces[int(b) * 8 + 3], 1);
+        float V;
+        vec3 gradV;
+        if (!collider_boundary(b, x, V, gradV)) continue;
+        vec3 bdp = lambda * gradV;
+        dp += bdp;
+        if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
+        atomicAdd(forces[int(b) * 8 + 3], 1);
+        if (lambda != 0.0) {
+            // Acting at the particle's nearest surface point.
+            vec3 p1, n;
+            vec4 q1;
+            collider_end_pose(b, p1, q1);
+            float d = collider_distance_at(b, p1, q1, x, n);
+            add_force(b, to_force * bdp, x - d * n);
         }
     }
 }
@@ -298,10 +344,12 @@ vec3 colliders_collide(uint i, vec3 x)
         float d0 = shape_distance(b, l0, n0);
         float d1 = shape_distance(b, l1, n1);
         vec3 lnew = l1;
-        if (d0 < 0.0) {
-            // Started inside: out along the normal, at most half a radius per substep.
-            if (d1 < r) {
-                lnew = l1 + min(r - d1, 0.5 * r) * n1;
+        if (d0 < 0.5 * r) {
+            // Started inside (or deep in the radius shell): out along the normal, at most
+            // PBF_PUSH_OUT_SPEED * dt farther out than it started this substep.
+            float target = min(r, d0 + PBF_PUSH_OUT_SPEED * P.dt);
+            if (d1 < target) {
+                lnew = l1 + (target - d1) * n1;
                 if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) atomicAdd(forces[int(b) * 8 + 7], 1);
             }
             x = p1 + quat_rotate(q1, lnew);
