@@ -48,7 +48,8 @@ typedef enum pbf_stage {
     PBF_STAGE_REORDER,     ///< particle data gathered into cell order
     PBF_STAGE_NEIGHBOURS,  ///< neighbour list of each particle (once per substep)
     PBF_STAGE_DENSITY,     ///< density and lambda (per iteration)
-    PBF_STAGE_DELTA,       ///< position correction, boundaries, collisions (per iteration)
+    PBF_STAGE_DELTA,       ///< position correction, container, collisions (per iteration)
+    PBF_STAGE_COLLIDE,     ///< bodies' correction and swept collisions (per iteration, with bodies)
     PBF_STAGE_VELOCITY,    ///< v = (x* - x) / dt
     PBF_STAGE_VORTICITY,   ///< curl of the velocity field
     PBF_STAGE_VISCOSITY,   ///< vorticity confinement and XSPH viscosity

@@ -36,14 +36,14 @@ _Static_assert(sizeof(pbf_gpu_state) == 32, "pbf_gpu_state std430 layout");
 static const char *const program_files[PROG_COUNT] = {
     "fluid/predict.comp",   "fluid/grid_count.comp", "fluid/scan_block.comp",
     "fluid/scan_add.comp",  "fluid/grid_scatter.comp", "fluid/grid_sort.comp",
-    "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp",
+    "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp", "fluid/collide.comp",
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
     "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
     "predict", "grid_count", "grid_scan", "grid_scatter", "grid_sort", "reorder", "neighbours",
-    "density", "delta", "velocity", "vorticity", "viscosity", "metrics",
+    "density", "delta", "collide", "velocity", "vorticity", "viscosity", "metrics",
 };
 
 const char *pbf_stage_name(pbf_stage stage)
@@ -180,7 +180,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
 static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
-    int per_substep = 6 + 2 * MAX_SCAN_LEVELS + 2 + 2 * p->iterations + 3;
+    int per_substep = 6 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3;
     int need = 1 + per_substep * p->substeps + 4;
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
@@ -315,6 +315,7 @@ void pbf_world_destroy(pbf_world *w)
     glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
     free_grid(w);
     pbf_emitters_free(w);
+    pbf_colliders_free(w);
     for (int s = 0; s < RING; s++) {
         if (w->ring[s].queries) glDeleteQueries(w->max_queries, w->ring[s].queries);
         if (w->ring[s].fence) glDeleteSync(w->ring[s].fence);
@@ -584,6 +585,7 @@ static void bind_all(pbf_world *w)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STATE, w->state);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_DRAW, w->draw);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, w->state);
+    pbf_colliders_bind(w);
     glBindBufferBase(GL_UNIFORM_BUFFER, PBF_U_PARAMS, w->params_ubo);
 }
 
@@ -747,6 +749,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     for (int it = 0; it < p->iterations; it++) {
         dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
+        if (w->gpu_colliders > 0) dispatch_particles(s, PROG_COLLIDE, PBF_STAGE_COLLIDE);
         w->cur_pred ^= 1;
         bind_particles(w);
     }

@@ -1,17 +1,13 @@
 #version 430
-// Stage delta: the position correction
+// Stage delta: the position correction from the fluid and the container,
 //   dp_i = omega * ( (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_ij
-//                    - lambda_i sum_b G(d_b) n_b )
-// then collisions: a particle closer than its radius to a boundary is moved out along the
-// normal. Boundary moves of two-way colliders become reaction forces (fixed point).
+//                    + lambda_i grad V_walls )
+// then collisions with the container (a particle radius from every wall) and the domain
+// clamp. Bodies come after, in collide.comp (only when there are any).
 #define USE_PRED
 #define USE_PRED_OUT
 #define USE_NB
-#define USE_LAMBDA
-#define USE_COLLIDERS
-#define USE_FORCES
 #include "common.glsl"
-#include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;
 
 void main()
@@ -40,8 +36,6 @@ void main()
     vec3 wall_grad;
     container_boundary(xi, wall_grad);
     dp += li * wall_grad;
-    // (uniform branches: without bodies the collider code costs nothing)
-    if (P.collider_count > 0u) colliders_delta(xi, li, dp);
     vec3 x = xi + P.omega * dp;
     // Collisions: keep a particle radius away from every boundary.
     for (uint p = 0u; p < P.plane_count; p++) {
@@ -49,7 +43,6 @@ void main()
         float d = plane_distance(p, x, n);
         if (d < P.radius) x += (P.radius - d) * n;
     }
-    if (P.collider_count > 0u) x = colliders_collide(i, x);
     x = clamp(x, P.domain_min.xyz + P.radius, P.domain_max.xyz - P.radius);
     pred_out[i] = vec4(x, 0.0);
 }
