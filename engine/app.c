@@ -758,7 +758,10 @@ static void handle_input(app *a, int *status)
 {
     eng_event e;
     bool ui_mouse = eng_ui_wants_mouse(a->ui), ui_keys = eng_ui_wants_keyboard(a->ui);
-    while (*status == ENG_EXIT_OK && eng_input_next_event(a->input, &e)) {
+    // Only the events queued before this frame: events a callback injects (or a reset's
+    // on_start) wait for the next frame, so an injected key cannot loop within one frame.
+    int count = eng_input_queued(a->input);
+    while (*status == ENG_EXIT_OK && count-- > 0 && eng_input_next_event(a->input, &e)) {
         const char *action = e.action == ENG_PRESS ? "press" : e.action == ENG_RELEASE ? "release" : "repeat";
         eng_script_status st = ENG_SCRIPT_OK;
         eng_script *s = a->inst.script;
@@ -913,8 +916,9 @@ int eng_app_run(const eng_app_options *o)
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
     while (status == ENG_EXIT_OK && !done) {
-        eng_context_poll(a->ctx);
         eng_input_begin_frame(a->input);
+        eng_context_poll(a->ctx);
+        if (a->inst.script) eng_script_deliver_input(a->inst.script);
         handle_input(a, &status);
         if (status != ENG_EXIT_OK) break;
         bool camera_input = !a->mouse_captured && !eng_ui_wants_mouse(a->ui) && !eng_ui_wants_keyboard(a->ui);

@@ -97,7 +97,7 @@ typedef enum cmd_type {
     CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
     CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
     CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
-    CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA, CMD_INJECT,
+    CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
 } cmd_type;
 
 typedef struct command {
@@ -120,7 +120,6 @@ typedef struct command {
         pbf_params params;
         float gravity[3];
         struct { float eye[3], target[3], fov; int mode; bool has_eye, has_target, has_fov, has_mode; } camera;
-        eng_event event;
     } u;
 } command;
 
@@ -149,6 +148,8 @@ struct eng_script {
     float pending_gravity[3];
     bool have_pending_gravity;
     bool capacity_warned;
+    eng_event *events;           // injected input, handed to the app's input next frame
+    int event_count, event_cap;
     // The particle download shared by the queries of one frame (surface_height, ...).
     float *cache;
     uint32_t cache_count, cache_cap;
@@ -236,7 +237,9 @@ static const char *fmt_number(double v, char *buf, size_t size)
 {
     if (isnan(v)) snprintf(buf, size, "nan");
     else if (isinf(v)) snprintf(buf, size, v > 0 ? "inf" : "-inf");
-    else snprintf(buf, size, "%.10g", v);
+    else if (v == floor(v) && fabs(v) < 1e15) snprintf(buf, size, "%.0f", v);
+    else if ((double)(float)v == v) snprintf(buf, size, "%.7g", v); // a float: its 7 digits
+    else snprintf(buf, size, "%.14g", v);
     return buf;
 }
 
@@ -1129,17 +1132,24 @@ static void read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf
     const pbf_params *p = current_params(s);
     if (opt_number(L, t, fn, "radius", p->particle_radius, 10, 0, "m (the particle radius at least)", &v))
         d->radius = (float)v;
-    if (s->host.world) {
+    if (field_present(L, t, "rate")) {
+        char got[64];
+        double max_rate = s->host.world ? pbf_emitter_max_rate(s->host.world, d->speed, d->radius) : 1e9;
+        double r = lua_tonumber(L, -1);
+        if (lua_type(L, -1) != LUA_TNUMBER || !(isfinite(r) && r >= 0.0 && r <= max_rate * 1.0001)) {
+            if (s->host.world)
+                raise(L, "%s: field 'rate' must be a number in [0, %g] particles/s (got %s); %g is the most a nozzle of "
+                      "radius %g m pours at speed %g m/s: raise speed or radius for more", fn, max_rate,
+                      describe(L, -1, got, sizeof got), max_rate, (double)d->radius, (double)d->speed);
+            raise(L, "%s: field 'rate' must be a number >= 0 particles/s, at most seiche.max_emitter_rate(speed, radius) "
+                  "(got %s)", fn, describe(L, -1, got, sizeof got));
+        }
+        d->rate = (float)r;
+        lua_pop(L, 1);
+    } else if (s->host.world && d->rate > pbf_emitter_max_rate(s->host.world, d->speed, d->radius) * 1.0001) {
         double max_rate = pbf_emitter_max_rate(s->host.world, d->speed, d->radius);
-        char unit[160];
-        snprintf(unit, sizeof unit, "particles/s for speed %g m/s and radius %g m (raise speed or radius for more)",
-                 (double)d->speed, (double)d->radius);
-        if (opt_number(L, t, fn, "rate", 0, max_rate * 1.0001, 0, unit, &v)) d->rate = (float)v;
-        if (d->rate > max_rate * 1.0001)
-            raise(L, "%s: field 'rate' must be %s (it is %g)", fn, range_text(0, max_rate, 0, unit, unit, sizeof unit),
-                  (double)d->rate);
-    } else if (opt_number(L, t, fn, "rate", 0, 1e9, 0, "particles/s", &v)) {
-        d->rate = (float)v; // the upper bound depends on the world; checked when applied
+        raise(L, "%s: the rate %g particles/s is more than a nozzle of radius %g m pours at speed %g m/s (at most %g); "
+              "raise speed or radius, or lower rate", fn, (double)d->rate, (double)d->radius, (double)d->speed, max_rate);
     }
     opt_bool(L, t, fn, "enabled", &d->enabled);
 }
@@ -2237,6 +2247,30 @@ static int l_screen_ray(lua_State *L)
     return 2;
 }
 
+// The pixel where a world point appears: x, y from the top-left corner, and whether the
+// point is in front of the camera.
+static int l_screen_point(lua_State *L)
+{
+    eng_script *s = get_script(L);
+    const char *fn = "seiche.screen_point";
+    float p[3];
+    arg_vec(L, 1, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
+    if (!s->host.camera) raise(L, "%s: there is no camera yet; call this from a callback", fn);
+    int w = s->host.view_width > 0 ? s->host.view_width : 1, h = s->host.view_height > 0 ? s->host.view_height : 1;
+    mat4 view, proj, vp;
+    eng_camera_view(s->host.camera, view);
+    eng_camera_projection(s->host.camera, (float)w / (float)h, proj);
+    glm_mat4_mul(proj, view, vp);
+    vec4 q = { p[0], p[1], p[2], 1.0f }, c;
+    glm_mat4_mulv(vp, q, c);
+    bool front = c[3] > 1e-6f;
+    float iw = front ? 1.0f / c[3] : 0.0f;
+    lua_pushnumber(L, (c[0] * iw * 0.5 + 0.5) * w);
+    lua_pushnumber(L, (0.5 - c[1] * iw * 0.5) * h);
+    lua_pushboolean(L, front);
+    return 3;
+}
+
 static int l_bodies(lua_State *L)
 {
     eng_script *s = get_script(L);
@@ -2323,16 +2357,33 @@ static int read_action(lua_State *L, int idx, const char *fn)
                  describe(L, idx, got, sizeof got));
 }
 
+// Injected input is not a world edit: it waits in its own queue for the start of the
+// next frame (eng_script_deliver_input).
+static eng_event *push_event(lua_State *L, eng_script *s, const char *fn)
+{
+    if (s->event_count == s->event_cap) {
+        int cap = s->event_cap ? 2 * s->event_cap : 16;
+        if (cap > ENG_INPUT_QUEUE_CAPACITY) raise(L, "%s: more than %d events injected in one frame", fn, ENG_INPUT_QUEUE_CAPACITY);
+        eng_event *e = realloc(s->events, (size_t)cap * sizeof *e);
+        if (!e) raise(L, "%s: out of memory", fn);
+        s->events = e;
+        s->event_cap = cap;
+    }
+    eng_event *e = &s->events[s->event_count++];
+    memset(e, 0, sizeof *e);
+    return e;
+}
+
 static int l_inject_key(lua_State *L)
 {
     eng_script *s = get_script(L);
     const char *fn = "seiche.inject_key";
     int code = check_key_name(L, 1, fn);
     int action = read_action(L, 2, fn);
-    command *c = push_command(L, s, CMD_INJECT, fn);
-    c->u.event.type = ENG_EVENT_KEY;
-    c->u.event.key = code;
-    c->u.event.action = action;
+    eng_event *e = push_event(L, s, fn);
+    e->type = ENG_EVENT_KEY;
+    e->key = code;
+    e->action = action;
     return 0;
 }
 
@@ -2348,16 +2399,16 @@ static int l_inject_mouse(lua_State *L)
     if (!lua_isnoneornil(L, 3)) x = arg_number(L, 3, fn, "x", -1e6, 1e6, 0, "pixels");
     if (!lua_isnoneornil(L, 4)) y = arg_number(L, 4, fn, "y", -1e6, 1e6, 0, "pixels");
     // A button event happens where the pointer is: move it there first.
-    command *c = push_command(L, s, CMD_INJECT, fn);
-    c->u.event.type = ENG_EVENT_MOTION;
-    c->u.event.x = x;
-    c->u.event.y = y;
-    c = push_command(L, s, CMD_INJECT, fn);
-    c->u.event.type = ENG_EVENT_MOUSE_BUTTON;
-    c->u.event.button = b - 1;
-    c->u.event.action = action;
-    c->u.event.x = x;
-    c->u.event.y = y;
+    eng_event *e = push_event(L, s, fn);
+    e->type = ENG_EVENT_MOTION;
+    e->x = x;
+    e->y = y;
+    e = push_event(L, s, fn);
+    e->type = ENG_EVENT_MOUSE_BUTTON;
+    e->button = b - 1;
+    e->action = action;
+    e->x = x;
+    e->y = y;
     return 0;
 }
 
@@ -2367,10 +2418,10 @@ static int l_inject_motion(lua_State *L)
     const char *fn = "seiche.inject_motion";
     double x = arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
     double y = arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
-    command *c = push_command(L, s, CMD_INJECT, fn);
-    c->u.event.type = ENG_EVENT_MOTION;
-    c->u.event.x = x;
-    c->u.event.y = y;
+    eng_event *e = push_event(L, s, fn);
+    e->type = ENG_EVENT_MOTION;
+    e->x = x;
+    e->y = y;
     return 0;
 }
 
@@ -2380,10 +2431,10 @@ static int l_inject_scroll(lua_State *L)
     const char *fn = "seiche.inject_scroll";
     double dx = arg_number(L, 1, fn, "dx", -1e4, 1e4, 0, "steps");
     double dy = arg_number(L, 2, fn, "dy", -1e4, 1e4, 0, "steps");
-    command *c = push_command(L, s, CMD_INJECT, fn);
-    c->u.event.type = ENG_EVENT_SCROLL;
-    c->u.event.dx = dx;
-    c->u.event.dy = dy;
+    eng_event *e = push_event(L, s, fn);
+    e->type = ENG_EVENT_SCROLL;
+    e->dx = dx;
+    e->dy = dy;
     return 0;
 }
 
@@ -2399,7 +2450,8 @@ static const luaL_Reg seiche_functions[] = {
     { "sink", l_sink }, { "body", l_body }, { "bodies", l_bodies },
     // interaction
     { "after", l_after }, { "every", l_every }, { "key_down", l_key_down }, { "mouse_down", l_mouse_down },
-    { "mouse_position", l_mouse_position }, { "screen_ray", l_screen_ray }, { "ray_cast", l_ray_cast },
+    { "mouse_position", l_mouse_position }, { "screen_ray", l_screen_ray }, { "screen_point", l_screen_point },
+    { "ray_cast", l_ray_cast },
     // queries
     { "particle_count", l_particle_count }, { "capacity", l_capacity }, { "stats", l_stats },
     { "surface_height", l_surface_height }, { "particles_in", l_particles_in }, { "max_emitter_rate", l_max_emitter_rate },
@@ -2598,6 +2650,7 @@ void eng_script_destroy(eng_script *s)
     free(s->commands);
     free(s->objs);
     free(s->cache);
+    free(s->events);
     free(s);
 }
 
@@ -2956,9 +3009,9 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         const pbf_emitter_def *d = &c->u.emitter;
         float max_rate = pbf_emitter_max_rate(fw, d->speed, d->radius);
         if (d->rate > max_rate * 1.0001f)
-            return refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s for speed %g m/s and radius %g m "
-                          "(got %g; raise speed or radius for more)", (double)max_rate, (double)d->speed,
-                          (double)d->radius, (double)d->rate);
+            return refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %g); %g is the most a nozzle "
+                          "of radius %g m pours at speed %g m/s: raise speed or radius for more", (double)max_rate,
+                          (double)d->rate, (double)max_rate, (double)d->radius, (double)d->speed);
         pbf_result r = c->type == CMD_EMITTER_ADD ? pbf_world_add_emitter(fw, d, &o->u.emitter.id)
                                                   : pbf_world_set_emitter(fw, o->u.emitter.id, d);
         if (r != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
@@ -3068,9 +3121,6 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         if (c->u.camera.has_fov) cam->fov_y = (float)(c->u.camera.fov * PI / 180.0);
         break;
     }
-    case CMD_INJECT:
-        if (s->host.input) eng_input_inject(s->host.input, &c->u.event);
-        break;
     }
     return ENG_SCRIPT_OK;
 }
@@ -3100,6 +3150,12 @@ eng_script_status eng_script_apply(eng_script *s)
     }
     s->cache_valid = false;
     return st;
+}
+
+void eng_script_deliver_input(eng_script *s)
+{
+    for (int i = 0; i < s->event_count && s->host.input; i++) eng_input_inject(s->host.input, &s->events[i]);
+    s->event_count = 0;
 }
 
 void eng_script_sync_nodes(eng_script *s)

@@ -118,6 +118,11 @@ eng_script_status eng_script_apply(eng_script *s);
 /// Commands waiting for eng_script_apply.
 int eng_script_pending(const eng_script *s);
 
+/// Feeds the input the script injected (seiche.inject_*) since the last call to the
+/// host's eng_input, as if it came from the window. Call at the start of a frame,
+/// after eng_input_begin_frame, so the camera and the callbacks see it that frame.
+void eng_script_deliver_input(eng_script *s);
+
 /// Moves the scene nodes of the script's bodies to their bodies' poses (before drawing).
 void eng_script_sync_nodes(eng_script *s);
 

@@ -64,8 +64,8 @@ void panel(eng_ui_frame *f)
     stat_row("rho0", "%.1f kg/m^3", f->rho0);
     stat_row("GPU step", "%.2f ms", f->step_ms);
 
-    if (f->param_count > 0 && ImGui::CollapsingHeader("Fluid parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::PushItemWidth(150.0f);
+    if (f->param_count > 0 && ImGui::CollapsingHeader("Fluid parameters")) {
+        ImGui::PushItemWidth(120.0f);
         for (int i = 0; i < f->param_count; i++) {
             eng_ui_param *p = &f->params[i];
             char label[96];
