@@ -2198,8 +2198,31 @@ static int l_ray_cast(lua_State *L)
     arg_vec(L, 2, fn, "to", -MAX_COORD, MAX_COORD, "m", b);
     if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) raise(L, "%s: arguments 'from' and 'to' must differ", fn);
     require_world(L, s, fn);
+    // The container's walls are thick Bullet boxes: a ray from a camera outside the
+    // container would stop at the near wall's outer face. Rays that start outside begin
+    // where they enter the container instead (they still hit its floor and far walls).
+    double t0 = 0.0;
+    const eng_scene_config *cf = &s->config;
+    if (cf->has_container) {
+        bool outside = false;
+        double enter = 0.0, leave = 1.0;
+        for (int k = 0; k < 3; k++) {
+            double o = a[k], d = (double)b[k] - a[k], lo = cf->container_min[k], hi = cf->container_max[k];
+            if (o < lo || o > hi) outside = true;
+            if (fabs(d) < 1e-12) {
+                if (o < lo || o > hi) enter = 2.0; // parallel and outside: never enters
+                continue;
+            }
+            double t1 = (lo - o) / d, t2 = (hi - o) / d;
+            if (t1 > t2) { double tmp = t1; t1 = t2; t2 = tmp; }
+            if (t1 > enter) enter = t1;
+            if (t2 < leave) leave = t2;
+        }
+        if (outside && enter <= leave && enter < 1.0) t0 = enter + 1e-6;
+    }
+    float a0[3] = { (float)(a[0] + t0 * (b[0] - a[0])), (float)(a[1] + t0 * (b[1] - a[1])), (float)(a[2] + t0 * (b[2] - a[2])) };
     phys_ray_hit hit;
-    if (phys_world_ray_cast(s->host.phys, pv(a), pv(b), &hit) != PHYS_OK) raise(L, "%s: %s", fn, phys_world_last_error(s->host.phys));
+    if (phys_world_ray_cast(s->host.phys, pv(a0), pv(b), &hit) != PHYS_OK) raise(L, "%s: %s", fn, phys_world_last_error(s->host.phys));
     if (!hit.hit) {
         lua_pushnil(L);
         return 1;
@@ -2214,7 +2237,7 @@ static int l_ray_cast(lua_State *L)
     lua_setfield(L, -2, "point");
     push_vec3(L, hit.normal.x, hit.normal.y, hit.normal.z);
     lua_setfield(L, -2, "normal");
-    set_num(L, "fraction", hit.fraction);
+    set_num(L, "fraction", t0 + hit.fraction * (1.0 - t0));
     return 1;
 }
 

@@ -13,7 +13,7 @@ seiche.scene {
     fluid = {
         particle_radius = 0.015,    -- m: 3 cm between particles
         kernel_radius = 0.06,       -- m: twice the spacing
-        iterations = 3,
+        iterations = 2,
         substeps = 4,
     },
     capacity = 16000,
@@ -25,7 +25,7 @@ seiche.scene {
 -- 1.2 m x 0.33 m x 0.8 m of water: 40 x 11 x 26 = 11440 particles.
 seiche.block { min = { 0, 0, 0 }, max = { 1.2, 0.33, 0.8 } }
 
-local y = 0.62 -- drop height, m
+local y = 0.45 -- drop height, m: 12 cm above the water
 seiche.body { shape = "box", size = { 0.16, 0.08, 0.12 }, position = { 0.18, y, 0.22 }, density = 500,
               color = { 0.78, 0.56, 0.30 } }                                        -- pine plank
 seiche.body { shape = "sphere", radius = 0.06, position = { 0.45, y, 0.55 }, density = 250,
@@ -34,10 +34,11 @@ seiche.body { shape = "capsule", radius = 0.04, height = 0.22, position = { 0.75
               rotation = { axis = { 0, 0, 1 }, angle = math.pi / 2 }, color = { 0.36, 0.62, 0.34 } }
 seiche.body { shape = "cylinder", radius = 0.06, height = 0.1, position = { 1.0, y, 0.55 }, density = 400,
               color = { 0.80, 0.30, 0.28 } }                                        -- buoy
-seiche.body { shape = "hull", density = 600, position = { 0.6, y + 0.1, 0.4 }, color = { 0.55, 0.45, 0.72 },
-              points = { { -0.08, -0.04, -0.06 }, { 0.08, -0.04, -0.06 }, { -0.08, -0.04, 0.06 },
-                         { 0.08, -0.04, 0.06 }, { 0, 0.07, 0 } } }                  -- pyramid
-seiche.body { shape = "box", size = { 0.1, 0.1, 0.1 }, position = { 1.0, y + 0.12, 0.2 }, density = 2500,
+seiche.body { shape = "hull", density = 600, position = { 0.6, y, 0.4 }, color = { 0.55, 0.45, 0.72 },
+              points = { { -0.05, -0.035, -0.04 }, { 0.05, -0.035, -0.04 }, { -0.05, -0.035, 0.04 },
+                         { 0.05, -0.035, 0.04 }, { -0.08, 0.035, -0.06 }, { 0.08, 0.035, -0.06 },
+                         { -0.08, 0.035, 0.06 }, { 0.08, 0.035, 0.06 } } }            -- punt (a tapered hull)
+seiche.body { shape = "box", size = { 0.1, 0.1, 0.1 }, position = { 1.0, y + 0.05, 0.2 }, density = 2500,
               color = { 0.45, 0.45, 0.48 } }                                        -- stone: sinks
 
 function on_step(dt, t)

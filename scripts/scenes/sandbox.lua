@@ -61,7 +61,7 @@ local function drop(key)
     local hit = pointed(seiche.mouse_position())
     local at = hit and hit.point or { x = 0.75, y = 0, z = 0.5 }
     local def = shapes[key]()
-    def.position = { math.min(math.max(at.x, 0.15), 1.35), 0.6, math.min(math.max(at.z, 0.15), 0.85) }
+    def.position = { math.min(math.max(at.x, 0.15), 1.35), 0.4, math.min(math.max(at.z, 0.15), 0.85) }
     def.rotation = { axis = { math.random() - 0.5, 1, math.random() - 0.5 }, angle = math.pi * math.random() }
     dropped[#dropped + 1] = seiche.body(def)
     if #dropped > MAX_BODIES then

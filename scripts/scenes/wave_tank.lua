@@ -35,10 +35,17 @@ for i, x in ipairs({ 0.9, 1.4, 1.9 }) do
                   color = { 0.85 - 0.15 * i, 0.45, 0.20 + 0.15 * i } }
 end
 
+-- Each step the paddle is told where to be at the end of the next one.
+local function drive(t, dt)
+    paddle:move_to({ paddle_x + stroke * math.sin(2 * math.pi * frequency * (t + dt)), 0.25, 0.21 })
+end
+
+function on_start()
+    drive(0, seiche.dt())
+end
+
 function on_step(dt, t)
-    -- Where the paddle must be at the end of the next step (one step from now).
-    local x = paddle_x + stroke * math.sin(2 * math.pi * frequency * (t + dt))
-    paddle:move_to({ x, 0.25, 0.21 })
+    drive(t, dt)
     seiche.check(seiche.stats().nan == 0, "no particle may become NaN")
 end
 
