@@ -3,14 +3,18 @@
 //
 // It is a second implementation of the same specification, not a port of a port: the
 // stages are the same (per substep: predict, grid, reorder, neighbours, iterations x
-// {density, delta}, velocity, then vorticity (eps > 0) and viscosity when either is on), the
-// constants come from pbf_derive_constants, and the per-particle arithmetic is written
-// in the shaders' order. The neighbour grid is the GPU's (cell size h, same origin and
+// {density, delta, collide (only with colliders)}, velocity, then vorticity (eps > 0) and
+// viscosity when either is on), the constants come from pbf_derive_constants, and the
+// per-particle arithmetic is written in the shaders' order. The neighbour grid is the GPU's (cell size h, same origin and
 // dimensions, a stable counting sort each substep), so neighbour lists come in the same
 // order and the sums run in the same order too; what remains is the shader compiler's
 // freedom (fused multiply-adds, sqrt/pow precision), which the tests measure.
 //
-// Not mirrored: collider forces (colliders here are static boundaries) and stage timers.
+// Colliders are mirrored with colliders.glsl's shapes (hulls and distance grids included),
+// poses (a pose set between steps is interpolated substep by substep), boundary share,
+// swept collisions, push-out and the fixed-point reaction forces; the host side mirrors
+// pbf_colliders.c for poses set between steps (there is no substep hook here).
+// Not mirrored: emitters, sinks, stage timers.
 // All positions in metres, velocities in m/s, densities in kg/m^3, times in seconds.
 //
 //     pbf_cpu_world *w = pbf_cpu_world_create(&params, 4096, lo, hi, err, sizeof err);
@@ -70,10 +74,21 @@ pbf_result pbf_cpu_world_add_block(pbf_cpu_world *world, const pbf_block_def *bl
 /// Adds particles at xyz triples (m) with velocities (m/s; NULL: at rest), ids in order.
 pbf_result pbf_cpu_world_add_particles(pbf_cpu_world *world, const float *positions, const float *velocities,
                                        uint32_t count);
-/// Adds a static collider (plane, box, sphere, capsule or cylinder; not hulls or distance
-/// grids) with the signed distances of shaders/fluid/colliders.glsl, at def->position and
-/// rotation for good; checked like pbf_world_add_collider. two_way is ignored (no forces).
-pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *world, const pbf_collider_def *def);
+/// Adds a collider of any pbf_collider_type (hull planes and distance grid samples are
+/// copied) at def->position and rotation, checked like pbf_world_add_collider, with the
+/// same derived data (normalised rotation and plane normal, bounding radius, force scale).
+/// `index` (may be NULL) receives its 0-based index, in the order of addition.
+pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *world, const pbf_collider_def *def, uint32_t *index);
+/// pbf_world_set_collider_pose called between steps: the collider reaches this pose at the
+/// end of the next step, moving from the one it has along the path the GPU interpolates
+/// (linear in position, normalised-linear in rotation, substep by substep).
+/// center_of_mass (m, may be NULL: the position) is where torque is taken about.
+pbf_result pbf_cpu_world_set_collider_pose(pbf_cpu_world *world, uint32_t index, const float position[3],
+                                           const float rotation[4], const float center_of_mass[3]);
+/// The fluid's force and torque on two-way collider `index` during the latest step, from the
+/// same fixed-point accumulators as the GPU (averaged over substeps), its contacts and
+/// push-outs: pbf_world_collider_report with steps_back 1 (ready is false before a step).
+pbf_result pbf_cpu_world_collider_report(const pbf_cpu_world *world, uint32_t index, pbf_collider_report *out);
 uint32_t pbf_cpu_world_particle_count(const pbf_cpu_world *world);
 
 /// Advances by dt seconds ((0, 1]) in params.substeps substeps, as pbf_world_step.
