@@ -8,7 +8,7 @@
 // uploaded the CPU copy's previous pose catches up, so a collider that is not moved again
 // stands still in the next substep instead of sweeping the same path twice.
 //
-// Forces. The delta pass adds fixed-point force and torque per collider (each collider
+// Forces. The collide pass adds fixed-point force and torque per collider (each collider
 // with its own scale, from its size) into the accumulators; the end of a step copies them
 // into the step's ring slot, and they are read once that step's fence has signalled:
 // from pbf_world_poll_stats, or here, without consuming the statistics, when a host asks

@@ -1,7 +1,7 @@
 // Rigid colliders (bodies) as fluid boundaries: signed distances, their share of the
 // density, the position correction they cause, swept collisions, and the reaction forces.
 // Included by the passes that touch colliders (after common.glsl, with USE_COLLIDERS and,
-// for the delta pass, USE_FORCES). The C side is fluid/pbf_colliders.c; the design is in
+// for the collide pass, USE_FORCES). The C side is fluid/pbf_colliders.c; the design is in
 // docs/coupling.md.
 //
 // Poses. Each collider carries the pose it had at the start of the substep (prev_*) and
