@@ -5,6 +5,7 @@
 // reads one parameter block, a pbf_gpu_params filled as pbf_world.c fills the uniform
 // block, through `P`. Each pass below names the shader it mirrors; keep them in step.
 #include "fluid/pbf_cpu.h"
+#include "fluid/pbf_uniforms.h"
 #include "shaders/fluid/pbf_shared.h"
 
 #include <math.h>
@@ -1005,41 +1006,11 @@ static void colliders_end_step(pbf_cpu_world *w)
 static pbf_gpu_params uniforms(const pbf_cpu_world *w, float dt)
 {
     const pbf_params *p = &w->params;
-    const pbf_constants *k = &w->k;
     pbf_gpu_params g;
     memset(&g, 0, sizeof g);
-    double h = p->kernel_radius;
-    g.gravity = (pbf_float4){ p->gravity[0], p->gravity[1], p->gravity[2], 0.0f };
-    g.grid_origin = (pbf_float4){ w->grid_origin[0], w->grid_origin[1], w->grid_origin[2], 0.0f };
-    g.grid_dims = (pbf_uint4){ w->grid_dims[0], w->grid_dims[1], w->grid_dims[2], w->cells };
-    g.domain_min = (pbf_float4){ w->domain_min[0], w->domain_min[1], w->domain_min[2], 0.0f };
-    g.domain_max = (pbf_float4){ w->domain_max[0], w->domain_max[1], w->domain_max[2], 0.0f };
-    for (uint32_t i = 0; i < w->plane_count; i++)
-        g.planes[i] = (pbf_float4){ w->planes[i][0], w->planes[i][1], w->planes[i][2], w->planes[i][3] };
-    g.plane_count = w->plane_count;
-    g.max_neighbours = w->max_neighbours;
-    g.dt = dt;
-    g.inv_dt = 1.0f / dt;
-    g.h = (float)h;
-    g.inv_cell = (float)(1.0 / h);
-    g.poly6 = k->poly6;
-    g.spiky_grad = k->spiky_grad;
-    g.rest_density = p->rest_density;
-    g.inv_rest_density = 1.0f / p->rest_density;
-    g.mass_density = k->mass_density;
-    g.mass = k->mass;
-    g.epsilon = k->epsilon;
-    g.omega = p->sor;
-    g.scorr_k = p->scorr_k;
-    g.scorr_n = p->scorr_n;
-    g.scorr_inv_wdq = k->scorr_inv_wdq;
-    g.scorr_scale = k->scorr_scale;
-    g.boundary_scale = k->boundary_scale;
-    g.vorticity = p->vorticity;
-    g.viscosity = p->viscosity;
-    g.damping = p->damping;
-    g.max_speed = p->max_speed;
-    g.radius = p->particle_radius;
+    pbf_uniforms_solver(&g, p, &w->k, dt);
+    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, w->domain_min, w->domain_max,
+                       (const float(*)[4])w->planes, w->plane_count, w->max_neighbours);
     g.count = w->count;
     g.collider_count = w->gpu_count;
     g.substep = w->last_substep;

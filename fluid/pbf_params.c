@@ -1,5 +1,6 @@
 // Solver parameters: defaults, the seed preset, validation. See pbf.h for units/ranges.
 #include "fluid/pbf.h"
+#include "fluid/pbf_uniforms.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -219,4 +220,46 @@ pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *e
     pbf_result r = pbf_params_validate(&tmp, err, err_size);
     if (r == PBF_OK) *p = tmp;
     return r;
+}
+
+void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt)
+{
+    double h = p->kernel_radius;
+    g->gravity = (pbf_float4){ p->gravity[0], p->gravity[1], p->gravity[2], 0.0f };
+    g->dt = dt;
+    g->inv_dt = 1.0f / dt;
+    g->h = (float)h;
+    g->inv_cell = (float)(1.0 / h);
+    g->poly6 = k->poly6;
+    g->spiky_grad = k->spiky_grad;
+    g->rest_density = p->rest_density;
+    g->inv_rest_density = 1.0f / p->rest_density;
+    g->mass_density = k->mass_density;
+    g->mass = k->mass;
+    g->epsilon = k->epsilon;
+    g->omega = p->sor;
+    g->scorr_k = p->scorr_k;
+    g->scorr_n = p->scorr_n;
+    g->scorr_inv_wdq = k->scorr_inv_wdq;
+    g->scorr_scale = k->scorr_scale;
+    g->boundary_scale = k->boundary_scale;
+    g->vorticity = p->vorticity;
+    g->viscosity = p->viscosity;
+    g->damping = p->damping;
+    g->max_speed = p->max_speed;
+    g->radius = p->particle_radius;
+}
+
+void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],
+                        uint32_t cells, const float domain_min[3], const float domain_max[3],
+                        const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours)
+{
+    g->grid_origin = (pbf_float4){ grid_origin[0], grid_origin[1], grid_origin[2], 0.0f };
+    g->grid_dims = (pbf_uint4){ grid_dims[0], grid_dims[1], grid_dims[2], cells };
+    g->domain_min = (pbf_float4){ domain_min[0], domain_min[1], domain_min[2], 0.0f };
+    g->domain_max = (pbf_float4){ domain_max[0], domain_max[1], domain_max[2], 0.0f };
+    for (uint32_t i = 0; i < plane_count && i < PBF_MAX_PLANES; i++)
+        g->planes[i] = (pbf_float4){ planes[i][0], planes[i][1], planes[i][2], planes[i][3] };
+    g->plane_count = plane_count;
+    g->max_neighbours = max_neighbours;
 }

@@ -13,6 +13,7 @@
 #include "fluid/pbf.h"
 #include "fluid/pbf_glsl.h"
 #include "fluid/pbf_internal.h"
+#include "fluid/pbf_uniforms.h"
 
 #include <epoxy/gl.h>
 #include <math.h>
@@ -594,16 +595,9 @@ void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
     const pbf_params *p = &w->params;
     pbf_gpu_params g;
     memset(&g, 0, sizeof g);
-    const pbf_constants *k = &w->k;
-    double h = p->kernel_radius;
-    g.gravity = (pbf_float4){ p->gravity[0], p->gravity[1], p->gravity[2], 0 };
-    g.grid_origin = (pbf_float4){ w->grid_origin[0], w->grid_origin[1], w->grid_origin[2], 0 };
-    g.grid_dims = (pbf_uint4){ w->grid_dims[0], w->grid_dims[1], w->grid_dims[2], w->cells };
-    g.domain_min = (pbf_float4){ w->domain_min[0], w->domain_min[1], w->domain_min[2], 0 };
-    g.domain_max = (pbf_float4){ w->domain_max[0], w->domain_max[1], w->domain_max[2], 0 };
-    for (int k = 0; k < w->plane_count; k++)
-        g.planes[k] = (pbf_float4){ w->planes[k][0], w->planes[k][1], w->planes[k][2], w->planes[k][3] };
-    g.plane_count = (uint32_t)w->plane_count;
+    pbf_uniforms_solver(&g, p, &w->k, dt);
+    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, w->domain_min, w->domain_max,
+                       (const float(*)[4])w->planes, (uint32_t)w->plane_count, w->max_neighbours);
     uint32_t ns = 0;
     for (int k = 0; k < PBF_MAX_SINKS; k++) {
         if (!w->sinks[k].used) continue;
@@ -615,29 +609,6 @@ void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
     g.capacity = w->capacity;
     g.append_count = 0;
     g.count_mode = 0;
-    g.max_neighbours = w->max_neighbours;
-    g.dt = dt;
-    g.inv_dt = 1.0f / dt;
-    g.h = (float)h;
-    g.inv_cell = (float)(1.0 / h);
-    g.poly6 = k->poly6;
-    g.spiky_grad = k->spiky_grad;
-    g.rest_density = p->rest_density;
-    g.inv_rest_density = 1.0f / p->rest_density;
-    g.mass_density = k->mass_density;
-    g.mass = k->mass;
-    g.epsilon = k->epsilon;
-    g.omega = p->sor;
-    g.scorr_k = p->scorr_k;
-    g.scorr_n = p->scorr_n;
-    g.scorr_inv_wdq = k->scorr_inv_wdq;
-    g.scorr_scale = k->scorr_scale;
-    g.boundary_scale = k->boundary_scale;
-    g.vorticity = p->vorticity;
-    g.viscosity = p->viscosity;
-    g.damping = p->damping;
-    g.max_speed = p->max_speed;
-    g.radius = p->particle_radius;
     g.count = w->count;
     g.collider_count = w->gpu_colliders;
     g.metrics_slot = (uint32_t)slot;

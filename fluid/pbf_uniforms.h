@@ -1,0 +1,20 @@
+// Filling the uniform block pbf_gpu_params (shaders/fluid/pbf_shared.h) from the world's
+// settings: shared by the GPU step (pbf_world.c) and the CPU reference (pbf_cpu.c), so the
+// two read the same numbers. Internal to the fluid module.
+#ifndef PBF_UNIFORMS_H
+#define PBF_UNIFORMS_H
+
+#include "fluid/pbf.h"
+#include "shaders/fluid/pbf_shared.h"
+
+/// The solver's part: gravity, time step (s), kernel constants, masses, relaxation,
+/// artificial pressure, vorticity, viscosity, damping, speed clamp, particle radius.
+void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt);
+
+/// The space's part: the grid (origin m, cells per axis, total cells), the domain (m) and
+/// the container planes (inward normal xyz, offset w).
+void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],
+                        uint32_t cells, const float domain_min[3], const float domain_max[3],
+                        const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours);
+
+#endif
