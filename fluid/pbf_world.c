@@ -718,7 +718,8 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     dispatch_particles(s, PROG_NEIGHBOURS, PBF_STAGE_NEIGHBOURS);
 
     for (int it = 0; it < p->iterations; it++) {
-        dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
+        // The first iteration's density came with the neighbour lists.
+        if (it > 0) dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
         if (w->gpu_colliders > 0) dispatch_particles(s, PROG_COLLIDE, PBF_STAGE_COLLIDE);
         w->cur_pred ^= 1;

@@ -7,10 +7,16 @@
 // are skipped, and each row is trimmed to the x cells the kernel sphere reaches.
 // A particle with more neighbours than the list holds keeps the first max_neighbours found
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
+// The first iteration's density and lambda are computed here too, from the listed
+// neighbours in list order (exactly what density.comp would do next), saving a pass.
 #define USE_PRED
 #define USE_CELL_START
 #define USE_NB
+#define USE_LAMBDA
+#define USE_COLLIDERS
 #include "common.glsl"
+#include "colliders.glsl"
+#include "density.glsl"
 layout(local_size_x = PBF_WG) in;
 
 // Distance along one axis from coordinate x to the slab of cell k (origin o, size s).
@@ -32,6 +38,9 @@ void main()
     float h2 = P.h * P.h;
     uint n = 0u;
     uint base = i * P.max_neighbours;
+    float sum_w = w_poly6(0.0);
+    vec3 grad_i = vec3(0.0);
+    float sum_grad2 = 0.0;
     for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1); z++) {
         float dz = slab_distance(xi.z, P.grid_origin.z, cs, z);
         for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1); y++) {
@@ -46,11 +55,15 @@ void main()
             for (uint j = b; j < e; j++) {
                 vec3 r = xi - pred[j].xyz;
                 if (dot(r, r) < h2 && j != i) {
-                    if (n < P.max_neighbours) nb_list[base + n] = j;
+                    if (n < P.max_neighbours) {
+                        nb_list[base + n] = j;
+                        density_add(r, sum_w, grad_i, sum_grad2);
+                    }
                     n++;
                 }
             }
         }
     }
     nb_count[i] = n;
+    density_finish(i, xi, sum_w, grad_i, sum_grad2);
 }
