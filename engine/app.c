@@ -915,6 +915,7 @@ int eng_app_run(const eng_app_options *o)
     }
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
+    long idle_frames = 0;
     while (status == ENG_EXIT_OK && !done) {
         eng_input_begin_frame(a->input);
         eng_context_poll(a->ctx);
@@ -944,8 +945,11 @@ int eng_app_run(const eng_app_options *o)
         }
         watch_file(a);
         bool quit = a->inst.script && eng_script_quit_requested(a->inst.script);
-        done = (frames >= 0 && (long)a->frame >= frames) || quit || eng_context_should_close(a->ctx) ||
-               status != ENG_EXIT_OK;
+        // Without a scene (it failed to load; a window waits for the fix) --frames counts
+        // the frames drawn, so a run with a broken script still ends.
+        if (!a->inst.script) idle_frames++;
+        done = (frames >= 0 && ((long)a->frame >= frames || idle_frames >= frames)) || quit ||
+               eng_context_should_close(a->ctx) || status != ENG_EXIT_OK;
         bool shot = done && o->screenshot_path && (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED);
         if (!o->headless || a->video || shot) {
             render(a);

@@ -75,7 +75,7 @@ typedef struct obj {
     uint32_t generation;
     int ref;                // registry reference to the userdata (LUA_NOREF: none yet)
     union {
-        struct { pbf_emitter_def def; pbf_emitter_id id; } emitter;
+        struct { pbf_emitter_def def; pbf_emitter_id id; bool full_rate; } emitter;
         struct { float min[3], max[3]; pbf_sink_id id; } sink;
         body_rec body;
         struct { double due, period; int fn; uint64_t fired; } timer;
@@ -105,6 +105,7 @@ typedef struct command {
     char where[160];        // "file:line:" of the call
     const char *fn;         // "seiche.block", "body:move_to", ...
     uint32_t slot, gen;     // the object it concerns, if any
+    bool full_rate;         // emitters: pour the most the nozzle can (no rate given)
     union {
         pbf_block_def block;
         struct { float center[3], radius, velocity[3]; } sphere;
@@ -271,7 +272,7 @@ static const char *range_text(double lo, double hi, int flags, const char *unit,
 {
     char a[32], b[32];
     const char *kind = flags & WHOLE ? "a whole number" : "a number";
-    if (lo <= -MAX_COORD * 1e3 && hi >= MAX_COORD * 1e3) snprintf(buf, size, "a finite number%s%s", unit && *unit ? " in " : "", unit ? unit : "");
+    if (lo <= -1e30 && hi >= 1e30) snprintf(buf, size, "a finite number%s%s%s", unit && *unit ? " (" : "", unit ? unit : "", unit && *unit ? ")" : "");
     else snprintf(buf, size, "%s in %c%s, %s%c%s%s", kind, flags & OPEN_LO ? '(' : '[', fmt_number(lo, a, sizeof a),
                   fmt_number(hi, b, sizeof b), flags & OPEN_HI ? ')' : ']', unit && *unit ? " " : "", unit ? unit : "");
     return buf;
@@ -1116,7 +1117,8 @@ static int l_particles(lua_State *L)
 // ---- emitters ----------------------------------------------------------------------------
 
 // Reads the emitter fields of table t over `d` (which holds the current values).
-static void read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d)
+// Returns true when the table gave a rate.
+static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d, bool full_rate)
 {
     static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", NULL };
     check_fields(L, t, fn, known);
@@ -1146,12 +1148,15 @@ static void read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf
         }
         d->rate = (float)r;
         lua_pop(L, 1);
-    } else if (s->host.world && d->rate > pbf_emitter_max_rate(s->host.world, d->speed, d->radius) * 1.0001) {
+        opt_bool(L, t, fn, "enabled", &d->enabled);
+        return true;
+    } else if (!full_rate && s->host.world && d->rate > pbf_emitter_max_rate(s->host.world, d->speed, d->radius) * 1.0001) {
         double max_rate = pbf_emitter_max_rate(s->host.world, d->speed, d->radius);
         raise(L, "%s: the rate %g particles/s is more than a nozzle of radius %g m pours at speed %g m/s (at most %g); "
               "raise speed or radius, or lower rate", fn, (double)d->rate, (double)d->radius, (double)d->speed, max_rate);
     }
     opt_bool(L, t, fn, "enabled", &d->enabled);
+    return false;
 }
 
 static int l_emitter(lua_State *L)
@@ -1163,12 +1168,14 @@ static int l_emitter(lua_State *L)
     bool has_pos = !lua_isnil(L, -1);
     lua_pop(L, 1);
     if (!has_pos) raise(L, "seiche.emitter: field 'position' is required: a table of 3 numbers {x, y, z} in m (got nil)");
-    read_emitter(L, s, 1, "seiche.emitter", &d);
+    bool full = !read_emitter(L, s, 1, "seiche.emitter", &d, true);
     uint32_t slot = obj_new(L, s, OBJ_EMITTER);
     s->objs[slot].u.emitter.def = d;
+    s->objs[slot].u.emitter.full_rate = full;
     command *c = push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
     c->slot = slot;
     c->gen = s->objs[slot].generation;
+    c->full_rate = full;
     c->u.emitter = d;
     push_handle(L, s, slot);
     return 1;
@@ -1181,11 +1188,12 @@ static int m_emitter_set(lua_State *L)
     obj *o = check_self(L, OBJ_EMITTER, "emitter:set", &slot);
     check_table_arg(L, 2, "emitter:set", "position, direction, speed, rate, radius, enabled");
     pbf_emitter_def d = o->u.emitter.def;
-    read_emitter(L, s, 2, "emitter:set", &d);
+    if (read_emitter(L, s, 2, "emitter:set", &d, o->u.emitter.full_rate)) o->u.emitter.full_rate = false;
     o->u.emitter.def = d;
     command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set");
     c->slot = slot;
     c->gen = o->generation;
+    c->full_rate = o->u.emitter.full_rate;
     c->u.emitter = d;
     return 0;
 }
@@ -1202,6 +1210,7 @@ static int m_emitter_set_enabled(lua_State *L)
     command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled");
     c->slot = slot;
     c->gen = o->generation;
+    c->full_rate = o->u.emitter.full_rate;
     c->u.emitter = o->u.emitter.def;
     return 0;
 }
@@ -1216,7 +1225,10 @@ static int m_emitter_get(lua_State *L)
     push_vec3(L, d->direction[0], d->direction[1], d->direction[2]);
     lua_setfield(L, -2, "direction");
     set_num(L, "speed", d->speed);
-    set_num(L, "rate", d->rate);
+    eng_script *s = get_script(L);
+    if (!o->u.emitter.full_rate) set_num(L, "rate", d->rate);
+    else if (s->host.world) set_num(L, "rate", pbf_emitter_max_rate(s->host.world, d->speed, d->radius));
+    // else: the most the nozzle can pour, known once the world exists: rate is nil
     set_num(L, "radius", d->radius);
     lua_pushboolean(L, d->enabled);
     lua_setfield(L, -2, "enabled");
@@ -3029,8 +3041,10 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     case CMD_EMITTER_ADD:
     case CMD_EMITTER_SET: {
         if (!o) break; // removed before it was applied
-        const pbf_emitter_def *d = &c->u.emitter;
+        pbf_emitter_def full = c->u.emitter;
+        const pbf_emitter_def *d = &full;
         float max_rate = pbf_emitter_max_rate(fw, d->speed, d->radius);
+        if (c->full_rate) full.rate = max_rate;
         if (d->rate > max_rate * 1.0001f)
             return refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %g); %g is the most a nozzle "
                           "of radius %g m pours at speed %g m/s: raise speed or radius for more", (double)max_rate,

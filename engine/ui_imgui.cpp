@@ -109,7 +109,7 @@ void error_box(eng_ui_frame *f)
     ImGui::PushStyleColor(ImGuiCol_TitleBg, ImVec4(0.55f, 0.08f, 0.08f, 1.0f));
     ImGui::PushStyleColor(ImGuiCol_TitleBgActive, ImVec4(0.65f, 0.10f, 0.10f, 1.0f));
     bool open = true;
-    if (ImGui::Begin("Script error (fix the file and save, or press F5; the last good scene keeps running)###seiche_error",
+    if (ImGui::Begin("Script error (fix the file and save it, or press F5)###seiche_error",
                      &open, ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.86f, 0.82f, 1.0f));
         ImGui::PushTextWrapPos(w - 20.0f);
