@@ -5,9 +5,11 @@
 // on_scroll, on_reload, timers) under a time budget.
 //
 // The script never touches a world while it runs: every edit (fluid blocks, emitters,
-// bodies, forces, parameter changes, injected input, camera and look) becomes a command
-// that eng_script_apply carries out, in order, when the app calls it between steps. An
-// edit that the world refuses is the script's error at the line that asked for it.
+// sinks, bodies, forces, kinematic targets, parameter, gravity and camera changes)
+// becomes a command that eng_script_apply carries out, in order, when the app calls it
+// between steps. An edit that the world refuses is the script's error at the line that
+// asked for it. Injected input (seiche.inject_*) waits for eng_script_deliver_input at
+// the start of the next frame; the look (seiche.set_look) is read by the app each frame.
 //
 // Ownership: the app owns the worlds (pbf_world, phys_world, cpl_coupling), the scene
 // graph and the mesh store and hands them over in eng_script_host. The script owns what

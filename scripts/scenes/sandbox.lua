@@ -57,9 +57,12 @@ local function pointed(x, y)
     return seiche.ray_cast(origin, far), origin, dir
 end
 
-local function drop(key)
-    local hit = pointed(seiche.mouse_position())
-    local at = hit and hit.point or { x = 0.75, y = 0, z = 0.5 }
+-- Drops a body of the key's kind above `at` ({x, y, z}), or above where the mouse points.
+local function drop(key, at)
+    if not at then
+        local hit = pointed(seiche.mouse_position())
+        at = hit and hit.point or { x = 0.75, y = 0, z = 0.5 }
+    end
     local def = shapes[key]()
     def.position = { math.min(math.max(at.x, 0.15), 1.35), 0.4, math.min(math.max(at.z, 0.15), 0.85) }
     def.rotation = { axis = { math.random() - 0.5, 1, math.random() - 0.5 }, angle = math.pi * math.random() }
@@ -109,7 +112,9 @@ end
 
 function on_start()
     -- A few bodies to begin with.
-    for _, k in ipairs({ "1", "2", "4" }) do drop(k) end
+    drop("1", { x = 0.45, y = 0, z = 0.5 })
+    drop("2", { x = 0.75, y = 0, z = 0.4 })
+    drop("4", { x = 1.05, y = 0, z = 0.6 })
 end
 
 function on_step(dt, t)
