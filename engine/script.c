@@ -2923,8 +2923,11 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
     if (s->host.coupling) {
         cpl_body_def cd = cpl_default_body_def();
         cd.two_way = b->two_way;
-        if (cpl_add_body(s->host.coupling, b->id, &cd) != CPL_OK) {
-            eng_script_status st = refuse(s, c, "%s", cpl_last_error(s->host.coupling));
+        cpl_result cr = cpl_add_body(s->host.coupling, b->id, &cd);
+        if (cr != CPL_OK) {
+            eng_script_status st = refuse(s, c, "%s%s", cpl_last_error(s->host.coupling),
+                                          cr == CPL_ERR_CAPACITY ? " (the fluid couples a limited number of bodies at a "
+                                                                   "time: destroy one before making another)" : "");
             phys_body_destroy(w, b->id);
             phys_shape_destroy(w, b->shape_id);
             return st;
