@@ -547,6 +547,7 @@ static int load_scene(app *a, bool reload)
         a->have_stats = old_have_stats;
         a->camera = old_camera;
         update_host(a);
+        if (!a->opt->headless && st > a->window_status) a->window_status = st; // the file on disk is broken
         if (old.script && (reload || !a->opt->headless)) {
             char msg[8400];
             snprintf(msg, sizeof msg, "%s\n(%s failed; the last good scene keeps running)", err, reload ? "reload" : "reset");

@@ -435,6 +435,14 @@ static void check_table_arg(lua_State *L, int idx, const char *fn, const char *f
         raise(L, "%s: argument #%d must be a table {%s} (got %s)", fn, idx, fields, describe(L, idx, got, sizeof got));
 }
 
+// A field that must hold a table: "fn: field 'name' must be a table {fields} (got ...)".
+static void check_table_field(lua_State *L, int idx, const char *fn, const char *field, const char *fields)
+{
+    char got[64];
+    if (!lua_istable(L, idx))
+        raise(L, "%s: field '%s' must be a table {%s} (got %s)", fn, field, fields, describe(L, idx, got, sizeof got));
+}
+
 // Rejects keys of table t that are not in `known` (a misspelt field is an error, not a no-op).
 static void check_fields(lua_State *L, int t, const char *fn, const char *const *known)
 {
@@ -771,7 +779,7 @@ static void read_look(lua_State *L, int t, const char *fn, eng_look *k)
     if (field_present(L, t, "light")) {
         int l = lua_gettop(L);
         snprintf(sub, sizeof sub, "%s: light", fn);
-        check_table_arg(L, l, sub, "direction, color, ambient");
+        check_table_field(L, l, fn, "light", "direction, color, ambient");
         static const char *const lk[] = { "direction", "color", "ambient", NULL };
         check_fields(L, l, sub, lk);
         float d[3];
@@ -787,7 +795,7 @@ static void read_look(lua_State *L, int t, const char *fn, eng_look *k)
     if (field_present(L, t, "water")) {
         int w = lua_gettop(L);
         snprintf(sub, sizeof sub, "%s: water", fn);
-        check_table_arg(L, w, sub, "low, mid, high, specular, shininess");
+        check_table_field(L, w, fn, "water", "low, mid, high, specular, shininess");
         static const char *const wk[] = { "low", "mid", "high", "specular", "shininess", NULL };
         check_fields(L, w, sub, wk);
         opt_color(L, w, sub, "low", k->water.color_low);
@@ -852,7 +860,7 @@ static int l_scene(lua_State *L)
     if (opt_number(L, 1, "seiche.scene", "capacity", 1, 67108864, WHOLE, "particles", &cap)) c->capacity = (uint32_t)cap;
     if (field_present(L, 1, "container")) {
         int t = lua_gettop(L);
-        check_table_arg(L, t, "seiche.scene: container", "min = {x, y, z}, max = {x, y, z}, closed_top = false");
+        check_table_field(L, t, "seiche.scene", "container", "min = {x, y, z}, max = {x, y, z}, closed_top = false");
         static const char *const ck[] = { "min", "max", "closed_top", NULL };
         check_fields(L, t, "seiche.scene: container", ck);
         read_box(L, t, "seiche.scene: container", c->container_min, c->container_max);
@@ -863,7 +871,7 @@ static int l_scene(lua_State *L)
     }
     if (field_present(L, 1, "domain")) {
         int t = lua_gettop(L);
-        check_table_arg(L, t, "seiche.scene: domain", "min = {x, y, z}, max = {x, y, z}");
+        check_table_field(L, t, "seiche.scene", "domain", "min = {x, y, z}, max = {x, y, z}");
         static const char *const dk[] = { "min", "max", NULL };
         check_fields(L, t, "seiche.scene: domain", dk);
         read_box(L, t, "seiche.scene: domain", c->domain_min, c->domain_max);
@@ -880,7 +888,7 @@ static int l_scene(lua_State *L)
     }
     if (field_present(L, 1, "camera")) {
         int t = lua_gettop(L);
-        check_table_arg(L, t, "seiche.scene: camera", "eye, target, fov, mode");
+        check_table_field(L, t, "seiche.scene", "camera", "eye, target, fov, mode");
         int mode = c->camera_mode;
         read_camera(L, t, "seiche.scene: camera", c->camera_eye, c->camera_target, &c->camera_fov, &mode);
         c->camera_mode = (eng_camera_mode)mode;
@@ -895,7 +903,7 @@ static int l_scene(lua_State *L)
     }
     if (field_present(L, 1, "look")) {
         int t = lua_gettop(L);
-        check_table_arg(L, t, "seiche.scene: look", "sky, light, water, ground, ground_height, container, panel");
+        check_table_field(L, t, "seiche.scene", "look", "sky, light, water, ground, ground_height, container, panel");
         read_look(L, t, "seiche.scene: look", &c->look);
         lua_pop(L, 1);
     }

@@ -182,6 +182,8 @@ static void bad_arguments_name_function_argument_value_and_rule(void **state)
         { "seiche.scene{camera = {mode = 'free'}}", "seiche.scene: camera: field 'mode' must be one of \"orbit\", \"fly\" (got \"free\")" },
         { "seiche.scene{look = {water = {specular = 2}}}", "seiche.scene: look: water: field 'specular' must be a number in [0, 1] (got 2)" },
         { "seiche.scene{look = {light = {direction = {0, 0, 0}}}}", "field 'direction' must not be zero" },
+        { "seiche.scene{camera = 5}", "seiche.scene: field 'camera' must be a table {eye, target, fov, mode} (got 5)" },
+        { "seiche.set_look{water = 'blue'}", "seiche.set_look: field 'water' must be a table {low, mid, high, specular, shininess} (got \"blue\")" },
         { "seiche.scene{name = ''}", "seiche.scene: field 'name' must be a string of 1 to 63 characters (got \"\")" },
         { "seiche.scene{}; seiche.scene{}", "seiche.scene: called twice (the first call was at case.lua:1: )" },
         { "seiche.scene{domain = {min = {0, 0, 0}, max = {1, 1, 1}}, container = {min = {0, 0, 0}, max = {2, 1, 1}}}", "the container's x range [0, 2] must lie inside the domain's [0, 1]" },
