@@ -267,7 +267,7 @@ static double gpu_memory_bytes(void)
 }
 
 // Static Bullet boxes around the container, so bodies stay in it as the fluid does.
-static int container_bodies(app *a, instance *in, const eng_scene_config *c, char *err, size_t err_size)
+static int container_bodies(instance *in, const eng_scene_config *c, char *err, size_t err_size)
 {
     const float *lo = c->container_min, *hi = c->container_max;
     float t = WALL_THICKNESS;
@@ -286,19 +286,19 @@ static int container_bodies(app *a, instance *in, const eng_scene_config *c, cha
     int n = c->closed_top ? 6 : 5;
     for (int i = 0; i < n; i++) {
         phys_box box = { { boxes[i][3], boxes[i][4], boxes[i][5] } };
-        phys_shape_id shape;
+        phys_shape_id shape = { 0, 0, 0 };
         phys_body_def bd = phys_default_body_def();
         bd.type = PHYS_BODY_STATIC;
         bd.position = (phys_vec3){ boxes[i][0], boxes[i][1], boxes[i][2] };
         phys_body_id body;
-        if (phys_shape_create_box(in->phys, &box, &shape) != PHYS_OK || (bd.shape = shape, 0) ||
-            phys_body_create(in->phys, &bd, &body) != PHYS_OK) {
+        bool ok = phys_shape_create_box(in->phys, &box, &shape) == PHYS_OK;
+        bd.shape = shape;
+        if (!ok || phys_body_create(in->phys, &bd, &body) != PHYS_OK) {
             snprintf(err, err_size, "%sseiche.scene: container walls for bodies: %s", c->scene_where,
                      phys_world_last_error(in->phys));
             return ENG_EXIT_USAGE;
         }
     }
-    (void)a;
     return ENG_EXIT_OK;
 }
 
@@ -414,7 +414,7 @@ static int create_worlds(app *a, instance *in, char *err, size_t err_size)
     eng_node_def root = eng_default_node_def();
     in->root = eng_node_create(a->scene, &root);
     if (c->has_container) {
-        int st = container_bodies(a, in, c, err, err_size);
+        int st = container_bodies(in, c, err, err_size);
         if (st != ENG_EXIT_OK) return st;
         container_nodes(a, in, c);
     }
@@ -639,7 +639,7 @@ static void render(app *a)
     eng_renderer_end(a->renderer);
 }
 
-static void draw_ui(app *a, int *status)
+static void draw_ui(app *a)
 {
     if (!a->ui) return;
     instance *in = &a->inst;
@@ -686,7 +686,6 @@ static void draw_ui(app *a, int *status)
         if (!eng_script_set_param(in->script, params[i].name, params[i].value, err, sizeof err)) report(a, err);
     }
     if (f.reset || f.reload) load_scene(a, f.reload);
-    (void)status;
 }
 
 static int record_frame(app *a)
@@ -954,7 +953,7 @@ int eng_app_run(const eng_app_options *o)
         bool shot = done && o->screenshot_path && (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED);
         if (!o->headless || a->video || shot) {
             render(a);
-            draw_ui(a, &status);
+            draw_ui(a);
         }
         if (shot && write_screenshot(a) != ENG_EXIT_OK) status = ENG_EXIT_USAGE;
         if (a->video && status == ENG_EXIT_OK) status = record_frame(a);

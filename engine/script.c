@@ -2977,8 +2977,7 @@ static eng_script_status apply_move_to(eng_script *s, const command *c, body_rec
     phys_vec3 v = { (float)((c->u.pose.pos[0] - p.x) / dt), (float)((c->u.pose.pos[1] - p.y) / dt),
                     (float)((c->u.pose.pos[2] - p.z) / dt) };
     // Rotation delta: target * conj(current), as axis * angle, the short way round.
-    float cur[4] = { q.x, q.y, q.z, q.w }, inv[4] = { -q.x, -q.y, -q.z, q.w }, dq[4];
-    (void)cur;
+    float inv[4] = { -q.x, -q.y, -q.z, q.w }, dq[4];
     quat_mul(c->u.pose.rot, inv, dq);
     if (dq[3] < 0) for (int k = 0; k < 4; k++) dq[k] = -dq[k];
     double sn = sqrt((double)dq[0] * dq[0] + (double)dq[1] * dq[1] + (double)dq[2] * dq[2]);
@@ -3177,7 +3176,7 @@ eng_script_status eng_script_apply(eng_script *s)
 {
     if (!s->host.world) return ENG_SCRIPT_OK;
     eng_script_status st = ENG_SCRIPT_OK;
-    // Commands may be added while applying? No: apply runs no Lua. Walk the queue in order.
+    // In order; applying runs no Lua, so the queue cannot grow meanwhile.
     for (int i = 0; i < s->command_count && st == ENG_SCRIPT_OK; i++) st = apply_one(s, &s->commands[i]);
     clear_commands(s);
     s->have_pending_params = false;
