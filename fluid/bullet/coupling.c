@@ -28,6 +28,7 @@ typedef struct body_entry {
     pbf_collider_id collider;
     cpl_body_stats stats;
     float force[3], torque[3]; // applied in each substep of the current step (smoothed)
+    float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
 } body_entry;
 
 struct cpl_coupling {
@@ -35,6 +36,7 @@ struct cpl_coupling {
     pbf_world *fluid;
     int force_latency;
     float force_smoothing;
+    float impulse_limit;
     float mesh_cell;
     cpl_log_fn *log;
     void *log_user;
@@ -83,6 +85,7 @@ cpl_def cpl_default_def(void)
     memset(&d, 0, sizeof d);
     d.force_latency = 1;
     d.force_smoothing = 0.5f;
+    d.impulse_limit = 1.0f;
     d.mesh_cell = 0.02f;
     return d;
 }
@@ -119,6 +122,10 @@ cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
         snprintf(err, err_size, "cpl_def.force_latency must be in [1, 7] steps (got %d)", def->force_latency);
         return NULL;
     }
+    if (!isfinite(def->impulse_limit) || def->impulse_limit < 0.0f || def->impulse_limit > 100.0f) {
+        snprintf(err, err_size, "cpl_def.impulse_limit must be in [0, 100] (got %g)", (double)def->impulse_limit);
+        return NULL;
+    }
     if (!isfinite(def->force_smoothing) || def->force_smoothing < 0.0f || def->force_smoothing > 0.95f) {
         snprintf(err, err_size, "cpl_def.force_smoothing must be in [0, 0.95] (got %g)", (double)def->force_smoothing);
         return NULL;
@@ -136,6 +143,7 @@ cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
     c->fluid = def->fluid;
     c->force_latency = def->force_latency;
     c->force_smoothing = def->force_smoothing;
+    c->impulse_limit = def->impulse_limit;
     c->mesh_cell = def->mesh_cell;
     c->log = def->log;
     c->log_user = def->log_user;
@@ -434,6 +442,9 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     e->collider = id;
     e->stats.two_way = two_way;
     e->stats.collider = id;
+    e->volume = shape.volume;
+    phys_mass_data md;
+    if (type == PHYS_BODY_DYNAMIC && phys_body_get_mass_data(c->phys, body, &md) == PHYS_OK) e->mass = md.mass;
 
     return sync_pose(c, e);
 }
@@ -493,6 +504,32 @@ static void apply_fluid(cpl_coupling *c, body_entry *e)
     phys_body_apply_torque(c->phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
 
+// The fluid may stop the body's motion against the force and push it with at most
+// impulse_limit times the acceleration of full submersion, for one step. The bound keeps
+// the late force of a plunge from throwing a light body back out; the smoothed state keeps
+// the bounded force, so its tail does not carry the excess either.
+static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
+{
+    if (c->impulse_limit <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
+    float f = sqrtf(e->force[0] * e->force[0] + e->force[1] * e->force[1] + e->force[2] * e->force[2]);
+    if (!(f > 0.0f)) return;
+    phys_vec3 v, g = phys_world_get_gravity(c->phys);
+    if (phys_body_get_linear_velocity(c->phys, e->body, &v) != PHYS_OK) return;
+    float against = -(v.x * e->force[0] + v.y * e->force[1] + v.z * e->force[2]) / f; // m/s into the force
+    float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
+    float rho_fluid = pbf_world_params(c->fluid)->rest_density;
+    float accel = c->impulse_limit * gmag * rho_fluid / (e->mass / e->volume);
+    float dv_max = (against > 0.0f ? against : 0.0f) + accel * dt;
+    float dv = f * dt / e->mass;
+    if (dv <= dv_max) return;
+    float s = dv_max / dv;
+    for (int k = 0; k < 3; k++) {
+        e->force[k] *= s;
+        e->torque[k] *= s;
+    }
+    e->stats.limited_steps++;
+}
+
 static void hook(void *user, pbf_world *fluid, int substep, float dt)
 {
     (void)fluid;
@@ -546,6 +583,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             e->stats.force[k] = rep.force[k];
             e->stats.torque[k] = rep.torque[k];
         }
+        limit_impulse(c, e, dt);
         e->stats.force_step = rep.step;
         e->stats.contacts = rep.contacts;
         e->stats.pushed_out = rep.pushed_out;

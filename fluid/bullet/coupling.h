@@ -65,6 +65,13 @@ typedef struct cpl_def {
     /// exponential average keeps the mean (buoyancy) and removes the noise, at the cost of
     /// keep / (1 - keep) steps of extra lag (1 step at 0.5).
     float force_smoothing;
+    /// Bound on the fluid's push on a dynamic body per step, as a multiple of the
+    /// acceleration full submersion gives it, g rho_fluid / rho_body, [0, 100]; default 1.
+    /// Per step the fluid may take away the body's velocity against the force and add at
+    /// most that acceleration times dt; 0 turns the bound off. Without it the one-step-late
+    /// force (measured while a light body plunged in, applied after) throws light bodies
+    /// out of the water faster than they hit it (docs/coupling.md).
+    float impulse_limit;
     /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
     /// Default 0: not allowed; cpl_default_def() sets 0.02 m. Grids hold at most 128
     /// samples per axis; a finer spacing is coarsened to fit (and logged).
@@ -121,6 +128,7 @@ typedef struct cpl_body_stats {
     uint64_t force_step;    ///< the fluid step (0-based) in which that force was measured
     uint32_t contacts;      ///< particle-boundary contacts in that step (all iterations)
     uint32_t pushed_out;    ///< particles moved out from inside the body in that step
+    uint64_t limited_steps; ///< steps whose applied force the impulse limit scaled down
     bool two_way;
     pbf_collider_id collider;
 } cpl_body_stats;
