@@ -234,14 +234,6 @@ static void cpl_log(void *user, const char *msg)
     eng_log(&a->log, ENG_LOG_DEBUG, "coupling: %s", msg);
 }
 
-// GPU memory the particle buffers need, bytes: positions, velocities and predictions
-// (two copies each, vec4), ids (two), cell keys, sort slots, lambda (+ pad), vorticity,
-// neighbour counts and lists. An estimate of the fluid's allocation (fluid/pbf_world.c).
-static double particle_bytes(uint32_t capacity, uint32_t max_neighbours)
-{
-    return (double)capacity * (6.0 * 16.0 + 2.0 * 4.0 + 4.0 + 4.0 + 8.0 + 16.0 + 4.0 + 4.0 * max_neighbours);
-}
-
 // Memory the GL implementation can give, bytes, or 0 when it does not say. NVIDIA and
 // AMD report it through extensions; a software rasteriser (llvmpipe) uses system memory.
 static double gpu_memory_bytes(void)
@@ -374,7 +366,7 @@ static int create_worlds(app *a, instance *in, char *err, size_t err_size)
     char where[600];
     if (c->scene_where[0]) snprintf(where, sizeof where, "%s", c->scene_where);
     else snprintf(where, sizeof where, "%s: ", eng_script_path(in->script));
-    double need = particle_bytes(d.capacity, d.max_neighbours), have = gpu_memory_bytes();
+    double need = (double)pbf_world_def_memory(&d), have = gpu_memory_bytes();
     if (have > 0 && need > have) {
         snprintf(err, err_size, "%sseiche.scene: field 'capacity' %u needs about %.1f GiB of GPU memory for particle "
                  "buffers (%u neighbours each), but this GPU has about %.1f GiB; lower capacity (or kernel_radius)",

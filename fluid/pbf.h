@@ -147,6 +147,10 @@ pbf_world_def pbf_default_world_def(void);
 /// A neighbour list length that holds twice a rest neighbourhood for these parameters.
 uint32_t pbf_suggest_max_neighbours(const pbf_params *params);
 
+/// GPU memory the world of this def allocates, bytes (particle buffers, neighbour lists,
+/// the grid), for checking a capacity against what the GPU has before creating it.
+uint64_t pbf_world_def_memory(const pbf_world_def *def);
+
 /// Creates a world in the current GL context. Returns NULL and a message on bad
 /// parameters, missing GL 4.3 compute, or a shader that fails (file:line in the message).
 pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size);

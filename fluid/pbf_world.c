@@ -196,6 +196,23 @@ static void stats_alloc(pbf_world *w)
     w->max_queries = need;
 }
 
+uint64_t pbf_world_def_memory(const pbf_world_def *def)
+{
+    uint64_t cap = def->capacity;
+    // pos, vel, pred (two vec4 each), ids (two), cell_of, sorted, order, lambda (vec2),
+    // omega (vec4), neighbour count and list, and the metrics partials.
+    uint64_t per_particle = 6 * 16 + 2 * 4 + 3 * 4 + 8 + 16 + 4 + 4ull * def->max_neighbours;
+    uint64_t bytes = cap * per_particle + (cap / PBF_WG + 1) * sizeof(pbf_gpu_reduce);
+    double h = def->params.kernel_radius;
+    uint64_t cells = 1;
+    for (int k = 0; k < 3; k++) {
+        double n = h > 0.0 ? ceil((double)(def->domain_max[k] - def->domain_min[k]) / h) + 2.0 : 1.0;
+        cells *= n > 1.0 ? (uint64_t)n : 1u;
+    }
+    bytes += (2 * cells + 3) * 4 + cells / PBF_SCAN_BLOCK * 4 + 4096; // cell starts, fills, scan
+    return bytes;
+}
+
 pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size)
 {
     char scratch[8];

@@ -3,6 +3,7 @@
 # test (tests/scripts/*.lua) through `seiche --headless`. A script test passes when the
 # runner's exit status matches the one its first lines declare (`-- expect-exit: N`,
 # default 0) and, if declared, stderr contains `-- expect-stderr: TEXT` (repeatable).
+# `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner.
 # Prints one line per test program / script and ends with "N passed, N failed".
 cd "$(dirname "$0")/.." || exit 2
 passed=0
@@ -39,8 +40,12 @@ for s in tests/scripts/*.lua; do
     [ -n "$expect" ] || expect=0
     frames=$(sed -n 's/^-- frames: *\([0-9]*\).*/\1/p' "$s" | head -n 1)
     [ -n "$frames" ] || frames=600
+    budget=$(sed -n 's/^-- budget: *\([0-9.]*\).*/\1/p' "$s" | head -n 1)
+    budget_opt=""
+    [ -z "$budget" ] || budget_opt="--budget $budget"
     start=$(date +%s)
-    build/bin/seiche --headless --quiet --frames "$frames" "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"
+    # shellcheck disable=SC2086
+    build/bin/seiche --headless --quiet --frames "$frames" $budget_opt "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"
     rc=$?
     secs=$(( $(date +%s) - start ))
     ok=1
