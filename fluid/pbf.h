@@ -135,6 +135,10 @@ typedef struct pbf_world_def {
     uint32_t capacity;      ///< maximum live particles, [1, 2^26]
     uint32_t max_neighbours;///< neighbour list length per particle, [8, 512]; 0 is not
                             ///< allowed: the default sizes it from kernel_radius / spacing
+    uint32_t grid_cells_per_kernel; ///< neighbour grid cells per kernel radius, [1, 4]:
+                            ///< cells of h / this. Finer cells mean fewer candidates per
+                            ///< neighbour search and more cells to count and scan; the
+                            ///< default PBF_GRID_CELLS_PER_KERNEL (2) measured best
     float domain_min[3];    ///< m: the neighbour grid covers [min, max]; particles are
     float domain_max[3];    ///< kept inside it (it acts as the outermost wall)
     const char *shader_dir; ///< directory holding fluid/*.comp (default: SEICHE_SHADER_DIR
@@ -142,6 +146,9 @@ typedef struct pbf_world_def {
     pbf_log_fn *log;        ///< NULL: messages go nowhere (errors still come back as results)
     void *log_user;
 } pbf_world_def;
+
+/// The default grid_cells_per_kernel (docs/performance.md has the measurement).
+#define PBF_GRID_CELLS_PER_KERNEL 2u
 
 pbf_world_def pbf_default_world_def(void);
 /// A neighbour list length that holds twice a rest neighbourhood for these parameters.

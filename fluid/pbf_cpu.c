@@ -21,6 +21,7 @@ struct pbf_cpu_world {
     pbf_params params;
     pbf_constants k;
     uint32_t capacity, count, max_neighbours;
+    uint32_t cells_per_kernel; // the GPU's default: the same grid, so the same sums in the same order
     float domain_min[3], domain_max[3];
     float grid_origin[3];
     uint32_t grid_dims[3], cells;
@@ -519,17 +520,13 @@ static v3 colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, v3 xs, v3
 
 static pbf_result grid_layout(pbf_cpu_world *w, float h, char *err, size_t err_size)
 {
-    double total = 1.0;
+    float origin[3];
     uint32_t dims[3];
-    for (int k = 0; k < 3; k++) {
-        double n = ceil((double)(w->domain_max[k] - w->domain_min[k]) / h) + 2.0;
-        dims[k] = n < (double)MAX_CELLS ? (uint32_t)n : MAX_CELLS;
-        total *= n;
-    }
+    double total = (double)pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, origin, dims);
     if (total > (double)MAX_CELLS) {
-        snprintf(err, err_size, "pbf_cpu_world: the domain needs %.0f grid cells of size kernel_radius %g m; "
-                 "at most %u allowed on the CPU (shrink the domain or enlarge the kernel)", total, (double)h,
-                 MAX_CELLS);
+        snprintf(err, err_size, "pbf_cpu_world: the domain needs %.0f grid cells of size kernel_radius / %u; "
+                 "at most %u allowed on the CPU (shrink the domain or enlarge the kernel)", total,
+                 w->cells_per_kernel, MAX_CELLS);
         return PBF_ERR_INVALID_ARG;
     }
     uint32_t *start = malloc(((size_t)total + 1) * 4), *fill = malloc((size_t)total * 4);
@@ -544,7 +541,7 @@ static pbf_result grid_layout(pbf_cpu_world *w, float h, char *err, size_t err_s
     w->cell_start = start;
     w->cell_fill = fill;
     for (int k = 0; k < 3; k++) {
-        w->grid_origin[k] = w->domain_min[k] - h;
+        w->grid_origin[k] = origin[k];
         w->grid_dims[k] = dims[k];
     }
     w->cells = (uint32_t)total;
@@ -585,6 +582,7 @@ pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity,
     w->k = pbf_derive_constants(params);
     w->capacity = capacity;
     w->max_neighbours = pbf_suggest_max_neighbours(params);
+    w->cells_per_kernel = PBF_GRID_CELLS_PER_KERNEL;
     memcpy(w->domain_min, domain_min, sizeof w->domain_min);
     memcpy(w->domain_max, domain_max, sizeof w->domain_max);
     if (grid_layout(w, params->kernel_radius, err, err_size) != PBF_OK) {
@@ -1009,7 +1007,8 @@ static pbf_gpu_params uniforms(const pbf_cpu_world *w, float dt)
     pbf_gpu_params g;
     memset(&g, 0, sizeof g);
     pbf_uniforms_solver(&g, p, &w->k, dt);
-    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, w->domain_min, w->domain_max,
+    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, p->kernel_radius / (float)w->cells_per_kernel,
+                       w->domain_min, w->domain_max,
                        (const float(*)[4])w->planes, w->plane_count, w->max_neighbours);
     g.count = w->count;
     g.collider_count = w->gpu_count;
@@ -1118,11 +1117,16 @@ static void find_neighbours(pbf_cpu_world *w, const pbf_float4 *x, const pbf_gpu
         int c[3];
         cell_coord(P, xi, c);
         uint32_t n = 0, *list = w->nb_list + (size_t)i * w->max_neighbours;
-        for (int dz = -1; dz <= 1; dz++)
-            for (int dy = -1; dy <= 1; dy++) {
+        // The cells within `reach` of the particle's, rows in z then y order, x ascending
+        // (neighbours.comp skips rows and trims x ranges that hold nothing within h: the
+        // same neighbours in the same order).
+        int reach = (int)ceilf(P->h * P->inv_cell - 1e-4f);
+        for (int dz = -reach; dz <= reach; dz++)
+            for (int dy = -reach; dy <= reach; dy++) {
                 int y = c[1] + dy, z = c[2] + dz;
                 if (y < 0 || z < 0 || y >= dims[1] || z >= dims[2]) continue;
-                int x0 = c[0] > 0 ? c[0] - 1 : 0, x1 = c[0] + 1 < dims[0] ? c[0] + 1 : dims[0] - 1;
+                int x0 = c[0] - reach > 0 ? c[0] - reach : 0;
+                int x1 = c[0] + reach < dims[0] ? c[0] + reach : dims[0] - 1;
                 uint32_t b = w->cell_start[cell_index(P, x0, y, z)], e = w->cell_start[cell_index(P, x1, y, z) + 1];
                 for (uint32_t k = b; k < e; k++) {
                     uint32_t j = w->sorted[k];

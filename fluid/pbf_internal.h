@@ -83,6 +83,7 @@ struct pbf_world {
     pbf_params params;
     uint32_t capacity;
     uint32_t max_neighbours;
+    uint32_t cells_per_kernel;
     uint32_t count;            // particles as last known: stats count + appended since
     uint64_t appended_total;   // particles handed to the append pass so far
     uint64_t known_appended;   // appended_total when the latest stats' step was issued

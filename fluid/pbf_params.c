@@ -229,7 +229,6 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->dt = dt;
     g->inv_dt = 1.0f / dt;
     g->h = (float)h;
-    g->inv_cell = (float)(1.0 / h);
     g->poly6 = k->poly6;
     g->spiky_grad = k->spiky_grad;
     g->rest_density = p->rest_density;
@@ -250,10 +249,25 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->radius = p->particle_radius;
 }
 
+uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
+                           uint32_t cells_per_kernel, float origin[3], uint32_t dims[3])
+{
+    double cs = (double)h / (double)cells_per_kernel;
+    uint64_t total = 1;
+    for (int k = 0; k < 3; k++) {
+        origin[k] = domain_min[k] - h;
+        double n = ceil(((double)domain_max[k] - (double)domain_min[k] + 2.0 * h) / cs - 1e-9);
+        dims[k] = n < 1.0 ? 1u : n > 4e9 ? 4000000000u : (uint32_t)n;
+        total *= dims[k];
+    }
+    return total;
+}
+
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],
-                        uint32_t cells, const float domain_min[3], const float domain_max[3],
+                        uint32_t cells, float cell_size, const float domain_min[3], const float domain_max[3],
                         const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours)
 {
+    g->inv_cell = 1.0f / cell_size;
     g->grid_origin = (pbf_float4){ grid_origin[0], grid_origin[1], grid_origin[2], 0.0f };
     g->grid_dims = (pbf_uint4){ grid_dims[0], grid_dims[1], grid_dims[2], cells };
     g->domain_min = (pbf_float4){ domain_min[0], domain_min[1], domain_min[2], 0.0f };

@@ -11,10 +11,15 @@
 /// artificial pressure, vorticity, viscosity, damping, speed clamp, particle radius.
 void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt);
 
-/// The space's part: the grid (origin m, cells per axis, total cells), the domain (m) and
-/// the container planes (inward normal xyz, offset w).
+/// The space's part: the grid (origin m, cells per axis, total cells, cell size m), the
+/// domain (m) and the container planes (inward normal xyz, offset w).
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],
-                        uint32_t cells, const float domain_min[3], const float domain_max[3],
+                        uint32_t cells, float cell_size, const float domain_min[3], const float domain_max[3],
                         const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours);
+
+/// The neighbour grid over [domain_min - h, domain_max + h] in cells of h / cells_per_kernel:
+/// origin (m) and cells per axis; returns the total number of cells.
+uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
+                           uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
 
 #endif

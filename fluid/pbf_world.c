@@ -80,6 +80,7 @@ pbf_world_def pbf_default_world_def(void)
     d.params = pbf_default_params();
     d.capacity = 65536;
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.grid_cells_per_kernel = PBF_GRID_CELLS_PER_KERNEL;
     d.domain_min[0] = d.domain_min[1] = d.domain_min[2] = 0.0f;
     d.domain_max[0] = 1.0f;
     d.domain_max[1] = 1.0f;
@@ -99,18 +100,12 @@ static void derive(pbf_world *w)
 static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
 {
     float h = w->params.kernel_radius;
-    uint64_t total = 1;
-    for (int k = 0; k < 3; k++) {
-        w->grid_origin[k] = w->domain_min[k] - h;
-        double n = ceil((double)(w->domain_max[k] - w->domain_min[k]) / h) + 2.0;
-        w->grid_dims[k] = (uint32_t)n;
-        total *= w->grid_dims[k];
-    }
+    uint64_t total = pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, w->grid_origin, w->grid_dims);
     if (total > (1u << 27)) {
         snprintf(err, err_size,
-                 "pbf_world_def.domain needs %llu grid cells of size kernel_radius %g m; at most %u allowed "
-                 "(shrink the domain or enlarge the kernel)",
-                 (unsigned long long)total, (double)h, 1u << 27);
+                 "pbf_world_def.domain needs %llu grid cells of size kernel_radius / grid_cells_per_kernel = %g m; "
+                 "at most %u allowed (shrink the domain, enlarge the kernel or lower grid_cells_per_kernel)",
+                 (unsigned long long)total, (double)h / w->cells_per_kernel, 1u << 27);
         return PBF_ERR_INVALID_ARG;
     }
     w->cells = (uint32_t)total;
@@ -203,12 +198,12 @@ uint64_t pbf_world_def_memory(const pbf_world_def *def)
     // omega (vec4), neighbour count and list, and the metrics partials.
     uint64_t per_particle = 6 * 16 + 2 * 4 + 3 * 4 + 8 + 16 + 4 + 4ull * def->max_neighbours;
     uint64_t bytes = cap * per_particle + (cap / PBF_WG + 1) * sizeof(pbf_gpu_reduce);
-    double h = def->params.kernel_radius;
-    uint64_t cells = 1;
-    for (int k = 0; k < 3; k++) {
-        double n = h > 0.0 ? ceil((double)(def->domain_max[k] - def->domain_min[k]) / h) + 2.0 : 1.0;
-        cells *= n > 1.0 ? (uint64_t)n : 1u;
-    }
+    float origin[3];
+    uint32_t dims[3];
+    uint32_t cpk = def->grid_cells_per_kernel >= 1 && def->grid_cells_per_kernel <= 4 ? def->grid_cells_per_kernel : 1u;
+    uint64_t cells = def->params.kernel_radius > 0.0f
+                         ? pbf_grid_geometry(def->domain_min, def->domain_max, def->params.kernel_radius, cpk, origin, dims)
+                         : 1u;
     bytes += (2 * cells + 3) * 4 + cells / PBF_SCAN_BLOCK * 4 + 4096; // cell starts, fills, scan
     return bytes;
 }
@@ -243,6 +238,10 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
                  "gives %u for these parameters)", def->max_neighbours, pbf_suggest_max_neighbours(&def->params));
         return NULL;
     }
+    if (def->grid_cells_per_kernel < 1 || def->grid_cells_per_kernel > 4) {
+        snprintf(err, err_size, "pbf_world_def.grid_cells_per_kernel must be in [1, 4] (got %u)", def->grid_cells_per_kernel);
+        return NULL;
+    }
     if ((uint64_t)def->capacity * def->max_neighbours * 4u > (1ull << 34)) {
         snprintf(err, err_size, "pbf_world_def.capacity %u x max_neighbours %u needs %llu MiB of neighbour lists; "
                  "at most 16384 MiB allowed", def->capacity, def->max_neighbours,
@@ -267,6 +266,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->params = def->params;
     w->capacity = def->capacity;
     w->max_neighbours = def->max_neighbours;
+    w->cells_per_kernel = def->grid_cells_per_kernel;
     const char *renderer = (const char *)glGetString(GL_RENDERER);
     w->flush_timestamps = renderer && strstr(renderer, "llvmpipe");
     memcpy(w->domain_min, def->domain_min, sizeof w->domain_min);
@@ -613,7 +613,8 @@ void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
     pbf_gpu_params g;
     memset(&g, 0, sizeof g);
     pbf_uniforms_solver(&g, p, &w->k, dt);
-    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, w->domain_min, w->domain_max,
+    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, p->kernel_radius / (float)w->cells_per_kernel,
+                       w->domain_min, w->domain_max,
                        (const float(*)[4])w->planes, (uint32_t)w->plane_count, w->max_neighbours);
     uint32_t ns = 0;
     for (int k = 0; k < PBF_MAX_SINKS; k++) {

@@ -20,6 +20,13 @@ void main()
     vec3 grad_i = vec3(0.0);
     float sum_grad2 = 0.0;
     uint nn = nb_len(i);
-    for (uint q = 0u; q < nn; q++) density_add(xi - pred[nb_at(i, q)].xyz, sum_w, grad_i, sum_grad2);
+    uint q = 0u;
+    for (; q + 1u < nn; q += 2u) { // two per trip, loads first; sums still in list order
+        vec3 ra = xi - pred[nb_at(i, q)].xyz;
+        vec3 rb = xi - pred[nb_at(i, q + 1u)].xyz;
+        density_add(ra, sum_w, grad_i, sum_grad2);
+        density_add(rb, sum_w, grad_i, sum_grad2);
+    }
+    if (q < nn) density_add(xi - pred[nb_at(i, q)].xyz, sum_w, grad_i, sum_grad2);
     density_finish(i, xi, sum_w, grad_i, sum_grad2);
 }
