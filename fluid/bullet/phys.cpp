@@ -17,6 +17,7 @@
 #include "phys.h"
 
 #include <btBulletDynamicsCommon.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <LinearMath/btConvexHullComputer.h>
 
@@ -51,9 +52,27 @@ struct ShapeSlot {
     std::vector<phys_vec3> points;
     std::vector<phys_hull_plane> planes;
     std::vector<uint32_t> indices;
-    // Declared before `shape` so the mesh shape is deleted before its mesh data.
+    // Compounds: the children (each a slot of its own, never in the world's
+    // table) and their stored descriptions, which desc.compound points into.
+    std::vector<std::unique_ptr<ShapeSlot>> children;
+    std::vector<phys_compound_child> child_descs;
+    // Compounds: principal moments of inertia per kg of mass, m².
+    btVector3 inertia_per_kg{0, 0, 0};
+    // Declared before `shape` so the mesh shape is deleted before its mesh data
+    // (and a compound before its children).
     std::unique_ptr<btTriangleIndexVertexArray> mesh;
     std::unique_ptr<btCollisionShape> shape;
+
+    void clear() {
+        shape.reset();
+        mesh.reset();
+        children.clear();
+        child_descs.clear();
+        points.clear();
+        planes.clear();
+        indices.clear();
+        inertia_per_kg.setZero();
+    }
 };
 
 struct BodySlot {
@@ -315,6 +334,7 @@ const char* shape_name(phys_shape_type t) {
     case PHYS_SHAPE_CYLINDER: return "cylinder";
     case PHYS_SHAPE_CONVEX_HULL: return "convex hull";
     case PHYS_SHAPE_TRIANGLE_MESH: return "triangle mesh";
+    case PHYS_SHAPE_COMPOUND: return "compound";
     }
     return "unknown shape";
 }
@@ -387,17 +407,11 @@ phys_result create_shape(phys_world* w, const char* fn, phys_shape_id* out,
     CHECK(check_ptr(w, fn, "out", out));
     const uint32_t slot = reserve_slot(w->shapes, w->free_shapes);
     ShapeSlot& s = w->shapes[slot];
-    s.points.clear();
-    s.planes.clear();
-    s.indices.clear();
+    s.clear();
     s.desc = phys_shape_desc{};
     const phys_result r = build(w, fn, input, &s);
     if (r != PHYS_OK) {
-        s.shape.reset();
-        s.mesh.reset();
-        s.points.clear();
-        s.planes.clear();
-        s.indices.clear();
+        s.clear();
         return r;
     }
     s.use_count = 0;
@@ -597,6 +611,89 @@ phys_result build_mesh(phys_world* w, const char* fn, const void* in, ShapeSlot*
     s->desc.mesh.vertex_count = m.vertex_count;
     s->desc.mesh.indices = s->indices.data();
     s->desc.mesh.triangle_count = m.triangle_count;
+    return PHYS_OK;
+}
+
+phys_result build_compound(phys_world* w, const char* fn, const void* in, ShapeSlot* s) {
+    const phys_compound& c = *static_cast<const phys_compound*>(in);
+    CHECK(check_ptr(w, fn, "phys_compound.parts", c.parts));
+    if (c.part_count < 1 || c.part_count > PHYS_MAX_COMPOUND_PARTS) {
+        return fail(w, PHYS_ERR_INVALID_ARG, "%s: phys_compound.part_count must be in [1, %d] (got %u)",
+                    fn, PHYS_MAX_COMPOUND_PARTS, (unsigned)c.part_count);
+    }
+    char where[160], field[96];
+    std::vector<btTransform> poses(c.part_count);
+    for (uint32_t i = 0; i < c.part_count; ++i) {
+        const phys_compound_part& p = c.parts[i];
+        std::snprintf(where, sizeof where, "%s: phys_compound.parts[%u]", fn, (unsigned)i);
+        std::snprintf(field, sizeof field, "phys_compound.parts[%u].position", (unsigned)i);
+        CHECK(check_vec3(w, fn, field, p.position));
+        std::snprintf(field, sizeof field, "phys_compound.parts[%u].rotation", (unsigned)i);
+        btQuaternion q;
+        CHECK(check_quat(w, fn, field, p.rotation, &q));
+        poses[i] = btTransform(q, to_bt(p.position));
+        phys_result (*build)(phys_world*, const char*, const void*, ShapeSlot*) = nullptr;
+        const void* geometry = nullptr;
+        switch (p.type) {
+        case PHYS_SHAPE_BOX: build = build_box; geometry = &p.box; break;
+        case PHYS_SHAPE_SPHERE: build = build_sphere; geometry = &p.sphere; break;
+        case PHYS_SHAPE_CAPSULE: build = build_capsule; geometry = &p.capsule; break;
+        case PHYS_SHAPE_CYLINDER: build = build_cylinder; geometry = &p.cylinder; break;
+        case PHYS_SHAPE_CONVEX_HULL: build = build_hull; geometry = &p.hull; break;
+        default:
+            return fail(w, PHYS_ERR_INVALID_ARG,
+                        "%s: phys_compound.parts[%u].type must be PHYS_SHAPE_BOX, PHYS_SHAPE_SPHERE, "
+                        "PHYS_SHAPE_CAPSULE, PHYS_SHAPE_CYLINDER or PHYS_SHAPE_CONVEX_HULL (got %d%s%s)",
+                        fn, (unsigned)i, (int)p.type, p.type >= PHYS_SHAPE_PLANE && p.type <= PHYS_SHAPE_COMPOUND ? ", " : "",
+                        p.type >= PHYS_SHAPE_PLANE && p.type <= PHYS_SHAPE_COMPOUND ? shape_name(p.type) : "");
+        }
+        auto child = std::make_unique<ShapeSlot>();
+        CHECK(build(w, where, geometry, child.get()));
+        s->children.push_back(std::move(child));
+    }
+    // Children and their poses in the parts frame; masses per unit density.
+    auto compound = std::make_unique<btCompoundShape>(true, (int)c.part_count);
+    std::vector<btScalar> volumes(c.part_count);
+    double total = 0;
+    for (uint32_t i = 0; i < c.part_count; ++i) {
+        compound->addChildShape(poses[i], s->children[i]->shape.get());
+        volumes[i] = s->children[i]->desc.volume;
+        total += volumes[i];
+    }
+    if (!(total > 0) || !std::isfinite(total)) {
+        return fail(w, PHYS_ERR_INVALID_ARG, "%s: the parts' volumes sum to %g m^3; it must be > 0 and finite",
+                    fn, total);
+    }
+    // Centre of mass and principal axes (parallel-axis sum of the children's
+    // inertias, diagonalised); the moments come out for a total mass equal
+    // to the total volume, i.e. per unit density.
+    btTransform principal;
+    btVector3 moments;
+    compound->calculatePrincipalAxisTransform(volumes.data(), principal, moments);
+    // Move the children into the principal frame: the shape origin becomes
+    // the centre of mass.
+    const btTransform to_principal = principal.inverse();
+    for (uint32_t i = 0; i < c.part_count; ++i) {
+        compound->updateChildTransform((int)i, to_principal * poses[i], false);
+    }
+    compound->recalculateLocalAabb();
+    s->inertia_per_kg = moments / (btScalar)total;
+    s->child_descs.resize(c.part_count);
+    for (uint32_t i = 0; i < c.part_count; ++i) {
+        const btTransform& t = compound->getChildTransform((int)i);
+        phys_compound_child& d = s->child_descs[i];
+        d.desc = s->children[i]->desc;
+        d.position = from_bt(t.getOrigin());
+        d.rotation = from_bt(t.getRotation());
+    }
+    s->desc.type = PHYS_SHAPE_COMPOUND;
+    s->desc.margin = compound->getMargin();
+    s->desc.volume = (float)total;
+    s->desc.compound.children = s->child_descs.data();
+    s->desc.compound.child_count = c.part_count;
+    s->desc.compound.frame_origin = from_bt(principal.getOrigin());
+    s->desc.compound.frame_rotation = from_bt(principal.getRotation());
+    s->shape = std::move(compound);
     return PHYS_OK;
 }
 
@@ -906,6 +1003,13 @@ phys_result phys_shape_create_triangle_mesh(phys_world* world, const phys_triang
     });
 }
 
+phys_result phys_shape_create_compound(phys_world* world, const phys_compound* compound,
+                                       phys_shape_id* out) {
+    return guarded(world, __func__, [&](const char* fn) {
+        return create_shape(world, fn, out, build_compound, compound, "compound");
+    });
+}
+
 phys_result phys_shape_destroy(phys_world* world, phys_shape_id shape) {
     return guarded(world, __func__, [&](const char* fn) -> phys_result {
         uint32_t slot = 0;
@@ -916,11 +1020,10 @@ phys_result phys_shape_destroy(phys_world* world, phys_shape_id shape) {
                         "%s: the %s is used by %u bodies; destroy them first", fn,
                         shape_name(s.desc.type), (unsigned)s.use_count);
         }
-        s.shape.reset();
-        s.mesh.reset();
-        s.points = std::vector<phys_vec3>();
-        s.planes = std::vector<phys_hull_plane>();
-        s.indices = std::vector<uint32_t>();
+        s.clear();
+        s.points.shrink_to_fit();
+        s.planes.shrink_to_fit();
+        s.indices.shrink_to_fit();
         s.desc = phys_shape_desc{};
         s.alive = false;
         s.generation = next_generation(s.generation);
@@ -1044,7 +1147,11 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
                                 (double)mass);
                 }
             }
-            shape.shape->calculateLocalInertia(mass, inertia);
+            if (st == PHYS_SHAPE_COMPOUND) {
+                inertia = shape.inertia_per_kg * mass;  // Bullet's own is a bounding-box guess
+            } else {
+                shape.shape->calculateLocalInertia(mass, inertia);
+            }
         }
 
         const uint32_t slot = reserve_slot(w->bodies, w->free_bodies);
@@ -1299,6 +1406,61 @@ phys_result phys_body_get_mass_data(phys_world* world, phys_body_id body, phys_m
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 3; ++c) out->inv_inertia_world[r * 3 + c] = m[r][c];
         }
+        return PHYS_OK;
+    });
+}
+
+static phys_result set_factor(phys_world* w, const char* fn, phys_body_id id, phys_vec3 f, bool angular) {
+    const float c[3] = {f.x, f.y, f.z};
+    const char* axis[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(c[i]) || c[i] < 0 || c[i] > 1) {
+            return fail(w, PHYS_ERR_INVALID_ARG, "%s: factor.%s must be finite and in [0, 1] (got %g)", fn,
+                        axis[i], (double)c[i]);
+        }
+    }
+    BodySlot* b = nullptr;
+    CHECK(get_body(w, fn, id, &b));
+    btRigidBody* rb = b->body.get();
+    const btVector3 keep(f.x != 0 ? 1 : 0, f.y != 0 ? 1 : 0, f.z != 0 ? 1 : 0);
+    if (angular) {
+        rb->setAngularFactor(to_bt(f));
+        if (b->type == PHYS_BODY_DYNAMIC) rb->setAngularVelocity(rb->getAngularVelocity() * keep);
+    } else {
+        rb->setLinearFactor(to_bt(f));
+        if (b->type == PHYS_BODY_DYNAMIC) rb->setLinearVelocity(rb->getLinearVelocity() * keep);
+    }
+    return PHYS_OK;
+}
+
+phys_result phys_body_set_linear_factor(phys_world* world, phys_body_id body, phys_vec3 factor) {
+    return guarded(world, __func__, [&](const char* fn) {
+        return set_factor(world, fn, body, factor, false);
+    });
+}
+
+phys_result phys_body_set_angular_factor(phys_world* world, phys_body_id body, phys_vec3 factor) {
+    return guarded(world, __func__, [&](const char* fn) {
+        return set_factor(world, fn, body, factor, true);
+    });
+}
+
+phys_result phys_body_get_linear_factor(phys_world* world, phys_body_id body, phys_vec3* out) {
+    return guarded(world, __func__, [&](const char* fn) -> phys_result {
+        CHECK(check_ptr(world, fn, "out", out));
+        BodySlot* b = nullptr;
+        CHECK(get_body(world, fn, body, &b));
+        *out = from_bt(b->body->getLinearFactor());
+        return PHYS_OK;
+    });
+}
+
+phys_result phys_body_get_angular_factor(phys_world* world, phys_body_id body, phys_vec3* out) {
+    return guarded(world, __func__, [&](const char* fn) -> phys_result {
+        CHECK(check_ptr(world, fn, "out", out));
+        BodySlot* b = nullptr;
+        CHECK(get_body(world, fn, body, &b));
+        *out = from_bt(b->body->getAngularFactor());
         return PHYS_OK;
     });
 }

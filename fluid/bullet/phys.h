@@ -44,7 +44,10 @@
 ///   Hamilton convention; it rotates body-local vectors into world space:
 ///   p_world = position + q * p_local * conj(q). Bullet uses the same layout.
 /// - A body's centre of mass is its origin (`position`). Give hull and mesh
-///   points around the point that should be the centre of mass.
+///   points around the point that should be the centre of mass. Compound
+///   shapes are the exception that keeps the rule: their parts are given in a
+///   frame of the caller's choosing and the wrapper moves them so that the
+///   compound's centre of mass is the shape origin (see phys_compound).
 /// - Capsules and cylinders have their axis along the body's local Y.
 ///
 /// Stepping: `phys_world_step(world, dt)` runs exactly one Bullet step of dt
@@ -216,7 +219,8 @@ typedef enum phys_shape_type {
     PHYS_SHAPE_CAPSULE,
     PHYS_SHAPE_CYLINDER,
     PHYS_SHAPE_CONVEX_HULL,
-    PHYS_SHAPE_TRIANGLE_MESH
+    PHYS_SHAPE_TRIANGLE_MESH,
+    PHYS_SHAPE_COMPOUND
 } phys_shape_type;
 
 /// Infinite plane: the points x with dot(normal, x) = offset. The solid side is
@@ -284,6 +288,26 @@ typedef struct phys_hull_desc {
     uint32_t plane_count;
 } phys_hull_desc;
 
+struct phys_compound_child;
+
+/// A compound shape as stored (see phys_compound). Everything is in the
+/// shape's own frame, whose origin is the compound's centre of mass and whose
+/// axes are its principal axes of inertia.
+typedef struct phys_compound_desc {
+    /// child_count children: each one's description and its pose in the
+    /// shape frame. World-owned, valid until the shape or world is destroyed.
+    const struct phys_compound_child *children;
+    uint32_t child_count;
+    /// Where the shape frame sits in the frame the parts were given in
+    /// (phys_compound.parts[i].position/rotation): its origin (the centre of
+    /// mass, m) and its rotation (the principal axes; the identity whenever
+    /// the parts' own axes already are principal, e.g. a symmetric wheel).
+    /// A body with pose (P, Q) shows the parts frame at
+    /// P + Q * (-conj(frame_rotation) * frame_origin), rotated Q * conj(frame_rotation).
+    phys_vec3 frame_origin;
+    phys_quat frame_rotation;
+} phys_compound_desc;
+
 /// Plain description of a shape, for building a signed-distance collider.
 /// Pointers inside point into world-owned memory, valid until the shape or
 /// the world is destroyed.
@@ -297,7 +321,8 @@ typedef struct phys_shape_desc {
     /// collide as given with this much extra skin.
     float margin;
     /// Volume, m³: exact for box, sphere, capsule, cylinder and hull;
-    /// INFINITY for a plane; 0 for a triangle mesh.
+    /// INFINITY for a plane; 0 for a triangle mesh; for a compound the sum
+    /// of its children's volumes (overlaps count twice).
     float volume;
     union {
         phys_plane plane;
@@ -307,8 +332,62 @@ typedef struct phys_shape_desc {
         phys_cylinder cylinder;
         phys_hull_desc hull;
         phys_triangle_mesh mesh;
+        phys_compound_desc compound;
     };
 } phys_shape_desc;
+
+/// One child of a compound as stored: its description (type, margin,
+/// volume, geometry; `shape` is the null id, children are not shapes of
+/// their own) and its pose in the compound's shape frame.
+typedef struct phys_compound_child {
+    phys_shape_desc desc;
+    phys_vec3 position;   ///< m, shape frame (relative to the centre of mass)
+    phys_quat rotation;   ///< unit quaternion (x, y, z, w)
+} phys_compound_child;
+
+/// One part of a compound to create: a box, sphere, capsule, cylinder or
+/// convex hull (set `type` and the matching union member; the same rules as
+/// the shape of that type) placed at `position` (m) with `rotation` (unit
+/// quaternion) in the parts frame.
+typedef struct phys_compound_part {
+    phys_shape_type type;
+    union {
+        phys_box box;
+        phys_sphere sphere;
+        phys_capsule capsule;
+        phys_cylinder cylinder;
+        phys_convex_hull hull;
+    };
+    phys_vec3 position;
+    phys_quat rotation;
+} phys_compound_part;
+
+/// Maximum number of parts in one compound.
+#define PHYS_MAX_COMPOUND_PARTS 256
+
+/// A rigid union of parts: one shape that need not be convex (a paddle wheel,
+/// a table, a hook). part_count in [1, PHYS_MAX_COMPOUND_PARTS]; the parts
+/// array and any hull points are copied, the caller keeps ownership.
+///
+/// Mass and centre of mass: the parts share one density, so the compound's
+/// volume is the sum of the parts' volumes (overlaps count twice) and its
+/// centre of mass the volume-weighted mean of the parts' centres. Inertia is
+/// the sum of the parts' inertias moved to that centre (parallel axis;
+/// Bullet's btCompoundShape::calculatePrincipalAxisTransform), diagonalised:
+/// exact for boxes, spheres and cylinders, a bounding-box estimate for
+/// capsules and hulls as for single shapes.
+///
+/// Frames: to keep "the centre of mass is the body origin", the wrapper
+/// moves the parts into the shape frame, whose origin is the centre of mass
+/// and whose axes are the principal axes (phys_compound_desc.frame_origin and
+/// frame_rotation say where that frame lies in the parts frame). A body's
+/// pose is the pose of the shape frame: to place the parts frame at (P, Q),
+/// give the body position P + Q * frame_origin and orientation
+/// Q * frame_rotation.
+typedef struct phys_compound {
+    const phys_compound_part *parts;
+    uint32_t part_count;
+} phys_compound;
 
 /// Create shapes. On success *out is the new shape id; on failure *out is
 /// untouched and the message names the offending field.
@@ -319,8 +398,10 @@ phys_result phys_shape_create_capsule(phys_world *world, const phys_capsule *cap
 phys_result phys_shape_create_cylinder(phys_world *world, const phys_cylinder *cylinder, phys_shape_id *out);
 phys_result phys_shape_create_convex_hull(phys_world *world, const phys_convex_hull *hull, phys_shape_id *out);
 phys_result phys_shape_create_triangle_mesh(phys_world *world, const phys_triangle_mesh *mesh, phys_shape_id *out);
+phys_result phys_shape_create_compound(phys_world *world, const phys_compound *compound, phys_shape_id *out);
 
-/// Destroy a shape. Fails with PHYS_ERR_INVALID_ARG while a body uses it.
+/// Destroy a shape (a compound with all its children). Fails with
+/// PHYS_ERR_INVALID_ARG while a body uses it.
 phys_result phys_shape_destroy(phys_world *world, phys_shape_id shape);
 
 /// True when `shape` names a live shape of this world. Never sets an error.
@@ -391,6 +472,8 @@ bool phys_body_is_valid(const phys_world *world, phys_body_id body);
 phys_result phys_body_get_type(phys_world *world, phys_body_id body, phys_body_type *out);
 
 /// Describe the body's shape (same as phys_shape_get_desc on its shape).
+/// For a compound the children's poses are relative to the body pose:
+/// child world pose = body pose × child pose.
 phys_result phys_body_get_shape(phys_world *world, phys_body_id body, phys_shape_desc *out);
 
 /// Teleport a body: position (m) and orientation. No velocity is derived and a
@@ -444,6 +527,19 @@ typedef struct phys_mass_data {
 
 /// Mass, inertia and centre of mass of a body.
 phys_result phys_body_get_mass_data(phys_world *world, phys_body_id body, phys_mass_data *out);
+
+/// Per-axis factors on a dynamic body's motion, world axes, each component
+/// finite and in [0, 1]; default {1, 1, 1}. Forces, gravity, contacts and
+/// impulses change the linear velocity only along axes with a non-zero
+/// factor (scaled by it), the angular velocity likewise. Linear factor
+/// {0, 0, 0} pins the centre of mass; with angular factor {0, 0, 1} as well
+/// the body is a wheel on a fixed axle along world z through its centre of
+/// mass. Setting a factor zeroes the velocity along axes whose factor is 0.
+/// Static and kinematic bodies accept the calls and are not affected.
+phys_result phys_body_set_linear_factor(phys_world *world, phys_body_id body, phys_vec3 factor);
+phys_result phys_body_set_angular_factor(phys_world *world, phys_body_id body, phys_vec3 factor);
+phys_result phys_body_get_linear_factor(phys_world *world, phys_body_id body, phys_vec3 *out);
+phys_result phys_body_get_angular_factor(phys_world *world, phys_body_id body, phys_vec3 *out);
 
 /// Allow or forbid sleeping. Forbidding also wakes the body.
 phys_result phys_body_set_sleep_enabled(phys_world *world, phys_body_id body, bool enabled);
