@@ -17,15 +17,21 @@
 #include <stdlib.h>
 #include <string.h>
 
-// The fluid's collider limit (PBF_MAX_COLLIDERS in shaders/fluid/pbf_shared.h).
-#define CPL_MAX_BODIES 64
+#include "shaders/fluid/pbf_shared.h"
+
+// The fluid's collider limit: at most this many bodies, and at most this many colliders
+// in all (a compound takes one per part).
+#define CPL_MAX_BODIES PBF_MAX_COLLIDERS
 
 typedef struct body_entry {
     bool used;
     phys_body_id body;
     phys_body_type type;
     bool two_way;
-    pbf_collider_id collider;
+    pbf_collider_id collider;  // the first of collider_count (one per part of a compound)
+    uint32_t collider_count;
+    pbf_collider_id *colliders; // collider_count; for a compound, in the order of its children
+    float (*local)[7];          // compound children: position xyz, rotation xyzw in the body frame
     cpl_body_stats stats;
     float force[3], torque[3]; // applied in each substep of the current step (smoothed)
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
@@ -42,9 +48,12 @@ struct cpl_coupling {
     void *log_user;
     char error[512];
     body_entry bodies[CPL_MAX_BODIES];
+    pbf_collider_id single[CPL_MAX_BODIES]; // the collider of single-shape body i
     uint64_t steps;
     cpl_result hook_error;
 };
+
+static void drop(cpl_coupling *c, body_entry *e);
 
 static cpl_result fail(cpl_coupling *c, cpl_result r, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -154,8 +163,7 @@ void cpl_destroy(cpl_coupling *c)
 {
     if (!c) return;
     for (int i = 0; i < CPL_MAX_BODIES; i++)
-        if (c->bodies[i].used && pbf_collider_is_valid(c->fluid, c->bodies[i].collider))
-            pbf_world_remove_collider(c->fluid, c->bodies[i].collider);
+        if (c->bodies[i].used) drop(c, &c->bodies[i]);
     free(c);
 }
 
@@ -367,8 +375,44 @@ static cpl_result collider_from_shape(cpl_coupling *c, const phys_shape_desc *s,
         d->type = PBF_SHAPE_SDF;
         return CPL_OK;
     }
+    case PHYS_SHAPE_COMPOUND:
+        break; // one collider per child: cpl_add_body
     }
     return fail(c, CPL_ERR_INVALID_ARG, "cpl_add_body: unknown shape type %d", (int)s->type);
+}
+
+// Hamilton product and rotation of a vector by a unit quaternion (x, y, z, w).
+static void qmul(const float a[4], const float b[4], float o[4])
+{
+    o[0] = a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1];
+    o[1] = a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0];
+    o[2] = a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3];
+    o[3] = a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2];
+}
+
+static void qrot(const float q[4], const float v[3], float o[3])
+{
+    // v + w t + u x t with t = 2 u x v, u = q.xyz
+    float t[3] = { 2.0f * (q[1] * v[2] - q[2] * v[1]), 2.0f * (q[2] * v[0] - q[0] * v[2]),
+                   2.0f * (q[0] * v[1] - q[1] * v[0]) };
+    o[0] = v[0] + q[3] * t[0] + (q[1] * t[2] - q[2] * t[1]);
+    o[1] = v[1] + q[3] * t[1] + (q[2] * t[0] - q[0] * t[2]);
+    o[2] = v[2] + q[3] * t[2] + (q[0] * t[1] - q[1] * t[0]);
+}
+
+// World pose of collider k of a body at (pos, rot): the body pose times the child's pose.
+static void collider_pose(const body_entry *e, uint32_t k, const float pos[3], const float rot[4], float out_pos[3],
+                          float out_rot[4])
+{
+    if (!e->local) {
+        memcpy(out_pos, pos, 3 * sizeof(float));
+        memcpy(out_rot, rot, 4 * sizeof(float));
+        return;
+    }
+    float r[3];
+    qrot(rot, e->local[k], r);
+    for (int i = 0; i < 3; i++) out_pos[i] = pos[i] + r[i];
+    qmul(rot, e->local[k] + 3, out_rot);
 }
 
 static cpl_result sync_pose(cpl_coupling *c, body_entry *e)
@@ -383,8 +427,42 @@ static cpl_result sync_pose(cpl_coupling *c, body_entry *e)
     }
     float pos[3] = { p.x, p.y, p.z }, rot[4] = { q.x, q.y, q.z, q.w };
     float lin[3] = { v.x, v.y, v.z }, ang[3] = { w.x, w.y, w.z };
-    if (pbf_world_set_collider_pose(c->fluid, e->collider, pos, rot, lin, ang, pos) != PBF_OK)
-        return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+    for (uint32_t k = 0; k < e->collider_count; k++) {
+        // Every collider of a body takes its torque about the body's centre of mass (its
+        // origin), so a compound's children's torques add up to the body's.
+        float cp[3], cr[4];
+        collider_pose(e, k, pos, rot, cp, cr);
+        if (pbf_world_set_collider_pose(c->fluid, e->colliders[k], cp, cr, lin, ang, pos) != PBF_OK)
+            return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+    }
+    return CPL_OK;
+}
+
+static uint32_t colliders_in_use(const cpl_coupling *c)
+{
+    uint32_t n = 0;
+    for (int i = 0; i < CPL_MAX_BODIES; i++)
+        if (c->bodies[i].used) n += c->bodies[i].collider_count;
+    return n;
+}
+
+// Adds the collider of one shape (a body's, or a compound child's) at the given pose.
+static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, const float pos[3], const float rot[4],
+                               bool two_way, pbf_collider_id *out)
+{
+    pbf_collider_def d = pbf_default_collider_def();
+    float *planes = NULL, *grid = NULL;
+    cpl_result r = collider_from_shape(c, shape, &d, &planes, &grid);
+    if (r != CPL_OK) return r;
+    memcpy(d.position, pos, sizeof d.position);
+    memcpy(d.rotation, rot, sizeof d.rotation);
+    d.two_way = two_way;
+    pbf_result pr = pbf_world_add_collider(c->fluid, &d, out);
+    free(planes);
+    free(grid);
+    if (pr != PBF_OK)
+        return fail(c, pr == PBF_ERR_CAPACITY ? CPL_ERR_CAPACITY : CPL_ERR_FLUID, "cpl_add_body: %s",
+                    pbf_world_last_error(c->fluid));
     return CPL_OK;
 }
 
@@ -409,39 +487,60 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     if (phys_body_get_type(c->phys, body, &type) != PHYS_OK || phys_body_get_shape(c->phys, body, &shape) != PHYS_OK ||
         phys_body_get_pose(c->phys, body, &p, &q) != PHYS_OK)
         return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
-    pbf_collider_def d = pbf_default_collider_def();
-    float *planes = NULL, *grid = NULL;
-    cpl_result r = collider_from_shape(c, &shape, &d, &planes, &grid);
-    if (r != CPL_OK) return r;
-    d.position[0] = p.x;
-    d.position[1] = p.y;
-    d.position[2] = p.z;
-    d.rotation[0] = q.x;
-    d.rotation[1] = q.y;
-    d.rotation[2] = q.z;
-    d.rotation[3] = q.w;
     bool two_way = type == PHYS_BODY_DYNAMIC && bd.two_way;
-    d.two_way = two_way;
-    pbf_collider_id id;
-    pbf_result pr = pbf_world_add_collider(c->fluid, &d, &id);
-    free(planes);
-    free(grid);
-    if (pr != PBF_OK) {
-        return fail(c, pr == PBF_ERR_CAPACITY ? CPL_ERR_CAPACITY : CPL_ERR_FLUID, "cpl_add_body: %s",
-                    pbf_world_last_error(c->fluid));
-    }
-    if (type == PHYS_BODY_DYNAMIC && phys_body_set_sleep_enabled(c->phys, body, false) != PHYS_OK) {
-        pbf_world_remove_collider(c->fluid, id);
-        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
+    float pos[3] = { p.x, p.y, p.z }, rot[4] = { q.x, q.y, q.z, q.w };
+    uint32_t count = shape.type == PHYS_SHAPE_COMPOUND ? shape.compound.child_count : 1;
+    uint32_t in_use = colliders_in_use(c);
+    if (in_use + count > PBF_MAX_COLLIDERS) {
+        if (shape.type == PHYS_SHAPE_COMPOUND)
+            return fail(c, CPL_ERR_CAPACITY, "cpl_add_body: the body is a compound of %u parts, which needs %u fluid "
+                        "colliders (one per part), but only %u of the fluid's %d are free (use fewer parts)",
+                        count, count, PBF_MAX_COLLIDERS - in_use, PBF_MAX_COLLIDERS);
+        return fail(c, CPL_ERR_CAPACITY, "cpl_add_body: all %d fluid colliders are in use", PBF_MAX_COLLIDERS);
     }
     memset(e, 0, sizeof *e);
-    e->used = true;
     e->body = body;
     e->type = type;
     e->two_way = two_way;
-    e->collider = id;
+    if (shape.type == PHYS_SHAPE_COMPOUND) {
+        e->colliders = calloc(count, sizeof *e->colliders);
+        e->local = calloc(count, sizeof *e->local);
+        if (!e->colliders || !e->local) {
+            free(e->colliders);
+            free(e->local);
+            e->colliders = NULL;
+            e->local = NULL;
+            return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory");
+        }
+        for (uint32_t k = 0; k < count; k++) {
+            const phys_compound_child *ch = &shape.compound.children[k];
+            float l[7] = { ch->position.x, ch->position.y, ch->position.z, ch->rotation.x, ch->rotation.y,
+                           ch->rotation.z, ch->rotation.w };
+            memcpy(e->local[k], l, sizeof l);
+        }
+    } else {
+        e->colliders = &c->single[e - c->bodies];
+    }
+    // In use from here on, so that drop() removes what was made when a later part fails.
+    e->used = true;
+    for (uint32_t k = 0; k < count; k++) {
+        const phys_shape_desc *part = shape.type == PHYS_SHAPE_COMPOUND ? &shape.compound.children[k].desc : &shape;
+        float cp[3], cr[4];
+        collider_pose(e, k, pos, rot, cp, cr);
+        cpl_result r = add_collider(c, part, cp, cr, two_way, &e->colliders[k]);
+        if (r != CPL_OK) {
+            drop(c, e);
+            return r;
+        }
+        e->collider_count = k + 1;
+    }
+    if (type == PHYS_BODY_DYNAMIC && phys_body_set_sleep_enabled(c->phys, body, false) != PHYS_OK) {
+        drop(c, e);
+        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
+    }
+    e->collider = e->colliders[0];
     e->stats.two_way = two_way;
-    e->stats.collider = id;
+    e->stats.collider = e->collider;
     e->volume = shape.volume;
     phys_mass_data md;
     if (type == PHYS_BODY_DYNAMIC && phys_body_get_mass_data(c->phys, body, &md) == PHYS_OK) e->mass = md.mass;
@@ -451,7 +550,15 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
 
 static void drop(cpl_coupling *c, body_entry *e)
 {
-    if (pbf_collider_is_valid(c->fluid, e->collider)) pbf_world_remove_collider(c->fluid, e->collider);
+    for (uint32_t k = 0; k < e->collider_count; k++)
+        if (pbf_collider_is_valid(c->fluid, e->colliders[k])) pbf_world_remove_collider(c->fluid, e->colliders[k]);
+    if (e->local) {
+        free(e->colliders);
+        free(e->local);
+    }
+    e->colliders = NULL;
+    e->local = NULL;
+    e->collider_count = 0;
     e->used = false;
 }
 
@@ -572,9 +679,22 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
         if (!e->used || !e->two_way) continue;
+        // A compound's force and torque are the sums over its children (all torques are
+        // about the body's centre of mass).
         pbf_collider_report rep;
-        if (pbf_world_collider_report(c->fluid, e->collider, c->force_latency, true, &rep) != PBF_OK)
+        if (pbf_world_collider_report(c->fluid, e->colliders[0], c->force_latency, true, &rep) != PBF_OK)
             return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+        for (uint32_t k = 1; k < e->collider_count; k++) {
+            pbf_collider_report part;
+            if (pbf_world_collider_report(c->fluid, e->colliders[k], c->force_latency, true, &part) != PBF_OK)
+                return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+            for (int i = 0; i < 3; i++) {
+                rep.force[i] += part.force[i];
+                rep.torque[i] += part.torque[i];
+            }
+            rep.contacts += part.contacts;
+            rep.pushed_out += part.pushed_out;
+        }
         // Smoothed from step to step (exponential average; the force's mean is kept).
         float keep = c->force_smoothing;
         for (int k = 0; k < 3; k++) {

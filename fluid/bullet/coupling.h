@@ -3,7 +3,8 @@
 // A coupling links one phys_world (fluid/bullet/phys.h) and one pbf_world (fluid/pbf.h).
 // Each registered body becomes a fluid collider of the same shape (plane, box, sphere,
 // capsule, cylinder analytically; convex hulls by their face planes; triangle meshes by a
-// signed distance grid baked once when the body is added). cpl_step then runs Bullet in
+// signed distance grid baked once when the body is added; compounds as one collider per
+// child, whose forces and torques, all about the body's centre of mass, are summed). cpl_step then runs Bullet in
 // lockstep with the fluid: before every fluid substep it
 //   1. applies to each dynamic two-way body the force and torque the fluid exerted on it
 //      `force_latency` steps earlier (cpl_def; the GPU accumulates them, they are read
@@ -43,7 +44,7 @@ typedef enum cpl_result {
     CPL_OK = 0,
     CPL_ERR_INVALID_ARG,   ///< an argument or def field is out of range, NaN or NULL
     CPL_ERR_STALE_ID,      ///< the body was destroyed, or is not (or already) coupled
-    CPL_ERR_CAPACITY,      ///< more bodies than the fluid has colliders (64)
+    CPL_ERR_CAPACITY,      ///< more colliders than the fluid has (64; a compound takes one per part)
     CPL_ERR_PHYS,          ///< a phys_ call failed (its message is in cpl_last_error)
     CPL_ERR_FLUID,         ///< a pbf_ call failed (its message is in cpl_last_error)
     CPL_ERR_OUT_OF_MEMORY,
@@ -108,7 +109,8 @@ cpl_result cpl_add_body(cpl_coupling *coupling, phys_body_id body, const cpl_bod
 cpl_result cpl_remove_body(cpl_coupling *coupling, phys_body_id body);
 /// True when the body is coupled.
 bool cpl_has_body(const cpl_coupling *coupling, phys_body_id body);
-/// The fluid collider made for a coupled body (for pbf_world_collider_report).
+/// The fluid collider made for a coupled body (for pbf_world_collider_report); for a
+/// compound, the collider of its first child.
 cpl_result cpl_body_collider(cpl_coupling *coupling, phys_body_id body, pbf_collider_id *out);
 
 /// Teleports a coupled body (position m, orientation unit quaternion x, y, z, w, both

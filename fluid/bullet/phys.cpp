@@ -670,6 +670,33 @@ phys_result build_compound(phys_world* w, const char* fn, const void* in, ShapeS
     btTransform principal;
     btVector3 moments;
     compound->calculatePrincipalAxisTransform(volumes.data(), principal, moments);
+    // Keep the parts' own axes when they already are principal (a symmetric wheel): an
+    // axis-symmetric body has a free choice of axes, and the diagonalisation's is arbitrary.
+    {
+        btVector3 com(0, 0, 0);
+        for (uint32_t i = 0; i < c.part_count; ++i) com += poses[i].getOrigin() * (volumes[i] / (btScalar)total);
+        btMatrix3x3 tensor(0, 0, 0, 0, 0, 0, 0, 0, 0);
+        for (uint32_t i = 0; i < c.part_count; ++i) {
+            btVector3 diag;
+            s->children[i]->shape->calculateLocalInertia(volumes[i], diag);
+            const btMatrix3x3 r = poses[i].getBasis();
+            btMatrix3x3 j = r.scaled(diag) * r.transpose();
+            const btVector3 o = poses[i].getOrigin() - com;
+            const btScalar o2 = o.length2();
+            for (int a = 0; a < 3; ++a) {
+                for (int b = 0; b < 3; ++b) j[a][b] += volumes[i] * ((a == b ? o2 : 0) - o[a] * o[b]);
+            }
+            tensor[0] += j[0];
+            tensor[1] += j[1];
+            tensor[2] += j[2];
+        }
+        const btScalar scale = btMax(tensor[0][0], btMax(tensor[1][1], tensor[2][2]));
+        const btScalar off = btMax(btFabs(tensor[0][1]), btMax(btFabs(tensor[0][2]), btFabs(tensor[1][2])));
+        if (off <= 1e-5f * scale) {
+            principal = btTransform(btQuaternion::getIdentity(), com);
+            moments = btVector3(tensor[0][0], tensor[1][1], tensor[2][2]);
+        }
+    }
     // Move the children into the principal frame: the shape origin becomes
     // the centre of mass.
     const btTransform to_principal = principal.inverse();
