@@ -45,9 +45,22 @@ typedef enum obj_state {
 } obj_state;
 
 typedef enum body_shape {
-    SHAPE_BOX = 0, SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_CYLINDER, SHAPE_PLANE, SHAPE_HULL, SHAPE_MESH, SHAPE_COUNT
+    SHAPE_BOX = 0, SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_CYLINDER, SHAPE_PLANE, SHAPE_HULL, SHAPE_MESH, SHAPE_COMPOUND,
+    SHAPE_COUNT
 } body_shape;
-static const char *const SHAPE_NAME[SHAPE_COUNT] = { "box", "sphere", "capsule", "cylinder", "plane", "hull", "mesh" };
+static const char *const SHAPE_NAME[SHAPE_COUNT] = { "box", "sphere", "capsule", "cylinder", "plane", "hull", "mesh",
+                                                     "compound" };
+
+// One part of a compound body, in the frame the script gave the parts in.
+typedef struct body_part {
+    body_shape shape;       // box, sphere, capsule or cylinder
+    float dims[4];          // as body_rec.dims
+    float pos[3];           // m
+    float rot[4];           // unit quaternion x, y, z, w
+} body_part;
+
+// The most parts a compound may have: each is a fluid collider, and the fluid has 64.
+#define MAX_BODY_PARTS 64
 static const char *const BODY_KIND_NAME[3] = { "static", "kinematic", "dynamic" }; // = phys_body_type
 
 typedef struct body_rec {
@@ -57,6 +70,10 @@ typedef struct body_rec {
     uint32_t point_count;
     uint32_t *indices;      // mesh, 0-based (owned)
     uint32_t index_count;
+    body_part *parts;       // compound (owned)
+    uint32_t part_count;
+    bool has_factors;       // linear_factor / angular_factor / axle given
+    float linear_factor[3], angular_factor[3];
     phys_body_def def;      // everything but the shape
     bool two_way;
     float color[3];
@@ -623,8 +640,10 @@ static void body_free_data(body_rec *b)
 {
     free(b->points);
     free(b->indices);
+    free(b->parts);
     b->points = NULL;
     b->indices = NULL;
+    b->parts = NULL;
 }
 
 // Frees the slot: every handle to it becomes stale ("attempt to use a destroyed ...").
@@ -1320,11 +1339,9 @@ static const float PALETTE[6][3] = {
     { 0.78f, 0.26f, 0.30f }, { 0.50f, 0.40f, 0.70f }, { 0.62f, 0.46f, 0.30f },
 };
 
-// Volume of a shape whose dimensions are known here (not hulls or meshes), m^3.
-static double shape_volume(const body_rec *b)
+static double dims_volume(body_shape shape, const float *d)
 {
-    const float *d = b->dims;
-    switch (b->shape) {
+    switch (shape) {
     case SHAPE_BOX: return 8.0 * d[0] * d[1] * d[2];
     case SHAPE_SPHERE: return 4.0 / 3.0 * PI * d[0] * d[0] * d[0];
     case SHAPE_CAPSULE: return PI * d[0] * d[0] * (2.0 * d[1] + 4.0 / 3.0 * d[0]);
@@ -1333,20 +1350,31 @@ static double shape_volume(const body_rec *b)
     }
 }
 
+// Volume of a shape whose dimensions are known here (not hulls or meshes), m^3; a
+// compound's is the sum of its parts'.
+static double shape_volume(const body_rec *b)
+{
+    if (b->shape != SHAPE_COMPOUND) return dims_volume(b->shape, b->dims);
+    double v = 0.0;
+    for (uint32_t i = 0; i < b->part_count; i++) v += dims_volume(b->parts[i].shape, b->parts[i].dims);
+    return v;
+}
+
 static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", "normal", "offset", "points", "vertices",
                                            "indices", "kind", "density", "mass", "position", "rotation", "velocity",
                                            "angular_velocity", "friction", "restitution", "linear_damping",
-                                           "angular_damping", "two_way", "color", "visible", NULL };
+                                           "angular_damping", "two_way", "color", "visible", "parts", "linear_factor",
+                                           "angular_factor", "axle", NULL };
 
 // The fields each shape takes (besides the common ones).
 static void check_shape_fields(lua_State *L, body_shape shape)
 {
     static const char *const own[SHAPE_COUNT][4] = {
         { "size" }, { "radius" }, { "radius", "height" }, { "radius", "height" },
-        { "normal", "offset" }, { "points" }, { "vertices", "indices" },
+        { "normal", "offset" }, { "points" }, { "vertices", "indices" }, { "parts" },
     };
     static const char *const geometric[] = { "size", "radius", "height", "normal", "offset", "points", "vertices",
-                                             "indices", NULL };
+                                             "indices", "parts", NULL };
     for (const char *const *g = geometric; *g; g++) {
         bool mine = false;
         for (int k = 0; k < 4 && own[shape][k]; k++)
@@ -1365,6 +1393,87 @@ static void check_shape_fields(lua_State *L, body_shape shape)
     }
 }
 
+// The geometry fields of a box, sphere, capsule or cylinder in table t: dims as body_rec.
+static void read_dims(lua_State *L, int t, const char *fn, body_shape shape, float dims[4])
+{
+    switch (shape) {
+    case SHAPE_BOX: {
+        float size[3];
+        if (!opt_vec(L, t, fn, "size", 3, 0, 1000, OPEN_LO, "m", size))
+            raise(L, "%s: field 'size' is required for a box: edge lengths {x, y, z}, each in (0, 1000] m (got nil)", fn);
+        for (int k = 0; k < 3; k++) dims[k] = 0.5f * size[k];
+        break;
+    }
+    case SHAPE_SPHERE: dims[0] = (float)req_number(L, t, fn, "radius", 0, 1000, OPEN_LO, "m"); break;
+    case SHAPE_CAPSULE:
+    case SHAPE_CYLINDER: {
+        double r = req_number(L, t, fn, "radius", 0, 1000, OPEN_LO, "m");
+        double h = req_number(L, t, fn, "height", 0, 2000, OPEN_LO, "m");
+        if (shape == SHAPE_CAPSULE && !(h > 2.0 * r))
+            raise(L, "%s: field 'height' of a capsule is its total height and must exceed 2 radius = %g m (got %g)", fn,
+                  2.0 * r, h);
+        dims[0] = (float)r;
+        dims[1] = shape == SHAPE_CAPSULE ? (float)(0.5 * h - r) : (float)(0.5 * h);
+        break;
+    }
+    default: break;
+    }
+}
+
+// Field 'parts' of a compound: 1 to MAX_BODY_PARTS tables {shape, size | radius, height,
+// position, rotation}. Returns them in garbage-collected userdata (left on the stack).
+static body_part *read_parts(lua_State *L, int t, const char *fn, uint32_t *count)
+{
+    if (!field_present(L, t, "parts"))
+        raise(L, "%s: field 'parts' is required for a compound: a list of 1 to %d parts {shape = \"box\", size = "
+              "{x, y, z}, position = {x, y, z}, rotation = ...} (got nil)", fn, MAX_BODY_PARTS);
+    int pt = lua_gettop(L);
+    char got[64];
+    if (!lua_istable(L, pt))
+        raise(L, "%s: field 'parts' must be a list of parts {shape, size | radius, height, position, rotation} (got %s)",
+              fn, describe(L, pt, got, sizeof got));
+    lua_Integer n = luaL_len(L, pt);
+    if (n < 1 || n > MAX_BODY_PARTS)
+        raise(L, "%s: field 'parts' must hold 1 to %d parts (each part is one of the fluid's %d colliders; got %lld)", fn,
+              MAX_BODY_PARTS, MAX_BODY_PARTS, (long long)n);
+    body_part *parts = lua_newuserdatauv(L, (size_t)n * sizeof *parts, 0);
+    static const char *const known[] = { "shape", "size", "radius", "height", "position", "rotation", NULL };
+    static const char *const part_shapes[] = { "box", "sphere", "capsule", "cylinder" };
+    static const char *const own[4][2] = { { "size" }, { "radius" }, { "radius", "height" }, { "radius", "height" } };
+    for (lua_Integer i = 1; i <= n; i++) {
+        char sub[96];
+        snprintf(sub, sizeof sub, "%s: field 'parts'[%lld]", fn, (long long)i);
+        lua_geti(L, pt, i);
+        int e = lua_gettop(L);
+        if (!lua_istable(L, e))
+            raise(L, "%s must be a table {shape, size | radius, height, position, rotation} (got %s)", sub,
+                  describe(L, e, got, sizeof got));
+        check_fields(L, e, sub, known);
+        int shape = opt_enum(L, e, sub, "shape", part_shapes, 4);
+        if (shape < 0)
+            raise(L, "%s: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\" (got nil)",
+                  sub);
+        static const char *const geometric[] = { "size", "radius", "height" };
+        for (int g = 0; g < 3; g++) {
+            bool mine = false;
+            for (int k = 0; k < 2 && own[shape][k]; k++)
+                if (strcmp(own[shape][k], geometric[g]) == 0) mine = true;
+            if (!mine && field_present(L, e, geometric[g]))
+                raise(L, "%s: field '%s' does not apply to shape \"%s\"", sub, geometric[g], part_shapes[shape]);
+        }
+        body_part *bp = &parts[i - 1];
+        memset(bp, 0, sizeof *bp);
+        bp->shape = (body_shape)shape;
+        read_dims(L, e, sub, bp->shape, bp->dims);
+        opt_position(L, e, sub, "position", bp->pos);
+        bp->rot[3] = 1.0f;
+        opt_rotation(L, e, sub, "rotation", bp->rot);
+        lua_pop(L, 1);
+    }
+    *count = (uint32_t)n;
+    return parts;
+}
+
 static int l_body(lua_State *L)
 {
     eng_script *s = get_script(L);
@@ -1374,7 +1483,7 @@ static int l_body(lua_State *L)
     int shape = opt_enum(L, 1, fn, "shape", SHAPE_NAME, SHAPE_COUNT);
     if (shape < 0)
         raise(L, "seiche.body: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\", "
-              "\"plane\", \"hull\", \"mesh\" (got nil)");
+              "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil)");
     check_shape_fields(L, (body_shape)shape);
     int kind = opt_enum(L, 1, fn, "kind", BODY_KIND_NAME, 3);
     if (kind < 0) kind = (shape == SHAPE_PLANE || shape == SHAPE_MESH) ? PHYS_BODY_STATIC : PHYS_BODY_DYNAMIC;
@@ -1421,32 +1530,38 @@ static int l_body(lua_State *L)
     if (opt_number(L, 1, fn, "angular_damping", 0, 1, 0, "(fraction of angular velocity removed per second)", &v))
         b.def.angular_damping = (float)v;
     opt_bool(L, 1, fn, "two_way", &b.two_way);
+    // Motion factors: per world axis, [0, 1]; `axle` is the short form of a fixed axle.
+    for (int k = 0; k < 3; k++) b.linear_factor[k] = b.angular_factor[k] = 1.0f;
+    bool has_lf = opt_vec(L, 1, fn, "linear_factor", 3, 0, 1, 0, "", b.linear_factor);
+    bool has_af = opt_vec(L, 1, fn, "angular_factor", 3, 0, 1, 0, "", b.angular_factor);
+    static const char *const AXES[3] = { "x", "y", "z" };
+    int axle = opt_enum(L, 1, fn, "axle", AXES, 3);
+    if (axle >= 0) {
+        if (has_lf || has_af)
+            raise(L, "seiche.body: give 'axle' or 'linear_factor'/'angular_factor', not both (axle = \"%s\" means "
+                  "linear_factor = {0, 0, 0} and angular_factor = 1 about %s only)", AXES[axle], AXES[axle]);
+        for (int k = 0; k < 3; k++) {
+            b.linear_factor[k] = 0.0f;
+            b.angular_factor[k] = k == axle ? 1.0f : 0.0f;
+        }
+    }
+    b.has_factors = has_lf || has_af || axle >= 0;
+    if (b.has_factors && kind != PHYS_BODY_DYNAMIC)
+        raise(L, "seiche.body: fields 'axle', 'linear_factor' and 'angular_factor' apply to dynamic bodies only (this "
+              "one is %s)", BODY_KIND_NAME[kind]);
     bool has_color = opt_color(L, 1, fn, "color", b.color);
     opt_bool(L, 1, fn, "visible", &b.visible);
 
     // The shape. Point lists stay in garbage-collected userdata until everything is checked.
     const float *pts = NULL;
     const uint32_t *idx = NULL;
+    const body_part *parts = NULL;
     switch (b.shape) {
-    case SHAPE_BOX: {
-        float size[3];
-        if (!opt_vec(L, 1, fn, "size", 3, 0, 1000, OPEN_LO, "m", size))
-            raise(L, "seiche.body: field 'size' is required for a box: edge lengths {x, y, z}, each in (0, 1000] m (got nil)");
-        for (int k = 0; k < 3; k++) b.dims[k] = 0.5f * size[k];
-        break;
-    }
-    case SHAPE_SPHERE: b.dims[0] = (float)req_number(L, 1, fn, "radius", 0, 1000, OPEN_LO, "m"); break;
+    case SHAPE_BOX:
+    case SHAPE_SPHERE:
     case SHAPE_CAPSULE:
-    case SHAPE_CYLINDER: {
-        double r = req_number(L, 1, fn, "radius", 0, 1000, OPEN_LO, "m");
-        double h = req_number(L, 1, fn, "height", 0, 2000, OPEN_LO, "m");
-        if (b.shape == SHAPE_CAPSULE && !(h > 2.0 * r))
-            raise(L, "seiche.body: field 'height' of a capsule is its total height and must exceed 2 radius = %g m (got %g)",
-                  2.0 * r, h);
-        b.dims[0] = (float)r;
-        b.dims[1] = b.shape == SHAPE_CAPSULE ? (float)(0.5 * h - r) : (float)(0.5 * h);
-        break;
-    }
+    case SHAPE_CYLINDER: read_dims(L, 1, fn, b.shape, b.dims); break;
+    case SHAPE_COMPOUND: parts = read_parts(L, 1, fn, &b.part_count); b.parts = (body_part *)parts; break;
     case SHAPE_PLANE: {
         float n[3] = { 0, 1, 0 };
         opt_vec(L, 1, fn, "normal", 3, -1e6, 1e6, 0, "", n);
@@ -1505,6 +1620,16 @@ static int l_body(lua_State *L)
     command *c = push_command(L, s, CMD_BODY_ADD, fn);
     c->slot = slot;
     c->gen = o->generation;
+    b.parts = NULL;
+    if (parts) {
+        b.parts = malloc((size_t)b.part_count * sizeof *b.parts);
+        if (!b.parts) {
+            s->command_count--;
+            obj_release(s, slot);
+            raise(L, "seiche.body: out of memory");
+        }
+        memcpy(b.parts, parts, (size_t)b.part_count * sizeof *b.parts);
+    }
     if (pts) {
         b.points = malloc((size_t)b.point_count * 3 * sizeof(float));
         b.indices = b.index_count ? malloc((size_t)b.index_count * sizeof(uint32_t)) : NULL;
@@ -2839,6 +2964,159 @@ done:
     return id;
 }
 
+// ---- compound meshes: every part's triangles, in the body frame ---------------------------
+
+typedef struct tri_builder {
+    float *pos;
+    uint32_t *idx;
+    int nv, ni, cap_v, cap_i;
+    bool failed;
+} tri_builder;
+
+static int tb_vertex(tri_builder *t, const float p[3])
+{
+    if (t->nv == t->cap_v) {
+        int cap = t->cap_v ? 2 * t->cap_v : 256;
+        float *n = realloc(t->pos, (size_t)cap * 3 * sizeof *n);
+        if (!n) {
+            t->failed = true;
+            return 0;
+        }
+        t->pos = n;
+        t->cap_v = cap;
+    }
+    memcpy(t->pos + 3 * t->nv, p, 3 * sizeof(float));
+    return t->nv++;
+}
+
+static void tb_triangle(tri_builder *t, int a, int b, int c)
+{
+    if (t->failed) return;
+    if (t->ni + 3 > t->cap_i) {
+        int cap = t->cap_i ? 2 * t->cap_i : 768;
+        uint32_t *n = realloc(t->idx, (size_t)cap * sizeof *n);
+        if (!n) {
+            t->failed = true;
+            return;
+        }
+        t->idx = n;
+        t->cap_i = cap;
+    }
+    t->idx[t->ni++] = (uint32_t)a;
+    t->idx[t->ni++] = (uint32_t)b;
+    t->idx[t->ni++] = (uint32_t)c;
+}
+
+// A point of a part (its own frame) moved into the body frame.
+static void part_point(const float pos[3], const float rot[4], float x, float y, float z, float out[3])
+{
+    float l[3] = { x, y, z }, w[3];
+    quat_rotate(rot, l, w);
+    for (int k = 0; k < 3; k++) out[k] = pos[k] + w[k];
+}
+
+// A solid of revolution about the part's y axis from a profile of (radius, y) pairs, bottom
+// to top; counter-clockwise seen from outside.
+static void tb_lathe(tri_builder *t, const float pos[3], const float rot[4], const float (*prof)[2], int np)
+{
+    enum { SEG = 20 };
+    int base = t->nv;
+    for (int j = 0; j < np; j++)
+        for (int i = 0; i < SEG; i++) {
+            float a = 2.0f * (float)PI * (float)i / SEG, p[3];
+            part_point(pos, rot, prof[j][0] * cosf(a), prof[j][1], prof[j][0] * sinf(a), p);
+            tb_vertex(t, p);
+        }
+    for (int j = 0; j + 1 < np; j++)
+        for (int i = 0; i < SEG; i++) {
+            int a = base + j * SEG + i, b = base + j * SEG + (i + 1) % SEG;
+            int c = base + (j + 1) * SEG + (i + 1) % SEG, d = base + (j + 1) * SEG + i;
+            if (prof[j][0] > 0.0f) tb_triangle(t, a, d, b);
+            if (prof[j + 1][0] > 0.0f) tb_triangle(t, b, d, c);
+        }
+}
+
+static void tb_part(tri_builder *t, const phys_shape_desc *d, const float pos[3], const float rot[4])
+{
+    enum { RINGS = 8 };
+    float prof[2 * RINGS + 4][2];
+    int np = 0;
+    switch (d->type) {
+    case PHYS_SHAPE_BOX: {
+        const float h[3] = { d->box.half_extents.x, d->box.half_extents.y, d->box.half_extents.z };
+        for (int a = 0; a < 3; a++)
+            for (int sgn = -1; sgn <= 1; sgn += 2) {
+                int u = (a + 1) % 3, v = (a + 2) % 3, first = t->nv;
+                static const float cu[4] = { -1, 1, 1, -1 }, cv[4] = { -1, -1, 1, 1 };
+                for (int k = 0; k < 4; k++) {
+                    float l[3], p[3];
+                    l[a] = (float)sgn * h[a];
+                    l[u] = cu[k] * h[u];
+                    l[v] = cv[k] * h[v];
+                    part_point(pos, rot, l[0], l[1], l[2], p);
+                    tb_vertex(t, p);
+                }
+                if (sgn > 0) {
+                    tb_triangle(t, first, first + 1, first + 2);
+                    tb_triangle(t, first, first + 2, first + 3);
+                } else {
+                    tb_triangle(t, first, first + 2, first + 1);
+                    tb_triangle(t, first, first + 3, first + 2);
+                }
+            }
+        return;
+    }
+    case PHYS_SHAPE_CYLINDER: {
+        float r = d->cylinder.radius, hh = d->cylinder.half_height;
+        const float cyl[4][2] = { { 0, -hh }, { r, -hh }, { r, hh }, { 0, hh } };
+        tb_lathe(t, pos, rot, cyl, 4);
+        return;
+    }
+    case PHYS_SHAPE_SPHERE:
+    case PHYS_SHAPE_CAPSULE: {
+        float r = d->type == PHYS_SHAPE_SPHERE ? d->sphere.radius : d->capsule.radius;
+        float hh = d->type == PHYS_SHAPE_SPHERE ? 0.0f : d->capsule.half_height;
+        for (int j = 0; j <= RINGS; j++) { // bottom cap, from the pole up to the equator
+            float phi = 0.5f * (float)PI * (float)j / RINGS;
+            prof[np][0] = r * sinf(phi);
+            prof[np][1] = -hh - r * cosf(phi);
+            np++;
+        }
+        for (int j = hh > 0.0f ? 0 : 1; j <= RINGS; j++) { // top cap, from the equator to the pole
+            float phi = 0.5f * (float)PI * (float)j / RINGS;
+            prof[np][0] = r * cosf(phi);
+            prof[np][1] = hh + r * sinf(phi);
+            np++;
+        }
+        prof[RINGS][0] = r;
+        prof[np - 1][0] = 0.0f;
+        prof[0][0] = 0.0f;
+        tb_lathe(t, pos, rot, (const float(*)[2])prof, np);
+        return;
+    }
+    default: return; // hull parts are not made from scripts
+    }
+}
+
+static eng_mesh_id compound_mesh(eng_script *s, body_rec *b)
+{
+    phys_shape_desc d;
+    if (phys_shape_get_desc(s->host.phys, b->shape_id, &d) != PHYS_OK) return ENG_NULL_MESH;
+    tri_builder t;
+    memset(&t, 0, sizeof t);
+    for (uint32_t i = 0; i < d.compound.child_count; i++) {
+        const phys_compound_child *c = &d.compound.children[i];
+        float pos[3] = { c->position.x, c->position.y, c->position.z };
+        float rot[4] = { c->rotation.x, c->rotation.y, c->rotation.z, c->rotation.w };
+        tb_part(&t, &c->desc, pos, rot);
+    }
+    eng_mesh_id id = ENG_NULL_MESH;
+    if (!t.failed && t.ni > 0) id = eng_mesh_create_triangles(s->host.meshes, t.pos, t.nv, t.idx, t.ni);
+    free(t.pos);
+    free(t.idx);
+    return id;
+}
+
 static eng_mesh_id body_mesh(eng_script *s, body_rec *b)
 {
     eng_mesh_store *m = s->host.meshes;
@@ -2855,6 +3133,7 @@ static eng_mesh_id body_mesh(eng_script *s, body_rec *b)
         if (phys_shape_get_desc(s->host.phys, b->shape_id, &d) != PHYS_OK) return ENG_NULL_MESH;
         return hull_mesh(m, &d);
     }
+    case SHAPE_COMPOUND: return compound_mesh(s, b);
     default: return ENG_NULL_MESH;
     }
 }
@@ -2918,13 +3197,55 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
         r = phys_shape_create_triangle_mesh(w, &m, &b->shape_id);
         break;
     }
+    case SHAPE_COMPOUND: {
+        phys_compound_part parts[MAX_BODY_PARTS];
+        memset(parts, 0, sizeof parts);
+        for (uint32_t i = 0; i < b->part_count; i++) {
+            const body_part *bp = &b->parts[i];
+            phys_compound_part *pp = &parts[i];
+            const float *dm = bp->dims;
+            switch (bp->shape) {
+            case SHAPE_BOX: pp->type = PHYS_SHAPE_BOX; pp->box.half_extents = (phys_vec3){ dm[0], dm[1], dm[2] }; break;
+            case SHAPE_SPHERE: pp->type = PHYS_SHAPE_SPHERE; pp->sphere.radius = dm[0]; break;
+            case SHAPE_CAPSULE: pp->type = PHYS_SHAPE_CAPSULE; pp->capsule = (phys_capsule){ dm[0], dm[1] }; break;
+            default: pp->type = PHYS_SHAPE_CYLINDER; pp->cylinder = (phys_cylinder){ dm[0], dm[1] }; break;
+            }
+            pp->position = pv(bp->pos);
+            pp->rotation = pq(bp->rot);
+        }
+        phys_compound cm = { parts, b->part_count };
+        r = phys_shape_create_compound(w, &cm, &b->shape_id);
+        break;
+    }
     default: break;
     }
     if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(w));
     phys_body_def d = b->def;
     d.shape = b->shape_id;
+    if (b->shape == SHAPE_COMPOUND) {
+        // The script placed the parts' frame; the body's frame sits at the centre of mass,
+        // along the principal axes: position P + Q frame_origin, orientation Q frame_rotation.
+        phys_shape_desc sd;
+        if (phys_shape_get_desc(w, b->shape_id, &sd) == PHYS_OK) {
+            float q[4] = { d.orientation.x, d.orientation.y, d.orientation.z, d.orientation.w };
+            float o[3] = { sd.compound.frame_origin.x, sd.compound.frame_origin.y, sd.compound.frame_origin.z }, wo[3];
+            float fr[4] = { sd.compound.frame_rotation.x, sd.compound.frame_rotation.y, sd.compound.frame_rotation.z,
+                            sd.compound.frame_rotation.w }, qb[4];
+            quat_rotate(q, o, wo);
+            quat_mul(q, fr, qb);
+            d.position = (phys_vec3){ d.position.x + wo[0], d.position.y + wo[1], d.position.z + wo[2] };
+            d.orientation = pq(qb);
+        }
+    }
     if (phys_body_create(w, &d, &b->id) != PHYS_OK) {
         eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
+        phys_shape_destroy(w, b->shape_id);
+        return st;
+    }
+    if (b->has_factors && (phys_body_set_linear_factor(w, b->id, pv(b->linear_factor)) != PHYS_OK ||
+                           phys_body_set_angular_factor(w, b->id, pv(b->angular_factor)) != PHYS_OK)) {
+        eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
+        phys_body_destroy(w, b->id);
         phys_shape_destroy(w, b->shape_id);
         return st;
     }
