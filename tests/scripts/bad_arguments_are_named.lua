@@ -27,7 +27,7 @@ local cases = {
     { "seiche.emitter{position = {0.2, 0.3, 0.2}, direction = {0, 0, 0}}", "seiche.emitter: field 'direction' must not be zero" },
     { "seiche.emitter{rate = 10}", "seiche.emitter: field 'position' is required" },
     { "seiche.sink{min = {0, 0, 0}, max = {-1, 1, 1}}", "seiche.sink: max.x must be greater than min.x" },
-    { "seiche.body{shape = 'cube'}", "seiche.body: field 'shape' must be one of \"box\", \"sphere\", \"capsule\", \"cylinder\", \"plane\", \"hull\", \"mesh\" (got \"cube\")" },
+    { "seiche.body{shape = 'cube'}", "seiche.body: field 'shape' must be one of \"box\", \"sphere\", \"capsule\", \"cylinder\", \"plane\", \"hull\", \"mesh\", \"compound\" (got \"cube\")" },
     { "seiche.body{shape = 'box', size = {0.1, -0.1, 0.1}}", "seiche.body: field 'size'.y must be a number in (0, 1000] m (got -0.1)" },
     { "seiche.body{shape = 'box'}", "seiche.body: field 'size' is required for a box" },
     { "seiche.body{shape = 'sphere', radius = 0.1, size = {1, 1, 1}}", "field 'size' does not apply to shape \"sphere\" (it takes 'radius')" },
