@@ -14,6 +14,7 @@
 // from pbf_world_poll_stats, or here, without consuming the statistics, when a host asks
 // for forces (pbf_world_collider_force / _report).
 #include "fluid/pbf_internal.h"
+#include "fluid/pbf_uniforms.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -63,30 +64,6 @@ static bool finite_n(const float *v, int n)
 
 static float len3(const float *v) { return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-static float bounding_radius(const pbf_collider_def *d)
-{
-    const float *z = d->size;
-    switch (d->type) {
-    case PBF_SHAPE_PLANE: return 1e30f;
-    case PBF_SHAPE_BOX: return len3(z);
-    case PBF_SHAPE_SPHERE: return z[0];
-    case PBF_SHAPE_CAPSULE: return z[0] + z[1];
-    case PBF_SHAPE_CYLINDER: return sqrtf(z[0] * z[0] + z[1] * z[1]);
-    case PBF_SHAPE_CONVEX_HULL: return z[0];
-    case PBF_SHAPE_SDF: {
-        // The surface lies inside the grid's box: its farthest corner bounds it.
-        float r2 = 0.0f;
-        for (int k = 0; k < 3; k++) {
-            float lo = fabsf(d->grid.origin[k]);
-            float hi = fabsf(d->grid.origin[k] + (float)(d->grid.dims[k] - 1) * d->grid.cell);
-            float m = lo > hi ? lo : hi;
-            r2 += m * m;
-        }
-        return sqrtf(r2);
-    }
-    }
-    return 1e30f;
-}
 
 static pbf_result check_hull(pbf_world *w, const pbf_collider_def *d)
 {
@@ -215,7 +192,7 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
     if (d->type == PBF_SHAPE_CONVEX_HULL) packed = d->plane_count;
     if (d->type == PBF_SHAPE_SDF) packed = d->grid.dims[0] | d->grid.dims[1] << 10 | d->grid.dims[2] << 20;
     g->info = (pbf_uint4){ gpu_type[d->type], d->two_way ? PBF_COLLIDER_TWO_WAY : 0u, 0u, packed };
-    g->position.w = bounding_radius(d);
+    g->position.w = pbf_collider_bounding_radius(d);
     g->prev_position = g->position;
     g->center_of_mass = g->position;
     g->center_of_mass.w = force_scale(w, g->position.w);

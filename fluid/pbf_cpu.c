@@ -658,23 +658,10 @@ pbf_result pbf_cpu_world_set_max_neighbours(pbf_cpu_world *w, uint32_t max_neigh
 
 pbf_result pbf_cpu_world_set_container(pbf_cpu_world *w, const float min[3], const float max[3], bool closed_top)
 {
-    static const char *const axis = "xyz";
-    for (int k = 0; k < 3; k++) {
-        if (!isfinite(min[k]) || !isfinite(max[k]) || !(max[k] > min[k]))
-            return fail(w, PBF_ERR_INVALID_ARG, "container.max.%c must be finite and greater than min.%c "
-                        "(got min %g, max %g)", axis[k], axis[k], (double)min[k], (double)max[k]);
-        if (min[k] < w->domain_min[k] || max[k] > w->domain_max[k])
-            return fail(w, PBF_ERR_INVALID_ARG, "container.%c range [%g, %g] must lie inside the domain [%g, %g]",
-                        axis[k], (double)min[k], (double)max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
-    }
-    // Inward normal xyz and offset w, in pbf_world_set_container's order: floor, -x, +x,
-    // -z, +z walls, lid.
-    const float planes[PBF_MAX_PLANES][4] = {
-        { 0, 1, 0, min[1] },  { 1, 0, 0, min[0] },   { -1, 0, 0, -max[0] },
-        { 0, 0, 1, min[2] },  { 0, 0, -1, -max[2] }, { 0, -1, 0, -max[1] },
-    };
-    memcpy(w->planes, planes, sizeof planes);
-    w->plane_count = closed_top ? 6u : 5u;
+    char err[256];
+    int n = pbf_container_planes(min, max, closed_top, w->domain_min, w->domain_max, w->planes, err, sizeof err);
+    if (n == 0) return fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    w->plane_count = (uint32_t)n;
     return PBF_OK;
 }
 
@@ -778,30 +765,6 @@ static bool finite_n(const float *v, int n)
 
 static float len3f(const float *v) { return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-/// The bounding radius about the collider's origin, as pbf_colliders.c sets position.w.
-static float bounding_radius(const pbf_collider_def *d)
-{
-    const float *z = d->size;
-    switch (d->type) {
-    case PBF_SHAPE_PLANE: return 1e30f;
-    case PBF_SHAPE_BOX: return len3f(z);
-    case PBF_SHAPE_SPHERE: return z[0];
-    case PBF_SHAPE_CAPSULE: return z[0] + z[1];
-    case PBF_SHAPE_CYLINDER: return sqrtf(z[0] * z[0] + z[1] * z[1]);
-    case PBF_SHAPE_CONVEX_HULL: return z[0];
-    case PBF_SHAPE_SDF: {
-        float r2 = 0.0f;
-        for (int k = 0; k < 3; k++) {
-            float lo = fabsf(d->grid.origin[k]);
-            float hi = fabsf(d->grid.origin[k] + (float)(d->grid.dims[k] - 1) * d->grid.cell);
-            float m = lo > hi ? lo : hi;
-            r2 += m * m;
-        }
-        return sqrtf(r2);
-    }
-    }
-    return 1e30f;
-}
 
 /// Fixed-point units per newton for a collider of bounding radius r (pbf_colliders.c): the
 /// accumulators hold about 1000 times the weight of the fluid its bounding sphere displaces.
@@ -897,7 +860,7 @@ pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *w, const pbf_collider_def *
     float qn = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     pbf_gpu_collider c;
     memset(&c, 0, sizeof c);
-    c.position = (pbf_float4){ d->position[0], d->position[1], d->position[2], bounding_radius(d) };
+    c.position = (pbf_float4){ d->position[0], d->position[1], d->position[2], pbf_collider_bounding_radius(d) };
     c.rotation = (pbf_float4){ q[0] / qn, q[1] / qn, q[2] / qn, q[3] / qn };
     if (d->type == PBF_SHAPE_PLANE) {
         float nl = len3f(d->size);

@@ -277,3 +277,52 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
     g->plane_count = plane_count;
     g->max_neighbours = max_neighbours;
 }
+
+int pbf_container_planes(const float min[3], const float max[3], bool closed_top, const float domain_min[3],
+                         const float domain_max[3], float planes[PBF_MAX_PLANES][4], char *err, size_t err_size)
+{
+    static const char *const axis = "xyz";
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(min[k]) || !isfinite(max[k]) || !(max[k] > min[k])) {
+            snprintf(err, err_size, "container.max.%c must be finite and greater than min.%c (got min %g, max %g)",
+                     axis[k], axis[k], (double)min[k], (double)max[k]);
+            return 0;
+        }
+        if (min[k] < domain_min[k] || max[k] > domain_max[k]) {
+            snprintf(err, err_size, "container.%c range [%g, %g] must lie inside the domain [%g, %g]", axis[k],
+                     (double)min[k], (double)max[k], (double)domain_min[k], (double)domain_max[k]);
+            return 0;
+        }
+    }
+    const float p[PBF_MAX_PLANES][4] = {
+        { 0, 1, 0, min[1] },  { 1, 0, 0, min[0] },   { -1, 0, 0, -max[0] },
+        { 0, 0, 1, min[2] },  { 0, 0, -1, -max[2] }, { 0, -1, 0, -max[1] },
+    };
+    memcpy(planes, p, sizeof p);
+    return closed_top ? 6 : 5;
+}
+
+float pbf_collider_bounding_radius(const pbf_collider_def *d)
+{
+    const float *z = d->size;
+    switch (d->type) {
+    case PBF_SHAPE_PLANE: return 1e30f;
+    case PBF_SHAPE_BOX: return sqrtf(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
+    case PBF_SHAPE_SPHERE: return z[0];
+    case PBF_SHAPE_CAPSULE: return z[0] + z[1];
+    case PBF_SHAPE_CYLINDER: return sqrtf(z[0] * z[0] + z[1] * z[1]);
+    case PBF_SHAPE_CONVEX_HULL: return z[0];
+    case PBF_SHAPE_SDF: {
+        // The surface lies inside the grid's box: its farthest corner bounds it.
+        float r2 = 0.0f;
+        for (int k = 0; k < 3; k++) {
+            float lo = fabsf(d->grid.origin[k]);
+            float hi = fabsf(d->grid.origin[k] + (float)(d->grid.dims[k] - 1) * d->grid.cell);
+            float m = lo > hi ? lo : hi;
+            r2 += m * m;
+        }
+        return sqrtf(r2);
+    }
+    }
+    return 1e30f;
+}

@@ -22,4 +22,13 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
 
+/// The container's planes (inward normal xyz, offset w: floor, -x, +x, -z, +z walls, lid)
+/// for the box [min, max], which must lie in [domain_min, domain_max]. Returns the number of
+/// planes (5, or 6 with a lid), or 0 with a message in err naming the coordinate.
+int pbf_container_planes(const float min[3], const float max[3], bool closed_top, const float domain_min[3],
+                         const float domain_max[3], float planes[PBF_MAX_PLANES][4], char *err, size_t err_size);
+
+/// A collider's bounding radius about its origin, m (pbf_gpu_collider.position.w).
+float pbf_collider_bounding_radius(const pbf_collider_def *d);
+
 #endif

@@ -549,21 +549,11 @@ void pbf_world_clear(pbf_world *w)
 
 pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float max[3], bool closed_top)
 {
-    static const char *const axis = "xyz";
-    for (int k = 0; k < 3; k++) {
-        if (!isfinite(min[k]) || !isfinite(max[k]) || !(max[k] > min[k]))
-            return pbf_fail(w, PBF_ERR_INVALID_ARG, "container.max.%c must be finite and greater than min.%c (got min %g, max %g)",
-                        axis[k], axis[k], (double)min[k], (double)max[k]);
-        if (min[k] < w->domain_min[k] || max[k] > w->domain_max[k])
-            return pbf_fail(w, PBF_ERR_INVALID_ARG, "container.%c range [%g, %g] must lie inside the domain [%g, %g]",
-                        axis[k], (double)min[k], (double)max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
-    }
-    // Inward normals: floor, walls (-x, +x, -z, +z), lid.
-    const float planes[PBF_MAX_PLANES][4] = {
-        { 0, 1, 0, min[1] },  { 1, 0, 0, min[0] },  { -1, 0, 0, -max[0] },
-        { 0, 0, 1, min[2] },  { 0, 0, -1, -max[2] }, { 0, -1, 0, -max[1] },
-    };
-    w->plane_count = closed_top ? 6 : 5;
+    char err[256];
+    float planes[PBF_MAX_PLANES][4];
+    int n = pbf_container_planes(min, max, closed_top, w->domain_min, w->domain_max, planes, err, sizeof err);
+    if (n == 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    w->plane_count = n;
     memcpy(w->planes, planes, sizeof planes);
     return PBF_OK;
 }
