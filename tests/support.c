@@ -120,3 +120,28 @@ void support_pixel(const eng_context *ctx, int x, int y, int rgb[3])
     rgb[2] = p[2];
     free(px);
 }
+
+int support_gpu_setup(void **state)
+{
+    support_gpu *f = calloc(1, sizeof *f);
+    if (!f) return -1;
+    f->ctx = support_headless_context(32, 32);
+    if (!f->ctx) {
+        free(f);
+        return -1;
+    }
+    const char *env = getenv("SEICHE_SHADER_DIR");
+    if (env && *env) snprintf(f->shader_dir, sizeof f->shader_dir, "%s", env);
+    else support_source_path("shaders", f->shader_dir, sizeof f->shader_dir);
+    support_source_path("tests/fixtures", f->fixtures_dir, sizeof f->fixtures_dir);
+    *state = f;
+    return 0;
+}
+
+int support_gpu_teardown(void **state)
+{
+    support_gpu *f = *state;
+    if (f) eng_context_destroy(f->ctx);
+    free(f);
+    return 0;
+}

@@ -41,6 +41,17 @@ const char *support_source_path(const char *rel, char *out, size_t size);
 /// be made. Destroy with eng_context_destroy.
 eng_context *support_headless_context(int width, int height);
 
+/// The fixture of the GPU tests: one headless context for the group, the shader directory
+/// ($SEICHE_SHADER_DIR, else <repo>/shaders) and the fixtures directory (<repo>/tests/fixtures).
+typedef struct support_gpu {
+    eng_context *ctx;
+    char shader_dir[1024];
+    char fixtures_dir[1024];
+} support_gpu;
+/// cmocka group setup and teardown: *state becomes a support_gpu.
+int support_gpu_setup(void **state);
+int support_gpu_teardown(void **state);
+
 /// Reads back the pixel at (x, y), counted from the top-left corner, of the current
 /// framebuffer of `ctx` into rgb[0..2] (0..255).
 void support_pixel(const eng_context *ctx, int x, int y, int rgb[3]);

@@ -11,33 +11,12 @@
 
 #include "fluid/pbf_glsl.h"
 
-typedef struct fixture {
-    eng_context *ctx;
-    char dir[1024];
-} fixture;
-
-static int setup(void **state)
-{
-    fixture *f = calloc(1, sizeof *f);
-    if (!f) return -1;
-    f->ctx = support_headless_context(32, 32);
-    support_source_path("tests/fixtures", f->dir, sizeof f->dir);
-    *state = f;
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    fixture *f = *state;
-    eng_context_destroy(f->ctx);
-    free(f);
-    return 0;
-}
+typedef support_gpu fixture; // fixtures_dir holds the test shaders
 
 static GLuint build_compute(const fixture *f, const char *file, const char *defines, char *err, size_t err_size)
 {
     pbf_glsl_stage stage = { GL_COMPUTE_SHADER, file };
-    return pbf_glsl_build(f->dir, &stage, 1, defines, err, err_size);
+    return pbf_glsl_build(f->fixtures_dir, &stage, 1, defines, err, err_size);
 }
 
 static void header_including_a_header_compiles(void **state)
@@ -46,7 +25,7 @@ static void header_including_a_header_compiles(void **state)
     char err[1024] = "";
     char *files[PBF_GLSL_MAX_FILES] = { 0 };
     int nfiles = 0;
-    char *src = pbf_glsl_preprocess(f->dir, "fill.comp", NULL, files, &nfiles, err, sizeof err);
+    char *src = pbf_glsl_preprocess(f->fixtures_dir, "fill.comp", NULL, files, &nfiles, err, sizeof err);
     assert_non_null(src);
     assert_int_equal(nfiles, 3);
     assert_string_equal(files[0], "fill.comp");
@@ -132,5 +111,5 @@ int main(void)
         cmocka_unit_test(missing_top_level_file_is_named),
         cmocka_unit_test(compute_shader_built_from_includes_writes_expected_values),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, support_gpu_setup, support_gpu_teardown);
 }

@@ -19,28 +19,7 @@
 
 // ---- fixture: one headless context for the GPU tests -----------------------------------
 
-typedef struct fixture {
-    eng_context *ctx;
-    char shader_dir[1024];
-} fixture;
-
-static int setup(void **state)
-{
-    fixture *f = calloc(1, sizeof *f);
-    if (!f) return -1;
-    f->ctx = support_headless_context(32, 32);
-    support_source_path("shaders", f->shader_dir, sizeof f->shader_dir);
-    *state = f;
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    fixture *f = *state;
-    eng_context_destroy(f->ctx);
-    free(f);
-    return 0;
-}
+typedef support_gpu fixture;
 
 static double now_s(void)
 {
@@ -1133,4 +1112,4 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(bad_parameters_are_rejected_naming_field_value_and_range),
 };
 
-int main(void) { return cmocka_run_group_tests(tests, setup, teardown); }
+int main(void) { return cmocka_run_group_tests(tests, support_gpu_setup, support_gpu_teardown); }
