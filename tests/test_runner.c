@@ -227,6 +227,22 @@ static void metrics_and_screenshot_are_written(void **state)
     assert_memory_equal(sig, "\x89PNG\r\n\x1a\n", 8);
 }
 
+static void record_writes_a_video(void **state)
+{
+    (void)state;
+    const char *mp4 = "/tmp/seiche_test_runner.mp4";
+    unlink(mp4);
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "5", "--size", "160x120", "--record", mp4, GOOD, NULL });
+    assert_int_equal(r.status, 0);
+    unsigned char head[12] = { 0 };
+    FILE *f = fopen(mp4, "rb");
+    assert_non_null(f);
+    assert_int_equal(fread(head, 1, sizeof head, f), sizeof head);
+    fclose(f);
+    assert_memory_equal(head + 4, "ftyp", 4); // an MP4 (ISO base media) file
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -243,6 +259,7 @@ int main(void)
         cmocka_unit_test(no_compute_context_exits_3),
         cmocka_unit_test(hash_is_printed_and_repeats),
         cmocka_unit_test(metrics_and_screenshot_are_written),
+        cmocka_unit_test(record_writes_a_video),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
