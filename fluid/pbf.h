@@ -82,8 +82,11 @@ typedef struct pbf_params {
 
 /// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).
 pbf_params pbf_default_params(void);
-/// The parameters of the 2025 OpenGL reproduction in ../shared/seed (h = 2.5 r,
-/// 3 iterations, rho0 = 125, vorticity 0.008, XSPH 0.01, s_corr k = 0.1, n = 4).
+/// The parameters of the 2025 OpenGL reproduction in ../shared/seed (h = 2.5 r with its r
+/// read as the particle spacing, 1 substep, 3 iterations, rho0 = 125, vorticity 0.008,
+/// XSPH 0.01, s_corr k = 0.1, n = 4). Read as half the spacing (our particle_radius), a
+/// kernel of 2.5 r holds 6 neighbours and the solver does not converge (a dam break boils,
+/// +360 % maximum density), so the report's r is taken as the spacing its particles sit at.
 pbf_params pbf_seed_params(void);
 /// Checks every field; on error writes "pbf_params.<field> must be <rule> (got <value>)".
 pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size);

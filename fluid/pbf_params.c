@@ -33,7 +33,7 @@ pbf_params pbf_default_params(void)
 pbf_params pbf_seed_params(void)
 {
     pbf_params p = pbf_default_params();
-    p.kernel_radius = 2.5f * p.particle_radius;
+    p.kernel_radius = 2.5f * 2.0f * p.particle_radius; // 2.5 spacings (see pbf.h)
     p.rest_density = 125.0f;
     p.iterations = 3;
     p.substeps = 1;

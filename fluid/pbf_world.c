@@ -181,7 +181,7 @@ static void stats_alloc(pbf_world *w)
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
         stats_slot *r = &w->ring[s];
-        if (r->queries) glDeleteQueries(r->nq > 0 ? w->max_queries : w->max_queries, r->queries);
+        if (r->queries) glDeleteQueries(w->max_queries, r->queries);
         free(r->queries);
         free(r->stage_of);
         r->queries = calloc((size_t)need, sizeof(GLuint));
