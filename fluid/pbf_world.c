@@ -482,26 +482,12 @@ pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const f
 
 pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *added)
 {
-    static const char *const axis = "xyz";
     if (added) *added = 0;
-    for (int k = 0; k < 3; k++) {
-        if (!isfinite(b->min[k]) || !isfinite(b->max[k]) || !(b->max[k] > b->min[k]))
-            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.max.%c must be finite and greater than min.%c (got min %g, max %g)",
-                        axis[k], axis[k], (double)b->min[k], (double)b->max[k]);
-        if (b->min[k] < w->domain_min[k] || b->max[k] > w->domain_max[k])
-            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.%c range [%g, %g] must lie inside the domain [%g, %g]",
-                        axis[k], (double)b->min[k], (double)b->max[k], (double)w->domain_min[k], (double)w->domain_max[k]);
-        if (!isfinite(b->velocity[k]))
-            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_block_def.velocity.%c must be finite (got %g)", axis[k], (double)b->velocity[k]);
-    }
     float s = w->k.spacing;
     uint32_t n[3];
-    uint64_t total = 1;
-    for (int k = 0; k < 3; k++) {
-        double c = floor((double)(b->max[k] - b->min[k]) / s + 1e-4);
-        n[k] = c < 1.0 ? 1u : (uint32_t)c;
-        total *= n[k];
-    }
+    char err[256];
+    uint64_t total = pbf_block_lattice(b, s, w->domain_min, w->domain_max, n, err, sizeof err);
+    if (total == 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     if (total > w->capacity - w->count)
         return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
                     (unsigned long long)total, w->capacity - w->count, w->capacity);
@@ -516,9 +502,7 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
         for (uint32_t y = 0; y < n[1]; y++)
             for (uint32_t x = 0; x < n[0]; x++, i++) {
                 float *p = p4 + 4 * i, *v = v4 + 4 * i;
-                p[0] = b->min[0] + s * (0.5f + (float)x);
-                p[1] = b->min[1] + s * (0.5f + (float)y);
-                p[2] = b->min[2] + s * (0.5f + (float)z);
+                pbf_block_point(b, s, x, y, z, p);
                 p[3] = pbf_colour_of(w, p[1]);
                 v[0] = b->velocity[0];
                 v[1] = b->velocity[1];
