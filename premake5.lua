@@ -3,7 +3,8 @@
 -- The top-level Makefile drives this; see README.md.
 
 -- premake4 compatibility shim: map the premake5 calls used below onto premake4's API.
-if _PREMAKE_VERSION and _PREMAKE_VERSION:sub(1, 1) == "4" then
+local premake4 = _PREMAKE_VERSION and _PREMAKE_VERSION:sub(1, 1) == "4"
+if premake4 then
    workspace = solution
    function filter(f)
       if type(f) == "table" then f = f[1] end
@@ -28,9 +29,11 @@ workspace "seiche"
    objdir "build/obj"
    includedirs { ".", "/usr/include/lua5.4", "/usr/include/bullet", "/usr/include/stb" }
    -- Where the checkout is: tests and the fluid's default shader directory use it.
+   -- (premake5 escapes the quotes of a define itself; premake4 passes them to the shell.)
    local source_dir = os.getcwd()
-   defines { 'SEICHE_SOURCE_DIR=\\"' .. source_dir .. '\\"',
-             'SEICHE_SHADER_DIR=\\"' .. source_dir .. '/shaders\\"' }
+   local q = premake4 and '\\"' or '"'
+   defines { "SEICHE_SOURCE_DIR=" .. q .. source_dir .. q,
+             "SEICHE_SHADER_DIR=" .. q .. source_dir .. "/shaders" .. q }
 
    filter "configurations:debug"
       symbols "On"
@@ -63,14 +66,9 @@ end
 -- The libraries, bottom up (see docs and ../shared/ARCHITECTURE.md for the rules).
 local system_libs = { "imgui", "epoxy", "EGL", "glfw", "lua5.4", "BulletDynamics", "BulletCollision",
                       "LinearMath", "cglm", "stb", "stdc++", "m", "dl", "pthread" }
--- The coupling library appears with fluid/bullet/coupling.c.
-local have_coupling = #os.matchfiles("fluid/bullet/coupling.c") > 0
--- seiche_ui (the ImGui shim, C++) comes after seiche_engine, which calls it: static
--- libraries are searched in order.
-local seiche_libs = { "seiche_engine", "seiche_ui" }
-if have_coupling then table.insert(seiche_libs, "seiche_coupling") end
-table.insert(seiche_libs, "seiche_phys")
-table.insert(seiche_libs, "seiche_fluid")
+-- Static libraries are searched in order: each before what it calls (seiche_ui, the ImGui
+-- shim, after seiche_engine, which calls it).
+local seiche_libs = { "seiche_engine", "seiche_ui", "seiche_coupling", "seiche_phys", "seiche_fluid" }
 
 c_project("seiche_fluid", "StaticLib")
    files { "fluid/*.c", "fluid/*.h", "shaders/fluid/*.h" }
@@ -78,10 +76,8 @@ c_project("seiche_fluid", "StaticLib")
 cpp_project("seiche_phys", "StaticLib")
    files { "fluid/bullet/phys.cpp", "fluid/bullet/phys.h" }
 
-if have_coupling then
 c_project("seiche_coupling", "StaticLib")
    files { "fluid/bullet/coupling.c", "fluid/bullet/coupling.h" }
-end
 
 c_project("seiche_engine", "StaticLib")
    files { "engine/*.c", "engine/*.h" }
