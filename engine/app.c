@@ -570,7 +570,7 @@ static void write_metrics_header(app *a)
 {
     fprintf(a->metrics, "frame,time,particles,rho0,rho_max,rho_avg,step_ms");
     for (int s = 0; s < PBF_STAGE_COUNT; s++) fprintf(a->metrics, ",%s_ms", pbf_stage_name((pbf_stage)s));
-    fprintf(a->metrics, ",nan,outside,overflow\n");
+    fprintf(a->metrics, ",nan,outside,overflow,rho_err_avg\n");
 }
 
 static void take_stats(app *a, bool wait)
@@ -585,7 +585,8 @@ static void take_stats(app *a, bool wait)
                         s->particles, (double)s->rest_density, (double)s->density_max, (double)s->density_avg,
                         s->step_ms);
                 for (int k = 0; k < PBF_STAGE_COUNT; k++) fprintf(a->metrics, ",%.4f", s->stage_ms[k]);
-                fprintf(a->metrics, ",%u,%u,%u\n", s->nan_count, s->outside_count, s->overflow_count);
+                fprintf(a->metrics, ",%u,%u,%u,%.6f\n", s->nan_count, s->outside_count, s->overflow_count,
+                        (double)s->density_error_avg);
             }
             double e = s->rest_density > 0 ? s->density_max / s->rest_density - 1.0 : 0.0;
             if (e > a->rho_err_max) a->rho_err_max = e;

@@ -216,7 +216,7 @@ static void metrics_and_screenshot_are_written(void **state)
     char text[16384];
     slurp(csv, text, sizeof text);
     const char *need[] = { "frame", "time", "particles", "rho0", "rho_max", "rho_avg", "step_ms", "predict_ms",
-                           "density_ms", "delta_ms", "metrics_ms" };
+                           "density_ms", "delta_ms", "metrics_ms", "overflow", "rho_err_avg" };
     for (size_t i = 0; i < sizeof need / sizeof need[0]; i++) assert_non_null(strstr(text, need[i]));
     assert_int_equal(lines(text), 1 + 6); // header and one row per frame
     unsigned char sig[8] = { 0 };
