@@ -258,6 +258,16 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
                  epoxy_gl_version() / 10, epoxy_gl_version() % 10);
         return NULL;
     }
+    // The passes use up to 10 storage blocks each and binding points up to
+    // PBF_B_COLLIDER_DATA; GL 4.3 only promises 8 of each, so say so when they are missing.
+    GLint blocks = 0, bindings = 0;
+    glGetIntegerv(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS, &blocks);
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
+    if (blocks < 10 || bindings < PBF_B_COLLIDER_DATA + 1) {
+        snprintf(err, err_size, "pbf_world_create: Seiche needs 10 shader storage blocks per compute shader and %d "
+                 "storage buffer bindings; this GL offers %d and %d", PBF_B_COLLIDER_DATA + 1, blocks, bindings);
+        return NULL;
+    }
     pbf_world *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, err_size, "pbf_world_create: out of memory");
