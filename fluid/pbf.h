@@ -168,7 +168,9 @@ void pbf_world_destroy(pbf_world *world);
 
 const char *pbf_world_last_error(const pbf_world *world);
 const pbf_params *pbf_world_params(const pbf_world *world);
-/// Changes parameters between steps (validated; on error nothing changes).
+/// Changes parameters between steps (validated; on error nothing changes). A new kernel
+/// radius rebuilds the grid, and the neighbour lists grow when the new parameters need
+/// longer ones (pbf_suggest_max_neighbours).
 pbf_result pbf_world_set_params(pbf_world *world, const pbf_params *params);
 
 /// An axis-aligned container: floor, four walls and optionally a lid, as boundaries

@@ -374,6 +374,14 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
         free_grid(w);
         alloc_grid(w);
     }
+    // A larger kernel (or smaller particles) means more neighbours: grow the lists to hold
+    // the suggested length rather than overflow (which is counted, never out of bounds).
+    uint32_t need = pbf_suggest_max_neighbours(p);
+    if (need > w->max_neighbours && (uint64_t)w->capacity * need * 4u <= (1ull << 34)) {
+        glDeleteBuffers(1, &w->nb_list);
+        w->nb_list = make_buffer((GLsizeiptr)w->capacity * (GLsizeiptr)need * 4);
+        w->max_neighbours = need;
+    }
     derive(w);
     stats_alloc(w);
     return PBF_OK;

@@ -269,6 +269,37 @@ static void adding_beyond_capacity_is_refused(void **state)
     pbf_world_destroy(w);
 }
 
+/// Raising the kernel radius while running rebuilds the grid and grows the neighbour lists:
+/// no particle overflows its list, and the fluid keeps going.
+static void larger_kernel_at_run_time_grows_the_neighbour_lists(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.3f, 0.3f, 0.3f };
+    pbf_world *w = make_world(0.01f, lo, hi, 8000);
+    pbf_world_set_container(w, lo, hi, false);
+    pbf_block_def b = pbf_default_block_def();
+    b.max[0] = 0.2f;
+    b.max[1] = 0.2f;
+    b.max[2] = 0.2f;
+    assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_OK);
+    for (int s = 0; s < 5; s++) pbf_world_step(w, 1.0f / 60.0f);
+    pbf_params p = *pbf_world_params(w);
+    p.kernel_radius = 0.06f; // 3 spacings: about 113 neighbours at rest, over the old lists' 88
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    for (int s = 0; s < 10; s++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_step_stats st[8];
+    int got;
+    while ((got = pbf_world_poll_stats(w, st, 8, true)) > 0)
+        for (int i = 0; i < got; i++) {
+            assert_int_equal(st[i].overflow_count, 0);
+            assert_int_equal(st[i].nan_count, 0);
+        }
+    p.kernel_radius = 0.0f; // refused, and nothing changes
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_ERR_INVALID_ARG);
+    assert_true(pbf_world_params(w)->kernel_radius == 0.06f);
+    pbf_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -277,6 +308,7 @@ int main(void)
         cmocka_unit_test(sink_removes_particles_that_enter_it),
         cmocka_unit_test(same_scene_gives_the_same_state_hash),
         cmocka_unit_test(adding_beyond_capacity_is_refused),
+        cmocka_unit_test(larger_kernel_at_run_time_grows_the_neighbour_lists),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
