@@ -686,13 +686,6 @@ static void append(pbf_cpu_world *w, const float p[3], const float v[3])
     w->nb_valid = false;
 }
 
-static bool inside_domain(const pbf_cpu_world *w, const float *x)
-{
-    for (int k = 0; k < 3; k++)
-        if (!(x[k] >= w->domain_min[k] && x[k] <= w->domain_max[k])) return false;
-    return true;
-}
-
 pbf_result pbf_cpu_world_add_particles(pbf_cpu_world *w, const float *positions, const float *velocities,
                                        uint32_t n)
 {
@@ -701,17 +694,9 @@ pbf_result pbf_cpu_world_add_particles(pbf_cpu_world *w, const float *positions,
     if (n > w->capacity - w->count)
         return fail(w, PBF_ERR_CAPACITY, "pbf_cpu_world_add_particles: %u particles do not fit: %u of capacity %u "
                     "in use", n, w->count, w->capacity);
-    for (uint32_t i = 0; i < n; i++) {
-        if (!inside_domain(w, positions + 3 * i))
-            return fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_add_particles: positions[%u] = (%g, %g, %g) must be "
-                        "finite and inside the domain", i, (double)positions[3 * i], (double)positions[3 * i + 1],
-                        (double)positions[3 * i + 2]);
-        if (velocities)
-            for (int k = 0; k < 3; k++)
-                if (!isfinite(velocities[3 * i + k]))
-                    return fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_add_particles: velocities[%u] must be finite "
-                                "(got %g)", i, (double)velocities[3 * i + k]);
-    }
+    char err[256];
+    if (!pbf_points_check("pbf_cpu_world_add_particles", positions, velocities, n, w->domain_min, w->domain_max, err, sizeof err))
+        return fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     static const float rest[3] = { 0.0f, 0.0f, 0.0f };
     for (uint32_t i = 0; i < n; i++) append(w, positions + 3 * i, velocities ? velocities + 3 * i : rest);
     return PBF_OK;

@@ -362,3 +362,25 @@ void pbf_block_point(const pbf_block_def *b, float spacing, uint32_t x, uint32_t
     out[1] = b->min[1] + spacing * (0.5f + (float)y);
     out[2] = b->min[2] + spacing * (0.5f + (float)z);
 }
+
+bool pbf_points_check(const char *fn, const float *positions, const float *velocities, uint32_t n,
+                      const float domain_min[3], const float domain_max[3], char *err, size_t err_size)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        const float *x = positions + 3 * i;
+        for (int k = 0; k < 3; k++)
+            if (!(x[k] >= domain_min[k] && x[k] <= domain_max[k])) {
+                snprintf(err, err_size, "%s: positions[%u] = (%g, %g, %g) must be finite and inside the domain", fn, i,
+                         (double)x[0], (double)x[1], (double)x[2]);
+                return false;
+            }
+        if (velocities)
+            for (int k = 0; k < 3; k++)
+                if (!isfinite(velocities[3 * i + k])) {
+                    snprintf(err, err_size, "%s: velocities[%u] must be finite (got %g)", fn, i,
+                             (double)velocities[3 * i + k]);
+                    return false;
+                }
+    }
+    return true;
+}

@@ -36,6 +36,12 @@ uint64_t pbf_block_lattice(const pbf_block_def *b, float spacing, const float do
 /// Position of lattice point (x, y, z) of the block, m.
 void pbf_block_point(const pbf_block_def *b, float spacing, uint32_t x, uint32_t y, uint32_t z, float out[3]);
 
+/// Checks a list of n particles (xyz triples, m; velocities m/s or NULL): every position
+/// finite and inside [domain_min, domain_max], every velocity finite. Returns false with a
+/// message in err that starts with `fn` and names the index and value.
+bool pbf_points_check(const char *fn, const float *positions, const float *velocities, uint32_t n,
+                      const float domain_min[3], const float domain_max[3], char *err, size_t err_size);
+
 /// A collider's bounding radius about its origin, m (pbf_gpu_collider.position.w).
 float pbf_collider_bounding_radius(const pbf_collider_def *d);
 

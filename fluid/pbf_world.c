@@ -455,29 +455,15 @@ pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32
     return PBF_OK;
 }
 
-static bool inside_domain(const pbf_world *w, const float *x)
-{
-    for (int k = 0; k < 3; k++)
-        if (!(x[k] >= w->domain_min[k] && x[k] <= w->domain_max[k])) return false;
-    return true;
-}
-
 pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
 {
     if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
     if (n > w->capacity - w->count)
         return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
                     n, w->count, w->capacity);
-    for (uint32_t i = 0; i < n; i++) {
-        if (!inside_domain(w, positions + 3 * i))
-            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions[%u] = (%g, %g, %g) must be finite "
-                        "and inside the domain", i, (double)positions[3 * i], (double)positions[3 * i + 1],
-                        (double)positions[3 * i + 2]);
-        if (velocities)
-            for (int k = 0; k < 3; k++)
-                if (!isfinite(velocities[3 * i + k]))
-                    return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: velocities[%u] must be finite", i);
-    }
+    char err[256];
+    if (!pbf_points_check("pbf_world_add_particles", positions, velocities, n, w->domain_min, w->domain_max, err, sizeof err))
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     float *p4 = malloc((size_t)n * 16 + 16), *v4 = malloc((size_t)n * 16 + 16);
     if (!p4 || !v4) {
         free(p4);
