@@ -16,7 +16,7 @@ setup:
 	@tools/setup.sh
 
 # premake lists source files explicitly: regenerate when a source directory changes.
-build/Makefile: premake5.lua engine fluid fluid/bullet demos/seiche demos/bench demos/embed tests
+build/Makefile: premake5.lua engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed tests
 	premake4 --file=premake5.lua gmake
 	@touch build/Makefile
 

@@ -74,17 +74,17 @@ c_project("seiche_fluid", "StaticLib")
    files { "fluid/*.c", "fluid/*.h", "shaders/fluid/*.h" }
 
 cpp_project("seiche_phys", "StaticLib")
-   files { "fluid/bullet/phys.cpp", "fluid/bullet/phys.h" }
+   files { "fluid/bullet/phys*.cpp", "fluid/bullet/phys*.h" }
 
 c_project("seiche_coupling", "StaticLib")
    files { "fluid/bullet/coupling.c", "fluid/bullet/coupling.h" }
 
 c_project("seiche_engine", "StaticLib")
-   files { "engine/*.c", "engine/*.h" }
+   files { "engine/**.c", "engine/**.h" }
 
--- The runner's on-screen UI: a C API (engine/ui.h) over Dear ImGui (libimgui-dev).
+-- The runner's on-screen UI: a C API (engine/app/ui.h) over Dear ImGui (libimgui-dev).
 cpp_project("seiche_ui", "StaticLib")
-   files { "engine/ui_imgui.cpp", "engine/ui.h" }
+   files { "engine/app/ui_imgui.cpp", "engine/app/ui.h" }
    includedirs { "/usr/include/imgui" }
 
 local function program(name, dir)

@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "engine/screenshot.h"
+#include "engine/gl/screenshot.h"
 
 static void capture(void *user, eng_log_level level, const char *message)
 {

@@ -13,8 +13,8 @@
 
 #include <cmocka.h>
 
-#include "engine/context.h"
-#include "engine/log.h"
+#include "engine/gl/context.h"
+#include "engine/core/log.h"
 
 /// Messages captured by support_capture_logger(); `text` holds "level: message\n" lines.
 typedef struct support_log {

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "engine/context.h"
+#include "engine/gl/context.h"
 #include "fluid/pbf.h"
 #include "tests/support.h"
 

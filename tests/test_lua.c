@@ -14,7 +14,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "engine/script.h"
+#include "engine/script/script.h"
 
 // ---- helpers -------------------------------------------------------------------------
 

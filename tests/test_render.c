@@ -10,12 +10,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "engine/camera.h"
-#include "engine/gpu_timer.h"
-#include "engine/mesh.h"
-#include "engine/renderer.h"
-#include "engine/scene.h"
-#include "engine/screenshot.h"
+#include "engine/render/camera.h"
+#include "engine/gl/gpu_timer.h"
+#include "engine/render/mesh.h"
+#include "engine/render/renderer.h"
+#include "engine/render/scene.h"
+#include "engine/gl/screenshot.h"
 
 #define W 160
 #define H 120

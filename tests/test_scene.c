@@ -8,9 +8,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "engine/camera.h"
-#include "engine/input.h"
-#include "engine/scene.h"
+#include "engine/render/camera.h"
+#include "engine/gl/input.h"
+#include "engine/render/scene.h"
 
 #define EPS 1e-4f
 

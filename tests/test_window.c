@@ -13,12 +13,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "engine/camera.h"
-#include "engine/input.h"
-#include "engine/mesh.h"
-#include "engine/renderer.h"
-#include "engine/scene.h"
-#include "engine/screenshot.h"
+#include "engine/render/camera.h"
+#include "engine/gl/input.h"
+#include "engine/render/mesh.h"
+#include "engine/render/renderer.h"
+#include "engine/render/scene.h"
+#include "engine/gl/screenshot.h"
 
 #define REEXEC_ENV "SEICHE_TEST_WINDOW_UNDER_XVFB"
 

@@ -15,7 +15,7 @@
 
 #include <epoxy/gl.h>
 
-#include "engine/context.h"
+#include "engine/gl/context.h"
 #include "fluid/pbf.h"
 
 #define MAX_LIST 16

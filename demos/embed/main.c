@@ -4,7 +4,7 @@
 // late. No Lua, no window, no Bullet: this is what another engine links.
 #include <stdio.h>
 
-#include "engine/context.h"
+#include "engine/gl/context.h"
 #include "fluid/pbf.h"
 
 int main(void)

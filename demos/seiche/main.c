@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "engine/app.h"
+#include "engine/app/app.h"
 
 static void usage(FILE *f)
 {

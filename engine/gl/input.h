@@ -16,7 +16,7 @@
 
 #include <stdbool.h>
 
-#include "engine/context.h"
+#include "engine/gl/context.h"
 
 #define ENG_INPUT_MAX_KEYS 512        ///< GLFW key codes are below this (GLFW_KEY_LAST = 348)
 #define ENG_INPUT_MAX_BUTTONS 8       ///< GLFW_MOUSE_BUTTON_1..8

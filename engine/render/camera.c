@@ -1,5 +1,5 @@
 // Perspective camera with orbit and fly controls. See camera.h.
-#include "engine/camera.h"
+#include "engine/render/camera.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

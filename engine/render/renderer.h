@@ -24,12 +24,12 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "engine/camera.h"
-#include "engine/context.h"
-#include "engine/gpu_timer.h"
-#include "engine/log.h"
-#include "engine/mesh.h"
-#include "engine/scene.h"
+#include "engine/render/camera.h"
+#include "engine/gl/context.h"
+#include "engine/gl/gpu_timer.h"
+#include "engine/core/log.h"
+#include "engine/render/mesh.h"
+#include "engine/render/scene.h"
 
 typedef struct eng_light {
     float direction[3]; ///< from the scene towards the light, world space (normalised on use; non-zero)

@@ -1,4 +1,4 @@
-#include "engine/log.h"
+#include "engine/core/log.h"
 
 #include <stdarg.h>
 #include <stdio.h>

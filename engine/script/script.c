@@ -9,7 +9,7 @@
 //   running      pcall with a traceback handler, the time budget hook, a memory limit
 //   apply        the commands against the pbf_world / phys_world / coupling / scene graph
 //   callbacks    on_start, on_step (+ timers), input callbacks, on_reload
-#include "engine/script.h"
+#include "engine/script/script.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

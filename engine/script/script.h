@@ -22,12 +22,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "engine/camera.h"
-#include "engine/input.h"
-#include "engine/log.h"
-#include "engine/mesh.h"
-#include "engine/renderer.h"
-#include "engine/scene.h"
+#include "engine/render/camera.h"
+#include "engine/gl/input.h"
+#include "engine/core/log.h"
+#include "engine/render/mesh.h"
+#include "engine/render/renderer.h"
+#include "engine/render/scene.h"
 #include "fluid/bullet/coupling.h"
 #include "fluid/bullet/phys.h"
 #include "fluid/pbf.h"

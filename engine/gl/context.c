@@ -1,5 +1,5 @@
 // GL context creation: GLFW window or headless EGL. See context.h.
-#include "engine/context.h"
+#include "engine/gl/context.h"
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>

@@ -12,8 +12,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "engine/log.h"
-#include "engine/mesh.h"
+#include "engine/core/log.h"
+#include "engine/render/mesh.h"
 
 typedef struct eng_node_id {
     uint32_t index1;     ///< slot + 1; 0 = null

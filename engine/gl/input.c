@@ -1,5 +1,5 @@
 // Input from GLFW callbacks, or nothing headless. See input.h.
-#include "engine/input.h"
+#include "engine/gl/input.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

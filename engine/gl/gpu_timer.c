@@ -1,5 +1,5 @@
 // Ring-buffered GL timestamp queries per named section. See gpu_timer.h.
-#include "engine/gpu_timer.h"
+#include "engine/gl/gpu_timer.h"
 
 #include <epoxy/gl.h>
 #include <stdint.h>

@@ -1,5 +1,5 @@
 // Framebuffer read-back and PNG screenshots. See screenshot.h.
-#include "engine/screenshot.h"
+#include "engine/gl/screenshot.h"
 
 #include <epoxy/gl.h>
 #include <errno.h>

@@ -7,7 +7,7 @@
 
 #include <stdbool.h>
 
-#include "engine/log.h"
+#include "engine/core/log.h"
 
 typedef struct eng_context eng_context;
 struct GLFWwindow;

@@ -1,5 +1,5 @@
 // Forward renderer: scene meshes, ground, particle impostors. See renderer.h.
-#include "engine/renderer.h"
+#include "engine/render/renderer.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -11,7 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "engine/input.h"
+#include "engine/gl/input.h"
 
 typedef enum eng_camera_mode {
     ENG_CAMERA_ORBIT = 0,

@@ -1,5 +1,5 @@
 // The scene graph. See scene.h.
-#include "engine/scene.h"
+#include "engine/render/scene.h"
 
 #include <math.h>
 #include <stdlib.h>

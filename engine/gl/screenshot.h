@@ -8,7 +8,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "engine/context.h"
+#include "engine/gl/context.h"
 
 /// Reads the whole framebuffer into `rgba` (width * height * 4 bytes, 8 bits a channel),
 /// rows from the top of the image down. `width`/`height` must equal the context size.

@@ -4,7 +4,7 @@
 // fire inside glfwPollEvents) use whatever context is current then. So this shim makes its
 // context current when it is created and leaves it so, and makes it current again at every
 // call: one eng_ui per process (the runner has one window).
-#include "engine/ui.h"
+#include "engine/app/ui.h"
 
 #include <imgui.h>
 #include <backends/imgui_impl_glfw.h>

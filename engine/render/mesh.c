@@ -1,5 +1,5 @@
 // GPU meshes: shape builders, upload, and the generation-checked store. See mesh.h.
-#include "engine/mesh.h"
+#include "engine/render/mesh.h"
 
 #include <epoxy/gl.h>
 #include <math.h>

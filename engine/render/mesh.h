@@ -13,7 +13,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "engine/log.h"
+#include "engine/core/log.h"
 
 /// A mesh in a store. All zero is the null id.
 typedef struct eng_mesh_id {

@@ -4,7 +4,7 @@
 // coupling between them and the scene-graph nodes that draw the container. Reset and
 // reload build a new instance beside the old one and swap only when everything
 // succeeded, so a broken script never takes the running scene down with it.
-#include "engine/app.h"
+#include "engine/app/app.h"
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -18,15 +18,15 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "engine/camera.h"
-#include "engine/context.h"
-#include "engine/input.h"
-#include "engine/mesh.h"
-#include "engine/renderer.h"
-#include "engine/scene.h"
-#include "engine/screenshot.h"
-#include "engine/script.h"
-#include "engine/ui.h"
+#include "engine/render/camera.h"
+#include "engine/gl/context.h"
+#include "engine/gl/input.h"
+#include "engine/render/mesh.h"
+#include "engine/render/renderer.h"
+#include "engine/render/scene.h"
+#include "engine/gl/screenshot.h"
+#include "engine/script/script.h"
+#include "engine/app/ui.h"
 #include "fluid/bullet/coupling.h"
 #include "fluid/bullet/phys.h"
 #include "fluid/pbf.h"

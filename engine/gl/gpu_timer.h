@@ -14,7 +14,7 @@
 
 #include <stdbool.h>
 
-#include "engine/log.h"
+#include "engine/core/log.h"
 
 #define ENG_GPU_TIMER_NAME_MAX 48 ///< section names are shorter than this (bytes with the 0)
 
