@@ -15,8 +15,9 @@ all: build
 setup:
 	@tools/setup.sh
 
-# premake lists source files explicitly: regenerate when a source directory changes.
-build/Makefile: premake5.lua engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed tests
+# premake lists source files explicitly and embeds the shaders (build/gen/): regenerate
+# when a source directory or a shader changes.
+build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed tests
 	premake4 --file=premake5.lua gmake
 	@touch build/Makefile
 

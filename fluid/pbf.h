@@ -16,6 +16,27 @@
 //
 // Every function that takes input checks it and returns PBF_OK or an error whose message
 // (pbf_world_last_error) names the field, the value given and what is allowed.
+//
+// GL state and synchronisation (the contract; docs/architecture.md has the reasons):
+// - Calls that issue GL commands (create, destroy, set_params, set_container, add_*,
+//   clear, step, collider and emitter calls, poll_stats, read_particles, state_hash)
+//   change, and do not restore: the current program (glUseProgram), the indexed
+//   GL_SHADER_STORAGE_BUFFER bindings 0..28 and 31 and GL_UNIFORM_BUFFER binding
+//   PBF_U_PARAMS (shaders/fluid/pbf_shared.h), and the generic GL_SHADER_STORAGE_BUFFER,
+//   GL_UNIFORM_BUFFER, GL_DISPATCH_INDIRECT_BUFFER, GL_COPY_READ_BUFFER and
+//   GL_COPY_WRITE_BUFFER bindings. They touch no VAO, framebuffer, texture or raster state.
+//   Rebind what your renderer relies on after them.
+// - Inside a step every pass is followed by the barrier its consumer needs; the step ends
+//   with GL_SHADER_STORAGE_BARRIER_BIT. Before drawing from pbf_world_gpu_buffers, issue
+//   the bit of your use: GL_SHADER_STORAGE_BARRIER_BIT to read positions in a storage
+//   block, GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT to read them as vertex attributes,
+//   GL_COMMAND_BARRIER_BIT to draw with draw_indirect, GL_BUFFER_UPDATE_BARRIER_BIT before
+//   copying or reading them back.
+// - Nothing stalls: statistics and collider forces come back through fences, one or more
+//   steps late. Only read_particles and state_hash (tests and tools) wait for the GPU.
+// - Buffers the CPU uploads into are created with their data and never cleared on the GPU
+//   (a driver may apply a GPU clear after a following upload). Run with
+//   SEICHE_GL_STRICT=1 under the Seiche engine to have such ordering bugs caught.
 #ifndef PBF_H
 #define PBF_H
 
@@ -144,8 +165,9 @@ typedef struct pbf_world_def {
                             ///< default PBF_GRID_CELLS_PER_KERNEL (2) measured best
     float domain_min[3];    ///< m: the neighbour grid covers [min, max]; particles are
     float domain_max[3];    ///< kept inside it (it acts as the outermost wall)
-    const char *shader_dir; ///< directory holding fluid/*.comp (default: SEICHE_SHADER_DIR
-                            ///< from the environment, else the one the build recorded)
+    const char *shader_dir; ///< NULL: the shaders embedded in the library (the default unless
+                            ///< SEICHE_SHADER_DIR is set); else a directory holding
+                            ///< fluid/*.comp, read at pbf_world_create (shader development)
     pbf_log_fn *log;        ///< NULL: messages go nowhere (errors still come back as results)
     void *log_user;
 } pbf_world_def;
@@ -354,6 +376,9 @@ typedef struct pbf_step_stats {
 int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wait);
 
 /// ---- GPU buffers for drawing ---------------------------------------------------------
+/// Written by compute shaders: issue the barrier bit of your use before reading them (see
+/// the contract at the top of this header). The positions and velocities buffers swap
+/// each step: ask again after every step.
 typedef struct pbf_gpu_buffers {
     unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1]
     unsigned velocities;  ///< SSBO of vec4: xyz m/s

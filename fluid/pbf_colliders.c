@@ -264,8 +264,10 @@ static void rebuild_data(pbf_world *w)
     for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
         if (w->slots[i].used) total += w->slots[i].data_count;
     GLsizeiptr bytes = (GLsizeiptr)(total ? total : 4) * 4;
-    if (!w->collider_data) glGenBuffers(1, &w->collider_data);
+    bool fresh = !w->collider_data;
+    if (fresh) glGenBuffers(1, &w->collider_data);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->collider_data);
+    if (fresh) glObjectLabel(GL_BUFFER, w->collider_data, -1, "pbf.collider_data");
     if (bytes > w->collider_data_size || bytes < w->collider_data_size / 4) {
         glBufferData(GL_SHADER_STORAGE_BUFFER, bytes, NULL, GL_STATIC_DRAW);
         w->collider_data_size = bytes;
@@ -354,6 +356,9 @@ void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot)
 void pbf_colliders_end_step(pbf_world *w)
 {
     int slot_index = w->ring_head;
+    // The collide passes wrote the accumulators with atomics: a copy reads them as a
+    // buffer update, which needs its own barrier bit.
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindBuffer(GL_COPY_READ_BUFFER, w->forces);
     glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces);
     glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0,

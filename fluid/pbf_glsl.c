@@ -3,6 +3,7 @@
 
 #include <ctype.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,9 +61,41 @@ static char *read_file(const char *path)
     return s;
 }
 
-// The name shown in messages for the shader directory: its last path component.
+// A source file's text (malloc'd), from the directory or the embedded table; NULL if absent.
+static char *load_source(const pbf_glsl_source *src, const char *rel)
+{
+    if (src->dir) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", src->dir, rel);
+        return read_file(path);
+    }
+    for (int i = 0; i < src->file_count; i++)
+        if (strcmp(src->files[i].name, rel) == 0) return strdup(src->files[i].text);
+    return NULL;
+}
+
+static bool source_exists(const pbf_glsl_source *src, const char *rel)
+{
+    if (src->dir) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", src->dir, rel);
+        FILE *f = fopen(path, "rb");
+        if (f) fclose(f);
+        return f != NULL;
+    }
+    for (int i = 0; i < src->file_count; i++)
+        if (strcmp(src->files[i].name, rel) == 0) return true;
+    return false;
+}
+
+// The name shown in messages for the shader directory: its last path component
+// ("shaders" for embedded sources).
 static const char *root_name(const char *dir, char *buf, size_t size)
 {
+    if (!dir) {
+        snprintf(buf, size, "shaders");
+        return buf;
+    }
     size_t n = strlen(dir);
     while (n > 1 && dir[n - 1] == '/') n--;
     size_t b = n;
@@ -100,7 +133,7 @@ static void join_rel(const char *dir_of, const char *name, char *out, size_t siz
 }
 
 typedef struct pp_state {
-    const char *dir;
+    const pbf_glsl_source *src;
     const char *shown_root;
     const char *defines;
     char **files;
@@ -127,16 +160,17 @@ static int expand(pp_state *st, text *out, const char *rel, const char *from, in
                  st->shown_root, from, from_line, PBF_GLSL_MAX_INCLUDE_DEPTH);
         return 0;
     }
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", st->dir, rel);
-    char *src = read_file(path);
+    char *src = load_source(st->src, rel);
     if (!src) {
         if (from)
             snprintf(st->err, st->err_size, "%s/%s:%d: error: cannot open included file '%s/%s'",
                      st->shown_root, from, from_line, st->shown_root, rel);
+        else if (st->src->dir)
+            snprintf(st->err, st->err_size, "%s/%s: error: cannot open shader file (looked in '%s/%s')",
+                     st->shown_root, rel, st->src->dir, rel);
         else
-            snprintf(st->err, st->err_size, "%s/%s: error: cannot open shader file (looked in '%s')",
-                     st->shown_root, rel, path);
+            snprintf(st->err, st->err_size, "%s/%s: error: no such shader among the %d embedded in the library",
+                     st->shown_root, rel, st->src->file_count);
         return 0;
     }
     int id = file_id(st, rel);
@@ -170,11 +204,7 @@ static int expand(pp_state *st, text *out, const char *rel, const char *from, in
             char name[256], inc[512];
             snprintf(name, sizeof name, "%.*s", (int)(b - a - 1), a + 1);
             join_rel(rel, name, inc, sizeof inc);
-            char probe[1024];
-            snprintf(probe, sizeof probe, "%s/%s", st->dir, inc);
-            FILE *f = fopen(probe, "rb");
-            if (f) fclose(f);
-            else join_rel(NULL, name, inc, sizeof inc); // fall back to the root
+            if (!source_exists(st->src, inc)) join_rel(NULL, name, inc, sizeof inc); // fall back to the root
             ok = expand(st, out, inc, rel, line, depth + 1) &&
                  text_printf(out, "#line %d %d\n", id * LINE_STRIDE + line + 1, id);
         } else if (strncmp(q, "#version", 8) == 0 && !st->version_seen) {
@@ -196,8 +226,16 @@ char *pbf_glsl_preprocess(const char *shader_dir, const char *file, const char *
                           char *files[PBF_GLSL_MAX_FILES], int *file_count,
                           char *err, size_t err_size)
 {
+    pbf_glsl_source src = { shader_dir ? shader_dir : "", NULL, 0 };
+    return pbf_glsl_preprocess_from(&src, file, defines, files, file_count, err, err_size);
+}
+
+char *pbf_glsl_preprocess_from(const pbf_glsl_source *src, const char *file, const char *defines,
+                               char *files[PBF_GLSL_MAX_FILES], int *file_count,
+                               char *err, size_t err_size)
+{
     char shown[256];
-    pp_state st = { shader_dir, root_name(shader_dir, shown, sizeof shown), defines,
+    pp_state st = { src, root_name(src->dir, shown, sizeof shown), defines,
                     files, file_count, err, err_size, 0 };
     text out = { 0 };
     err[0] = 0;
@@ -258,8 +296,15 @@ void pbf_glsl_map_log(const char *log, char *const *files, int file_count,
 GLuint pbf_glsl_build(const char *shader_dir, const pbf_glsl_stage *stages, int count,
                       const char *defines, char *err, size_t err_size)
 {
+    pbf_glsl_source src = { shader_dir ? shader_dir : "", NULL, 0 };
+    return pbf_glsl_build_from(&src, stages, count, defines, err, err_size);
+}
+
+GLuint pbf_glsl_build_from(const pbf_glsl_source *source, const pbf_glsl_stage *stages, int count,
+                           const char *defines, char *err, size_t err_size)
+{
     char shown[256];
-    root_name(shader_dir, shown, sizeof shown);
+    root_name(source->dir, shown, sizeof shown);
     GLuint prog = glCreateProgram();
     GLuint shaders[8] = { 0 };
     int ok = count > 0 && count <= 8;
@@ -267,13 +312,15 @@ GLuint pbf_glsl_build(const char *shader_dir, const pbf_glsl_stage *stages, int 
     for (int i = 0; ok && i < count; i++) {
         char *files[PBF_GLSL_MAX_FILES] = { 0 };
         int nfiles = 0;
-        char *src = pbf_glsl_preprocess(shader_dir, stages[i].file, defines, files, &nfiles, err, err_size);
+        char *src = pbf_glsl_preprocess_from(source, stages[i].file, defines, files, &nfiles, err, err_size);
         if (!src) {
+            pbf_glsl_free_files(files, nfiles);
             ok = 0;
             break;
         }
         GLuint sh = glCreateShader(stages[i].type);
         shaders[i] = sh;
+        glObjectLabel(GL_SHADER, sh, -1, stages[i].file);
         const GLchar *s = src;
         glShaderSource(sh, 1, &s, NULL);
         glCompileShader(sh);
@@ -314,6 +361,7 @@ GLuint pbf_glsl_build(const char *shader_dir, const pbf_glsl_stage *stages, int 
         glDeleteProgram(prog);
         return 0;
     }
+    glObjectLabel(GL_PROGRAM, prog, -1, stages[0].file);
     err[0] = 0;
     return prog;
 }

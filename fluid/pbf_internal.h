@@ -146,6 +146,12 @@ pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 #endif
     ;
 
+/// A buffer only the GPU writes, zeroed on the GPU once (pbf_world.c explains the two kinds).
+GLuint pbf_gpu_buffer(GLsizeiptr size, const char *label);
+/// A buffer the CPU uploads into: made with `data` (NULL: zeros from the CPU), never cleared
+/// on the GPU. 0 if the zeros could not be allocated.
+GLuint pbf_cpu_buffer(GLsizeiptr size, const void *data, const char *label);
+
 /// Appends particles (xyzw positions with w the colour parameter, xyzw velocities) through
 /// the staging buffers and the append pass; ids are assigned here.
 pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32_t n);

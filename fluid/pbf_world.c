@@ -30,9 +30,6 @@ _Static_assert(sizeof(pbf_gpu_reduce) == 32, "pbf_gpu_reduce std430 layout");
 _Static_assert(sizeof(pbf_gpu_metrics) == 32, "pbf_gpu_metrics std430 layout");
 _Static_assert(sizeof(pbf_gpu_state) == 32, "pbf_gpu_state std430 layout");
 
-#ifndef SEICHE_SHADER_DIR
-#define SEICHE_SHADER_DIR "shaders"
-#endif
 
 static const char *const program_files[PROG_COUNT] = {
     "fluid/predict.comp",   "fluid/grid_count.comp", "fluid/scan_block.comp",
@@ -86,7 +83,7 @@ pbf_world_def pbf_default_world_def(void)
     d.domain_max[1] = 1.0f;
     d.domain_max[2] = 1.0f;
     const char *env = getenv("SEICHE_SHADER_DIR");
-    d.shader_dir = env && *env ? env : SEICHE_SHADER_DIR;
+    d.shader_dir = env && *env ? env : NULL;
     return d;
 }
 
@@ -114,13 +111,38 @@ static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
 
 // ---- GL resources ---------------------------------------------------------------------
 
-static GLuint make_buffer(GLsizeiptr size)
+// Two kinds of buffers (docs/architecture.md, "GL synchronisation"):
+// - buffers only the GPU writes are zeroed on the GPU once, when made (a clear is a GPU
+//   command: every later dispatch or readback is ordered after it);
+// - buffers the CPU uploads into are made with their first contents from the CPU and never
+//   cleared on the GPU: a real driver may apply a GPU clear after a CPU upload that follows
+//   it (NVIDIA does, when it moves a small buffer to host memory), and the upload is lost.
+// Both get a label, so driver messages and captures name them.
+static GLuint new_buffer(GLsizeiptr size, const void *data, const char *label)
 {
     GLuint b;
     glGenBuffers(1, &b);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, size > 0 ? size : 16, NULL, GL_DYNAMIC_DRAW);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, size > 0 ? size : 16, data, GL_DYNAMIC_DRAW);
+    glObjectLabel(GL_BUFFER, b, -1, label);
+    return b;
+}
+
+GLuint pbf_gpu_buffer(GLsizeiptr size, const char *label)
+{
+    GLuint b = new_buffer(size, NULL, label);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    return b;
+}
+
+GLuint pbf_cpu_buffer(GLsizeiptr size, const void *data, const char *label)
+{
+    if (data) return new_buffer(size, data, label);
+    size_t bytes = (size_t)(size > 0 ? size : 16);
+    void *zeros = calloc(1, bytes);
+    if (!zeros) return 0;
+    GLuint b = new_buffer(size, zeros, label);
+    free(zeros);
     return b;
 }
 
@@ -137,8 +159,8 @@ static pbf_result alloc_grid(pbf_world *w)
 {
     // Cells 0..cells-1, the removed cell `cells` (sinks), and one more entry so that the
     // exclusive scan leaves the total at cell_start[cells + 1].
-    w->cell_start = make_buffer((GLsizeiptr)(w->cells + 2) * 4);
-    w->cell_fill = make_buffer((GLsizeiptr)(w->cells + 1) * 4);
+    w->cell_start = pbf_gpu_buffer((GLsizeiptr)(w->cells + 2) * 4, "pbf.cell_start");
+    w->cell_fill = pbf_gpu_buffer((GLsizeiptr)(w->cells + 1) * 4, "pbf.cell_fill");
     // Scan levels: level 0 is cell_start itself; the block sums of level l are level l+1.
     uint32_t n = w->cells + 2;
     GLintptr off = 0;
@@ -156,7 +178,7 @@ static pbf_result alloc_grid(pbf_world *w)
     }
     w->scan_levels = l + 1;
     w->scan_dummy = off;
-    w->scan = make_buffer(off + 64);
+    w->scan = pbf_gpu_buffer(off + 64, "pbf.scan");
     return PBF_OK;
 }
 
@@ -164,7 +186,9 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
 {
     for (int i = 0; i < PROG_COUNT; i++) {
         pbf_glsl_stage st = { GL_COMPUTE_SHADER, program_files[i] };
-        w->programs[i] = pbf_glsl_build(w->shader_dir, &st, 1, NULL, err, err_size);
+        pbf_glsl_source src = pbf_glsl_fluid_sources();
+        if (w->shader_dir[0]) src.dir = w->shader_dir;
+        w->programs[i] = pbf_glsl_build_from(&src, &st, 1, NULL, err, err_size);
         if (!w->programs[i]) return PBF_ERR_GL;
     }
     w->u_scan_n[0] = glGetUniformLocation(w->programs[PROG_SCAN_BLOCK], "scan_n");
@@ -248,9 +272,10 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
                  (unsigned long long)((uint64_t)def->capacity * def->max_neighbours * 4u >> 20));
         return NULL;
     }
-    if (!def->shader_dir || !*def->shader_dir) {
-        snprintf(err, err_size, "pbf_world_def.shader_dir must name the directory holding fluid/*.comp (got %s)",
-                 def->shader_dir ? "\"\"" : "NULL");
+    if (def->shader_dir && (!*def->shader_dir || strlen(def->shader_dir) >= sizeof(((pbf_world *)0)->shader_dir))) {
+        snprintf(err, err_size, "pbf_world_def.shader_dir must be NULL (the embedded shaders) or name the directory "
+                 "holding fluid/*.comp in at most %zu characters (got \"%.64s\")", sizeof(((pbf_world *)0)->shader_dir) - 1,
+                 def->shader_dir);
         return NULL;
     }
     if (epoxy_gl_version() < 43 && !epoxy_has_gl_extension("GL_ARB_compute_shader")) {
@@ -281,7 +306,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->flush_timestamps = renderer && strstr(renderer, "llvmpipe");
     memcpy(w->domain_min, def->domain_min, sizeof w->domain_min);
     memcpy(w->domain_max, def->domain_max, sizeof w->domain_max);
-    snprintf(w->shader_dir, sizeof w->shader_dir, "%s", def->shader_dir);
+    snprintf(w->shader_dir, sizeof w->shader_dir, "%s", def->shader_dir ? def->shader_dir : "");
     w->log = def->log;
     w->log_user = def->log_user;
     derive(w);
@@ -293,27 +318,28 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     }
     GLsizeiptr cap = w->capacity;
     for (int k = 0; k < 2; k++) {
-        w->pos[k] = make_buffer(cap * 16);
-        w->vel[k] = make_buffer(cap * 16);
-        w->pred[k] = make_buffer(cap * 16);
-        w->ids[k] = make_buffer(cap * 4);
+        w->pos[k] = pbf_gpu_buffer(cap * 16, k ? "pbf.pos[1]" : "pbf.pos[0]");
+        w->vel[k] = pbf_gpu_buffer(cap * 16, k ? "pbf.vel[1]" : "pbf.vel[0]");
+        w->pred[k] = pbf_gpu_buffer(cap * 16, k ? "pbf.pred[1]" : "pbf.pred[0]");
+        w->ids[k] = pbf_gpu_buffer(cap * 4, k ? "pbf.ids[1]" : "pbf.ids[0]");
     }
-    w->cell_of = make_buffer(cap * 4);
-    w->sorted = make_buffer(cap * 4);
-    w->order = make_buffer(cap * 4);
-    w->lambda = make_buffer(cap * 8);
-    w->omega = make_buffer(cap * 16);
-    w->nb_list = make_buffer(cap * (GLsizeiptr)w->max_neighbours * 4);
-    w->nb_count = make_buffer(cap * 4);
-    w->colliders = make_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider));
-    w->forces = make_buffer((GLsizeiptr)(1 + RING) * PBF_MAX_COLLIDERS * 8 * 4);
-    w->reduce = make_buffer(((cap + PBF_WG - 1) / PBF_WG) * (GLsizeiptr)sizeof(pbf_gpu_reduce));
-    w->metrics = make_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics));
-    w->draw = make_buffer(16);
-    w->state = make_buffer(sizeof(pbf_gpu_state));
+    w->cell_of = pbf_gpu_buffer(cap * 4, "pbf.cell_of");
+    w->sorted = pbf_gpu_buffer(cap * 4, "pbf.sorted");
+    w->order = pbf_gpu_buffer(cap * 4, "pbf.order");
+    w->lambda = pbf_gpu_buffer(cap * 8, "pbf.lambda");
+    w->omega = pbf_gpu_buffer(cap * 16, "pbf.omega");
+    w->nb_list = pbf_gpu_buffer(cap * (GLsizeiptr)w->max_neighbours * 4, "pbf.nb_list");
+    w->nb_count = pbf_gpu_buffer(cap * 4, "pbf.nb_count");
+    w->colliders = pbf_cpu_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider), NULL, "pbf.colliders");
+    w->forces = pbf_gpu_buffer((GLsizeiptr)(1 + RING) * PBF_MAX_COLLIDERS * 8 * 4, "pbf.forces");
+    w->reduce = pbf_gpu_buffer(((cap + PBF_WG - 1) / PBF_WG) * (GLsizeiptr)sizeof(pbf_gpu_reduce), "pbf.reduce");
+    w->metrics = pbf_gpu_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics), "pbf.metrics");
+    w->draw = pbf_cpu_buffer(16, NULL, "pbf.draw");
+    w->state = pbf_cpu_buffer(sizeof(pbf_gpu_state), NULL, "pbf.state");
     glGenBuffers(1, &w->params_ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof(pbf_gpu_params), NULL, GL_DYNAMIC_DRAW);
+    glObjectLabel(GL_BUFFER, w->params_ubo, -1, "pbf.params");
     if (alloc_grid(w) != PBF_OK) {
         snprintf(err, err_size, "pbf_world_create: grid of %u cells needs too many scan levels", w->cells);
         pbf_world_destroy(w);
@@ -379,7 +405,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     uint32_t need = pbf_suggest_max_neighbours(p);
     if (need > w->max_neighbours && (uint64_t)w->capacity * need * 4u <= (1ull << 34)) {
         glDeleteBuffers(1, &w->nb_list);
-        w->nb_list = make_buffer((GLsizeiptr)w->capacity * (GLsizeiptr)need * 4);
+        w->nb_list = pbf_gpu_buffer((GLsizeiptr)w->capacity * (GLsizeiptr)need * 4, "pbf.nb_list");
         w->max_neighbours = need;
     }
     derive(w);
@@ -412,9 +438,9 @@ static void grow_staging(pbf_world *w, uint32_t n)
     while (cap < n) cap *= 2;
     GLuint old[3] = { w->stage_pos, w->stage_vel, w->stage_id };
     glDeleteBuffers(3, old);
-    w->stage_pos = make_buffer((GLsizeiptr)cap * 16);
-    w->stage_vel = make_buffer((GLsizeiptr)cap * 16);
-    w->stage_id = make_buffer((GLsizeiptr)cap * 4);
+    w->stage_pos = pbf_cpu_buffer((GLsizeiptr)cap * 16, NULL, "pbf.stage_pos");
+    w->stage_vel = pbf_cpu_buffer((GLsizeiptr)cap * 16, NULL, "pbf.stage_vel");
+    w->stage_id = pbf_cpu_buffer((GLsizeiptr)cap * 4, NULL, "pbf.stage_id");
     w->stage_cap = cap;
 }
 

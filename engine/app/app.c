@@ -116,31 +116,13 @@ const char *eng_app_set_keys(void)
     return keys;
 }
 
-// Finds the shaders: the option, then $SEICHE_SHADER_DIR, then <exe>/../../shaders
-// (build/bin/seiche in a checkout), then ./shaders.
+// Finds the shaders: the option, then $SEICHE_SHADER_DIR (shader development), else the
+// copies embedded in the libraries ("" here).
 static void find_shader_dir(app *a)
 {
     const char *env = getenv("SEICHE_SHADER_DIR");
-    if (a->opt->shader_dir) {
-        snprintf(a->shader_dir, sizeof a->shader_dir, "%s", a->opt->shader_dir);
-        return;
-    }
-    if (env && *env) {
-        snprintf(a->shader_dir, sizeof a->shader_dir, "%s", env);
-        return;
-    }
-    char exe[900];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    if (n > 0) {
-        exe[n] = 0;
-        char *slash = strrchr(exe, '/');
-        if (slash) *slash = 0;
-        snprintf(a->shader_dir, sizeof a->shader_dir, "%s/../../shaders", exe);
-        char probe[1100];
-        snprintf(probe, sizeof probe, "%s/fluid/common.glsl", a->shader_dir);
-        if (access(probe, R_OK) == 0) return;
-    }
-    snprintf(a->shader_dir, sizeof a->shader_dir, "shaders");
+    const char *dir = a->opt->shader_dir ? a->opt->shader_dir : env ? env : "";
+    snprintf(a->shader_dir, sizeof a->shader_dir, "%s", dir);
 }
 
 // ---- errors ---------------------------------------------------------------------------
@@ -344,7 +326,7 @@ static int create_worlds(app *a, instance *in, char *err, size_t err_size)
     d.params = c->params;
     d.capacity = c->capacity;
     d.max_neighbours = pbf_suggest_max_neighbours(&c->params);
-    d.shader_dir = a->shader_dir;
+    d.shader_dir = a->shader_dir[0] ? a->shader_dir : NULL;
     // Errors come back as results and are reported here with the script's context, so
     // the world's own log only carries its warnings and debug notes.
     d.log = world_log;
@@ -864,7 +846,7 @@ int eng_app_run(const eng_app_options *o)
     if (!a->ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? ENG_EXIT_NO_COMPUTE : ENG_EXIT_USAGE;
     a->input = eng_input_create(a->ctx);
     a->renderer_def = eng_default_renderer_def();
-    a->renderer_def.shader_dir = a->shader_dir;
+    a->renderer_def.shader_dir = a->shader_dir[0] ? a->shader_dir : NULL;
     a->renderer_def.logger = a->log;
     a->renderer = eng_renderer_create(&a->renderer_def, err, sizeof err);
     if (!a->renderer) {

@@ -30,7 +30,7 @@ typedef struct eng_app_options {
     const char *record_path;     ///< MP4 through ffmpeg
     bool hash;                   ///< print the final state hash
     int width, height;           ///< pixels
-    const char *shader_dir;      ///< NULL: found next to the executable, or SEICHE_SHADER_DIR
+    const char *shader_dir;      ///< NULL: $SEICHE_SHADER_DIR if set, else the shaders embedded in the libraries
     bool quiet;                  ///< no summary line
     double budget_s;             ///< longest a callback may run, s; 0: 5 headless, 2 in a window
     bool watch;                  ///< window: reload the script when its file changes (default true)

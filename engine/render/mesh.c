@@ -235,8 +235,10 @@ static bool upload(eng_mesh_gpu *g, const builder *b)
     glBindVertexArray(g->vao);
     glBindBuffer(GL_ARRAY_BUFFER, g->vbo);
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)b->nv * 6 * sizeof(float)), b->verts, GL_STATIC_DRAW);
+    glObjectLabel(GL_BUFFER, g->vbo, -1, "eng.mesh_vertices");
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g->ebo);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)((size_t)b->ni * sizeof(uint32_t)), b->idx, GL_STATIC_DRAW);
+    glObjectLabel(GL_BUFFER, g->ebo, -1, "eng.mesh_indices");
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), (const void *)0);
     glEnableVertexAttribArray(1);

@@ -55,7 +55,7 @@ eng_renderer_def eng_default_renderer_def(void)
 {
     eng_renderer_def d;
     memset(&d, 0, sizeof d);
-    d.shader_dir = "shaders";
+    d.shader_dir = NULL;
     d.logger = eng_default_logger();
     d.sky_color[0] = 0.62f, d.sky_color[1] = 0.76f, d.sky_color[2] = 0.90f;
     d.light.direction[0] = 0.35f, d.light.direction[1] = 0.85f, d.light.direction[2] = 0.40f;
@@ -126,12 +126,11 @@ static bool check_light(const eng_logger *log, char *err, size_t err_size, const
 static bool check_def(const eng_renderer_def *d, char *err, size_t err_size)
 {
     const eng_logger *log = &d->logger;
-    if (!d->shader_dir || !d->shader_dir[0]) {
-        eng_log(log, ENG_LOG_ERROR, "eng_renderer_def.shader_dir must name the shader directory (got %s)",
-                d->shader_dir ? "\"\"" : "NULL");
-        if (err && err_size > 0)
-            snprintf(err, err_size, "eng_renderer_def.shader_dir must name the shader directory (got %s)",
-                     d->shader_dir ? "\"\"" : "NULL");
+    if (d->shader_dir && !d->shader_dir[0]) {
+        const char *msg = "eng_renderer_def.shader_dir must be NULL (the embedded shaders) or name the shader "
+                          "directory (got \"\")";
+        eng_log(log, ENG_LOG_ERROR, "%s", msg);
+        if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
         return false;
     }
     if (!check_rgb(log, err, err_size, "eng_renderer_def.sky_color", d->sky_color, 1.0f)) return false;
@@ -178,7 +177,9 @@ static GLuint build(const eng_renderer_def *d, const char *vert, const char *fra
 {
     pbf_glsl_stage stages[2] = { { GL_VERTEX_SHADER, vert }, { GL_FRAGMENT_SHADER, frag } };
     char msg[4096];
-    GLuint prog = pbf_glsl_build(d->shader_dir, stages, 2, NULL, msg, sizeof msg);
+    pbf_glsl_source src = eng_render_sources();
+    if (d->shader_dir) src.dir = d->shader_dir;
+    GLuint prog = pbf_glsl_build_from(&src, stages, 2, NULL, msg, sizeof msg);
     if (!prog) {
         eng_log(&d->logger, ENG_LOG_ERROR, "renderer: %s", msg);
         if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
@@ -224,10 +225,14 @@ eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t
     r->particles.specular = glGetUniformLocation(p, "u_specular");
     r->particles.shininess = glGetUniformLocation(p, "u_shininess");
     glGenVertexArrays(1, &r->particles.vao);
+    glBindVertexArray(r->particles.vao);
+    glObjectLabel(GL_VERTEX_ARRAY, r->particles.vao, -1, "eng.particles_vao");
+    glBindVertexArray(0);
 
     glGenBuffers(1, &r->frame_ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, r->frame_ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof(eng_frame_block), NULL, GL_DYNAMIC_DRAW);
+    glObjectLabel(GL_BUFFER, r->frame_ubo, -1, "eng.frame_ubo");
     glBindBuffer(GL_UNIFORM_BUFFER, 0);
 
     eng_mesh_store_def md = eng_default_mesh_store_def();

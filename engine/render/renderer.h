@@ -13,7 +13,8 @@
 // can later be a further pass that renders the same impostors' depth into an offscreen
 // target, smooths it and composites it, beside eng_renderer_draw_particles.
 //
-// Shaders are read from eng_renderer_def.shader_dir ("<repo>/shaders"): render/*.vert,
+// Shaders are embedded in the library (eng_render_sources) or, for shader development,
+// read from eng_renderer_def.shader_dir ("<repo>/shaders"): render/*.vert,
 // render/*.frag and their headers. GPU time per pass is measured with an eng_gpu_timer
 // (sections "frame", "scene", "particles").
 #ifndef ENG_RENDERER_H
@@ -28,6 +29,7 @@
 #include "engine/gl/context.h"
 #include "engine/gl/gpu_timer.h"
 #include "engine/core/log.h"
+#include "fluid/pbf_glsl.h"
 #include "engine/render/mesh.h"
 #include "engine/render/scene.h"
 
@@ -37,8 +39,11 @@ typedef struct eng_light {
     float ambient[3];   ///< ambient light, each 0..1
 } eng_light;
 
+/// The renderer's shader sources (shaders/render/*), embedded at build time.
+pbf_glsl_source eng_render_sources(void);
+
 typedef struct eng_renderer_def {
-    const char *shader_dir;  ///< directory holding render/ (e.g. "shaders")
+    const char *shader_dir;  ///< NULL: the embedded shaders; else a directory holding render/
     eng_logger logger;
     float sky_color[3];      ///< clear and fog colour, each 0..1
     eng_light light;
@@ -53,7 +58,7 @@ typedef struct eng_renderer_def {
     float fog_end;           ///< distance where only sky remains, m, > fog_start
 } eng_renderer_def;
 
-/// shader_dir "shaders", a light from above-front-right, pale blue sky, a 200 m grey ground
+/// shader_dir NULL (embedded), a light from above-front-right, pale blue sky, a 200 m grey ground
 /// at y = 0 with 1 m checker cells, fog from 40 m to 100 m.
 eng_renderer_def eng_default_renderer_def(void);
 

@@ -2,14 +2,18 @@
 // Appends the staged particles (emitters, blocks, points) after the live ones, as far as
 // the capacity allows; the count pass (mode 1) then takes them in.
 #define USE_POS
+#define WRITE_POS
 #define USE_VEL
+#define WRITE_VEL
 #define USE_PRED
+#define WRITE_PRED
 #define USE_ID
+#define WRITE_ID
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
-layout(std430, binding = PBF_B_STAGE_POS) buffer StagePos { vec4 stage_pos[]; };
-layout(std430, binding = PBF_B_STAGE_VEL) buffer StageVel { vec4 stage_vel[]; };
-layout(std430, binding = PBF_B_STAGE_ID) buffer StageId { uint stage_id[]; };
+layout(std430, binding = PBF_B_STAGE_POS) readonly buffer StagePos { vec4 stage_pos[]; };
+layout(std430, binding = PBF_B_STAGE_VEL) readonly buffer StageVel { vec4 stage_vel[]; };
+layout(std430, binding = PBF_B_STAGE_ID) readonly buffer StageId { uint stage_id[]; };
 
 void main()
 {

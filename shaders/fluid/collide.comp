@@ -7,8 +7,10 @@
 #define USE_POS
 #define USE_PRED
 #define USE_PRED_OUT
+#define WRITE_PRED_OUT
 #define USE_COLLIDERS
 #define USE_FORCES
+#define WRITE_FORCES
 #include "common.glsl"
 #include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;

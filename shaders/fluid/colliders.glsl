@@ -22,7 +22,7 @@
 // force and no boundary density (which would push it out at once): gentle, not explosive.
 
 #ifdef USE_COLLIDERS
-layout(std430, binding = PBF_B_COLLIDER_DATA) buffer ColliderData { float collider_data[]; };
+layout(std430, binding = PBF_B_COLLIDER_DATA) readonly buffer ColliderData { float collider_data[]; };
 
 // ---- shapes in the collider frame -------------------------------------------------------
 
@@ -257,7 +257,7 @@ void colliders_density(vec3 x, inout float rho, inout vec3 grad_i)
 #ifdef USE_POS
 vec3 collider_start(uint i) { return pos[i].xyz; }
 #else
-layout(std430, binding = PBF_B_POS) buffer ColliderStart { vec4 collider_start_pos[]; };
+layout(std430, binding = PBF_B_POS) readonly buffer ColliderStart { vec4 collider_start_pos[]; };
 vec3 collider_start(uint i) { return collider_start_pos[i].xyz; }
 #endif
 

@@ -1,72 +1,155 @@
 // Shared declarations of the fluid passes: buffers, kernels, grid, boundaries.
 // Included by every shaders/fluid/*.comp after its #version line. A pass defines
 // USE_<BUFFER> for each storage block it touches before including this file: std430
-// blocks count against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS even when unused.
+// blocks count against GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS even when unused. Blocks are
+// `readonly` unless the pass also defines WRITE_<BUFFER> (WRITE_STATE for the state): the
+// compiler then refuses a stray write, and the strict GL mode knows which passes write
+// what (a barrier is owed only after a write).
 #include "pbf_shared.h"
 
 layout(std140, binding = PBF_U_PARAMS) uniform Params { pbf_gpu_params P; };
+#ifdef WRITE_STATE
 layout(std430, binding = PBF_B_STATE) buffer State { pbf_gpu_state state; };
+#else
+layout(std430, binding = PBF_B_STATE) readonly buffer State { pbf_gpu_state state; };
+#endif
 
 // Live particles (kept on the GPU; sinks and appends change it between passes).
 uint particle_count() { return state.count; }
 
 #ifdef USE_POS
+#ifdef WRITE_POS
 layout(std430, binding = PBF_B_POS) buffer PosIn { vec4 pos[]; };
+#else
+layout(std430, binding = PBF_B_POS) readonly buffer PosIn { vec4 pos[]; };
+#endif
 #endif
 #ifdef USE_VEL
+#ifdef WRITE_VEL
 layout(std430, binding = PBF_B_VEL) buffer VelIn { vec4 vel[]; };
+#else
+layout(std430, binding = PBF_B_VEL) readonly buffer VelIn { vec4 vel[]; };
+#endif
 #endif
 #ifdef USE_PRED
+#ifdef WRITE_PRED
 layout(std430, binding = PBF_B_PRED) buffer PredIn { vec4 pred[]; };
+#else
+layout(std430, binding = PBF_B_PRED) readonly buffer PredIn { vec4 pred[]; };
+#endif
 #endif
 #ifdef USE_ID
+#ifdef WRITE_ID
 layout(std430, binding = PBF_B_ID) buffer IdIn { uint pid[]; };
+#else
+layout(std430, binding = PBF_B_ID) readonly buffer IdIn { uint pid[]; };
+#endif
 #endif
 #ifdef USE_POS_OUT
+#ifdef WRITE_POS_OUT
 layout(std430, binding = PBF_B_POS_OUT) buffer PosOut { vec4 pos_out[]; };
+#else
+layout(std430, binding = PBF_B_POS_OUT) readonly buffer PosOut { vec4 pos_out[]; };
+#endif
 #endif
 #ifdef USE_VEL_OUT
+#ifdef WRITE_VEL_OUT
 layout(std430, binding = PBF_B_VEL_OUT) buffer VelOut { vec4 vel_out[]; };
+#else
+layout(std430, binding = PBF_B_VEL_OUT) readonly buffer VelOut { vec4 vel_out[]; };
+#endif
 #endif
 #ifdef USE_PRED_OUT
+#ifdef WRITE_PRED_OUT
 layout(std430, binding = PBF_B_PRED_OUT) buffer PredOut { vec4 pred_out[]; };
+#else
+layout(std430, binding = PBF_B_PRED_OUT) readonly buffer PredOut { vec4 pred_out[]; };
+#endif
 #endif
 #ifdef USE_ID_OUT
+#ifdef WRITE_ID_OUT
 layout(std430, binding = PBF_B_ID_OUT) buffer IdOut { uint pid_out[]; };
+#else
+layout(std430, binding = PBF_B_ID_OUT) readonly buffer IdOut { uint pid_out[]; };
+#endif
 #endif
 #ifdef USE_CELL
+#ifdef WRITE_CELL
 layout(std430, binding = PBF_B_CELL) buffer Cells { uint cell_of[]; };
+#else
+layout(std430, binding = PBF_B_CELL) readonly buffer Cells { uint cell_of[]; };
+#endif
 #endif
 #ifdef USE_CELL_START
+#ifdef WRITE_CELL_START
 layout(std430, binding = PBF_B_CELL_START) buffer CellStart { uint cell_start[]; };
+#else
+layout(std430, binding = PBF_B_CELL_START) readonly buffer CellStart { uint cell_start[]; };
+#endif
 #endif
 #ifdef USE_CELL_FILL
+#ifdef WRITE_CELL_FILL
 layout(std430, binding = PBF_B_CELL_FILL) buffer CellFill { uint cell_fill[]; };
+#else
+layout(std430, binding = PBF_B_CELL_FILL) readonly buffer CellFill { uint cell_fill[]; };
+#endif
 #endif
 #ifdef USE_SORTED
+#ifdef WRITE_SORTED
 layout(std430, binding = PBF_B_SORTED) buffer Sorted { uint sorted_slot[]; };
+#else
+layout(std430, binding = PBF_B_SORTED) readonly buffer Sorted { uint sorted_slot[]; };
+#endif
 #endif
 #ifdef USE_ORDER
+#ifdef WRITE_ORDER
 layout(std430, binding = PBF_B_ORDER) buffer Order { uint order[]; };
+#else
+layout(std430, binding = PBF_B_ORDER) readonly buffer Order { uint order[]; };
+#endif
 #endif
 #ifdef USE_LAMBDA
+#ifdef WRITE_LAMBDA
 layout(std430, binding = PBF_B_LAMBDA) buffer Lambda { vec2 lambda_rho[]; };
+#else
+layout(std430, binding = PBF_B_LAMBDA) readonly buffer Lambda { vec2 lambda_rho[]; };
+#endif
 #endif
 #ifdef USE_OMEGA
+#ifdef WRITE_OMEGA
 layout(std430, binding = PBF_B_OMEGA) buffer Omega { vec4 omega[]; };
+#else
+layout(std430, binding = PBF_B_OMEGA) readonly buffer Omega { vec4 omega[]; };
+#endif
 #endif
 #ifdef USE_COLLIDERS
+#ifdef WRITE_COLLIDERS
 layout(std430, binding = PBF_B_COLLIDERS) buffer Colliders { pbf_gpu_collider colliders[]; };
+#else
+layout(std430, binding = PBF_B_COLLIDERS) readonly buffer Colliders { pbf_gpu_collider colliders[]; };
+#endif
 #endif
 #ifdef USE_NB
+#ifdef WRITE_NB
 layout(std430, binding = PBF_B_NB_LIST) buffer NbList { uint nb_list[]; };
+#else
+layout(std430, binding = PBF_B_NB_LIST) readonly buffer NbList { uint nb_list[]; };
+#endif
+#ifdef WRITE_NB
 layout(std430, binding = PBF_B_NB_COUNT) buffer NbCount { uint nb_count[]; };
+#else
+layout(std430, binding = PBF_B_NB_COUNT) readonly buffer NbCount { uint nb_count[]; };
+#endif
 // Neighbour j (a slot) of particle i, k < nb_len(i); the particle itself is not listed.
 uint nb_len(uint i) { return min(nb_count[i], P.max_neighbours); }
 uint nb_at(uint i, uint k) { return nb_list[i * P.max_neighbours + k]; }
 #endif
 #ifdef USE_FORCES
+#ifdef WRITE_FORCES
 layout(std430, binding = PBF_B_FORCES) buffer Forces { int forces[]; };
+#else
+layout(std430, binding = PBF_B_FORCES) readonly buffer Forces { int forces[]; };
+#endif
 #endif
 
 // ---- kernels (h = P.h) -------------------------------------------------------------

@@ -5,6 +5,7 @@
 //   mode 1, after an append: the appended particles that fitted the capacity are added.
 // Then the indirect dispatch size of the particle passes and the draw command follow.
 #define USE_CELL_START
+#define WRITE_STATE
 #include "common.glsl"
 layout(local_size_x = 1) in;
 layout(std430, binding = PBF_B_DRAW) buffer Draw { uint draw_cmd[4]; };

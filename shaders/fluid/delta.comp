@@ -6,6 +6,7 @@
 // clamp. Bodies come after, in collide.comp (only when there are any).
 #define USE_PRED
 #define USE_PRED_OUT
+#define WRITE_PRED_OUT
 #define USE_NB
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;

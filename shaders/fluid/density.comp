@@ -3,8 +3,10 @@
 // the fluid neighbours (poly6) plus the boundaries' share, the constraint
 // C_i = max(rho_i / rho0 - 1, 0) and its multiplier lambda_i = -C_i / (sum |grad C|^2 + eps).
 #define USE_PRED
+#define WRITE_PRED
 #define USE_NB
 #define USE_LAMBDA
+#define WRITE_LAMBDA
 #define USE_COLLIDERS
 #include "common.glsl"
 #include "colliders.glsl"

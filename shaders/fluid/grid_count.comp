@@ -5,7 +5,9 @@
 // then drops it from the live range.
 #define USE_PRED
 #define USE_CELL
+#define WRITE_CELL
 #define USE_CELL_START
+#define WRITE_CELL_START
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 

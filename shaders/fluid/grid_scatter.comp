@@ -4,7 +4,9 @@
 #define USE_CELL
 #define USE_CELL_START
 #define USE_CELL_FILL
+#define WRITE_CELL_FILL
 #define USE_SORTED
+#define WRITE_SORTED
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 

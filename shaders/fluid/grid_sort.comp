@@ -7,6 +7,7 @@
 #define USE_CELL_START
 #define USE_SORTED
 #define USE_ORDER
+#define WRITE_ORDER
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 

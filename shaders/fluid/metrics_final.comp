@@ -3,7 +3,7 @@
 // frame's record in the metrics ring.
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
-layout(std430, binding = PBF_B_REDUCE) buffer Reduce { pbf_gpu_reduce partial[]; };
+layout(std430, binding = PBF_B_REDUCE) readonly buffer Reduce { pbf_gpu_reduce partial[]; };
 layout(std430, binding = PBF_B_METRICS) buffer Metrics { pbf_gpu_metrics metrics[]; };
 uniform uint frame;
 

@@ -10,9 +10,12 @@
 // The first iteration's density and lambda are computed here too, from the listed
 // neighbours in list order (exactly what density.comp would do next), saving a pass.
 #define USE_PRED
+#define WRITE_PRED
 #define USE_CELL_START
 #define USE_NB
+#define WRITE_NB
 #define USE_LAMBDA
+#define WRITE_LAMBDA
 #define USE_COLLIDERS
 #include "common.glsl"
 #include "colliders.glsl"

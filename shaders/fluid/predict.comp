@@ -2,7 +2,9 @@
 // Stage predict: gravity, damping and the speed clamp on v; x* = x + dt v.
 #define USE_POS
 #define USE_VEL
+#define WRITE_VEL
 #define USE_PRED
+#define WRITE_PRED
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 

@@ -6,9 +6,13 @@
 #define USE_PRED
 #define USE_ID
 #define USE_POS_OUT
+#define WRITE_POS_OUT
 #define USE_VEL_OUT
+#define WRITE_VEL_OUT
 #define USE_PRED_OUT
+#define WRITE_PRED_OUT
 #define USE_ID_OUT
+#define WRITE_ID_OUT
 #define USE_ORDER
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;

@@ -3,7 +3,7 @@
 #include "pbf_shared.h"
 layout(local_size_x = PBF_SCAN_WG) in;
 layout(std430, binding = PBF_B_SCAN_DATA) buffer Data { uint data[]; };
-layout(std430, binding = PBF_B_SCAN_SUMS) buffer Sums { uint sums[]; };
+layout(std430, binding = PBF_B_SCAN_SUMS) readonly buffer Sums { uint sums[]; };
 uniform uint scan_n;
 
 void main()

@@ -1,7 +1,9 @@
 #version 430
 // Stage velocity: v = (x* - x) / dt, clamped to the maximum speed; x = x*.
 #define USE_POS
+#define WRITE_POS
 #define USE_VEL
+#define WRITE_VEL
 #define USE_PRED
 #define USE_LAMBDA
 #include "common.glsl"

@@ -4,6 +4,7 @@
 #define USE_POS
 #define USE_VEL
 #define USE_VEL_OUT
+#define WRITE_VEL_OUT
 #define USE_NB
 #define USE_OMEGA
 #include "common.glsl"

@@ -4,6 +4,7 @@
 #define USE_VEL
 #define USE_NB
 #define USE_OMEGA
+#define WRITE_OMEGA
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
