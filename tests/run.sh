@@ -6,6 +6,11 @@
 # `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner.
 # Prints one line per test program / script and ends with "N passed, N failed".
 cd "$(dirname "$0")/.." || exit 2
+# The strict GL mode (docs/runner.md) is on unless the caller sets SEICHE_GL_STRICT=0: a
+# missing barrier or a clear-then-upload stops the test that hit it with exit status 5.
+SEICHE_GL_STRICT=${SEICHE_GL_STRICT:-1}
+export SEICHE_GL_STRICT
+echo "SEICHE_GL_STRICT=$SEICHE_GL_STRICT"
 passed=0
 failed=0
 failures=""
@@ -65,6 +70,25 @@ EOT
         failures="$failures script:$name"
         echo "FAILED  script $name: exit $rc (expected $expect), ${secs}s; stderr:"
         sed 's/^/    /' "$log_dir/script_$name.err" | head -20
+    fi
+done
+
+# Every shipped scene, as a user would start it, for 60 frames (exit 0 expected).
+for s in scripts/scenes/*.lua; do
+    [ -f "$s" ] || continue
+    name=$(basename "$s" .lua)
+    start=$(date +%s)
+    build/bin/seiche --headless --quiet --frames 60 "$s" >"$log_dir/scene_$name.out" 2>"$log_dir/scene_$name.err"
+    rc=$?
+    secs=$(( $(date +%s) - start ))
+    if [ "$rc" = 0 ]; then
+        passed=$((passed + 1))
+        echo "ok      scene $name (${secs}s)"
+    else
+        failed=$((failed + 1))
+        failures="$failures scene:$name"
+        echo "FAILED  scene $name: exit $rc, ${secs}s; stderr:"
+        sed 's/^/    /' "$log_dir/scene_$name.err" | head -20
     fi
 done
 

@@ -1,5 +1,6 @@
 // GL context creation: GLFW window or headless EGL. See context.h.
 #include "engine/gl/context.h"
+#include "engine/gl/gl_strict.h"
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
@@ -17,6 +18,10 @@ struct eng_context {
     EGLContext egl_context;
     GLuint fbo, color_rb, depth_rb;
     bool close_requested;
+    bool debug;          // KHR_debug output on, driver errors fail the run
+    bool gl_ready;       // created and current: GL calls are safe
+    uint32_t seen_perf[64]; // performance-warning ids already printed
+    int seen_perf_count;
     char platform[32];
     char renderer[256];
 };
@@ -39,18 +44,44 @@ eng_context_def eng_default_context_def(void)
     return d;
 }
 
+// Driver messages: errors and undefined behaviour fail the run (eng_gl_fail: exit status 5),
+// except out-of-memory and shader compiler messages, which the calls that allocate and the
+// shader builder (pbf_glsl, with file:line) report themselves; performance
+// warnings are printed once per message id; the rest go to the logger.
 static void GLAPIENTRY debug_cb(GLenum source, GLenum type, GLuint id, GLenum severity,
                                 GLsizei length, const GLchar *message, const void *user)
 {
-    (void)source;
-    (void)id;
     (void)length;
-    const eng_context *ctx = user;
+    eng_context *ctx = (eng_context *)user;
+    bool handled = strstr(message, "out of memory") || strstr(message, "OUT_OF_MEMORY") ||
+                   source == GL_DEBUG_SOURCE_SHADER_COMPILER;
+    if ((type == GL_DEBUG_TYPE_ERROR || type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR) && !handled) {
+        eng_gl_fail("GL %s reported by the driver: %s", type == GL_DEBUG_TYPE_ERROR ? "error" : "undefined behaviour",
+                    message);
+        return;
+    }
+    if (type == GL_DEBUG_TYPE_PERFORMANCE) {
+        for (int i = 0; i < ctx->seen_perf_count; i++)
+            if (ctx->seen_perf[i] == id) return;
+        if (ctx->seen_perf_count < (int)(sizeof ctx->seen_perf / sizeof ctx->seen_perf[0]))
+            ctx->seen_perf[ctx->seen_perf_count++] = id;
+        eng_log(&ctx->logger, ENG_LOG_WARN, "GL performance: %s", message);
+        return;
+    }
     eng_log_level lvl = severity == GL_DEBUG_SEVERITY_HIGH ? ENG_LOG_ERROR
                       : severity == GL_DEBUG_SEVERITY_MEDIUM ? ENG_LOG_WARN
                       : ENG_LOG_DEBUG;
     if (type == GL_DEBUG_TYPE_ERROR) lvl = ENG_LOG_ERROR;
     eng_log(&ctx->logger, lvl, "GL: %s", message);
+}
+
+static eng_gl_proc egl_proc(const char *name) { return (eng_gl_proc)eglGetProcAddress(name); }
+static eng_gl_proc glfw_proc(const char *name) { return (eng_gl_proc)glfwGetProcAddress(name); }
+
+static bool env_is_1(const char *name)
+{
+    const char *v = getenv(name);
+    return v && strcmp(v, "1") == 0;
 }
 
 static void fail(eng_context *ctx, char *err, int err_size, const char *fmt, const char *a)
@@ -100,7 +131,7 @@ static eng_context_status create_window(eng_context *ctx, const eng_context_def 
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, def->debug ? GLFW_TRUE : GLFW_FALSE);
+    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, ctx->debug ? GLFW_TRUE : GLFW_FALSE);
     glfwWindowHint(GLFW_SAMPLES, 4);
     ctx->window = glfwCreateWindow(def->width, def->height, def->title ? def->title : "Seiche", NULL, NULL);
     if (!ctx->window) {
@@ -183,7 +214,7 @@ static eng_context_status create_headless(eng_context *ctx, const eng_context_de
         EGL_CONTEXT_MAJOR_VERSION, 4,
         EGL_CONTEXT_MINOR_VERSION, 3,
         EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-        EGL_CONTEXT_OPENGL_DEBUG, def->debug ? EGL_TRUE : EGL_FALSE,
+        EGL_CONTEXT_OPENGL_DEBUG, ctx->debug ? EGL_TRUE : EGL_FALSE,
         EGL_NONE,
     };
     ctx->egl_context = eglCreateContext(d, cfg, EGL_NO_CONTEXT, ctx_attr);
@@ -241,6 +272,9 @@ eng_context *eng_context_create(const eng_context_def *def, eng_context_status *
     ctx->mode = def->mode;
     ctx->width = def->width;
     ctx->height = def->height;
+    // Debug output in debug builds (def->debug), and whenever SEICHE_GL_DEBUG=1 or the
+    // strict mode is asked for (the test suite runs so).
+    ctx->debug = def->debug || env_is_1("SEICHE_GL_DEBUG") || eng_gl_strict_requested();
     if (def->width < 16 || def->width > 16384 || def->height < 16 || def->height > 16384) {
         char msg[128];
         snprintf(msg, sizeof msg, "%dx%d", def->width, def->height);
@@ -255,10 +289,21 @@ eng_context *eng_context_create(const eng_context_def *def, eng_context_status *
         eng_context_destroy(ctx);
         return NULL;
     }
-    if (def->debug && epoxy_has_gl_extension("GL_KHR_debug")) {
+    ctx->gl_ready = true;
+    if (ctx->debug && epoxy_has_gl_extension("GL_KHR_debug")) {
         glEnable(GL_DEBUG_OUTPUT);
         glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
         glDebugMessageCallback(debug_cb, ctx);
+    }
+    if (eng_gl_strict_requested()) {
+        char msg[256];
+        if (!eng_gl_strict_install(ctx->window ? glfw_proc : egl_proc, msg, sizeof msg)) {
+            fail(ctx, err, err_size, "%s", msg);
+            *status = ENG_CONTEXT_NO_GL;
+            eng_context_destroy(ctx);
+            return NULL;
+        }
+        eng_log(&ctx->logger, ENG_LOG_INFO, "GL strict mode on (SEICHE_GL_STRICT=1)");
     }
     eng_log(&ctx->logger, ENG_LOG_DEBUG, "GL context: %s via %s", ctx->renderer, ctx->platform);
     return ctx;
@@ -267,6 +312,9 @@ eng_context *eng_context_create(const eng_context_def *def, eng_context_status *
 void eng_context_destroy(eng_context *ctx)
 {
     if (!ctx) return;
+    bool current = ctx->gl_ready;
+    if (current && ctx->debug && epoxy_has_gl_extension("GL_KHR_debug")) glDebugMessageCallback(NULL, NULL);
+    if (current) eng_gl_strict_uninstall();
     if (ctx->fbo) {
         glDeleteFramebuffers(1, &ctx->fbo);
         glDeleteRenderbuffers(1, &ctx->color_rb);
