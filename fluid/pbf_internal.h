@@ -139,6 +139,8 @@ struct pbf_world {
     uint64_t force_step[PBF_MAX_COLLIDERS];
 };
 
+// ---- pbf_base.c: services the world's parts share (below world, emitters, colliders) ----
+
 /// Records an error message (and logs it); returns r.
 pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -155,12 +157,18 @@ GLuint pbf_cpu_buffer(GLsizeiptr size, const void *data, const char *label);
 /// Appends particles (xyzw positions with w the colour parameter, xyzw velocities) through
 /// the staging buffers and the append pass; ids are assigned here.
 pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32_t n);
-/// Writes the params uniform block for a pass outside the step (append).
+/// Writes the params uniform block (a substep, or a pass outside the step: append).
 void pbf_write_params(pbf_world *w, float dt, int substep, int slot);
+/// Binds the particle ping-pong pairs (current as input, other as output).
+void pbf_bind_particles(pbf_world *w);
+/// Binds every world buffer and the params block (not the colliders' data:
+/// pbf_colliders_bind) and the state buffer as the indirect dispatch buffer.
+void pbf_bind_all(pbf_world *w);
+/// Colour parameter of a particle at height y: its place in the domain's height, [0, 1].
+float pbf_colour_of(const pbf_world *w, float y);
 /// Emitters (pbf_emitters.c): particles they owe for a step of dt, appended.
 pbf_result pbf_emitters_emit(pbf_world *w, float dt);
 void pbf_emitters_free(pbf_world *w);
-float pbf_colour_of(const pbf_world *w, float y);
 
 /// Colliders (pbf_colliders.c): upload before a step, read forces after.
 void pbf_colliders_upload(pbf_world *w);

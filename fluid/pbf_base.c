@@ -1,0 +1,174 @@
+// The GPU world's services that its parts (world, emitters, colliders) share: error
+// messages, buffer creation, the parameter block, buffer bindings and the append pass.
+#include "fluid/pbf_internal.h"
+#include "fluid/pbf_uniforms.h"
+
+#include <epoxy/gl.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(w->error, sizeof w->error, fmt, ap);
+    va_end(ap);
+    if (w->log) w->log(w->log_user, 3, w->error);
+    return r;
+}
+
+// Two kinds of buffers (docs/architecture.md, "GL synchronisation"):
+// - buffers only the GPU writes are zeroed on the GPU once, when made (a clear is a GPU
+//   command: every later dispatch or readback is ordered after it);
+// - buffers the CPU uploads into are made with their first contents from the CPU and never
+//   cleared on the GPU: a real driver may apply a GPU clear after a CPU upload that follows
+//   it (NVIDIA does, when it moves a small buffer to host memory), and the upload is lost.
+// Both get a label, so driver messages and captures name them.
+static GLuint new_buffer(GLsizeiptr size, const void *data, const char *label)
+{
+    GLuint b;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, size > 0 ? size : 16, data, GL_DYNAMIC_DRAW);
+    glObjectLabel(GL_BUFFER, b, -1, label);
+    return b;
+}
+
+GLuint pbf_gpu_buffer(GLsizeiptr size, const char *label)
+{
+    GLuint b = new_buffer(size, NULL, label);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    return b;
+}
+
+GLuint pbf_cpu_buffer(GLsizeiptr size, const void *data, const char *label)
+{
+    if (data) return new_buffer(size, data, label);
+    size_t bytes = (size_t)(size > 0 ? size : 16);
+    void *zeros = calloc(1, bytes);
+    if (!zeros) return 0;
+    GLuint b = new_buffer(size, zeros, label);
+    free(zeros);
+    return b;
+}
+
+float pbf_colour_of(const pbf_world *w, float y)
+{
+    float t = (y - w->domain_min[1]) / (w->domain_max[1] - w->domain_min[1]);
+    return t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
+}
+
+void pbf_bind_particles(pbf_world *w)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_POS, w->pos[w->cur_pos]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_POS_OUT, w->pos[w->cur_pos ^ 1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_VEL, w->vel[w->cur_vel]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_VEL_OUT, w->vel[w->cur_vel ^ 1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_PRED, w->pred[w->cur_pred]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_PRED_OUT, w->pred[w->cur_pred ^ 1]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ID, w->ids[w->cur_ids]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ID_OUT, w->ids[w->cur_ids ^ 1]);
+}
+
+void pbf_bind_all(pbf_world *w)
+{
+    pbf_bind_particles(w);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL, w->cell_of);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL_START, w->cell_start);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_CELL_FILL, w->cell_fill);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_SORTED, w->sorted);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ORDER, w->order);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LAMBDA, w->lambda);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_OMEGA, w->omega);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_COLLIDERS, w->colliders);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_FORCES, w->forces, 0, PBF_MAX_COLLIDERS * 8 * 4);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_REDUCE, w->reduce);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_METRICS, w->metrics);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_LIST, w->nb_list);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_COUNT, w->nb_count);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STATE, w->state);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_DRAW, w->draw);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, w->state);
+    glBindBufferBase(GL_UNIFORM_BUFFER, PBF_U_PARAMS, w->params_ubo);
+}
+
+void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
+{
+    const pbf_params *p = &w->params;
+    pbf_gpu_params g;
+    memset(&g, 0, sizeof g);
+    pbf_uniforms_solver(&g, p, &w->k, dt);
+    pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, p->kernel_radius / (float)w->cells_per_kernel,
+                       w->domain_min, w->domain_max,
+                       (const float(*)[4])w->planes, (uint32_t)w->plane_count, w->max_neighbours);
+    uint32_t ns = 0;
+    for (int k = 0; k < PBF_MAX_SINKS; k++) {
+        if (!w->sinks[k].used) continue;
+        g.sink_min[ns] = (pbf_float4){ w->sinks[k].min[0], w->sinks[k].min[1], w->sinks[k].min[2], 0 };
+        g.sink_max[ns] = (pbf_float4){ w->sinks[k].max[0], w->sinks[k].max[1], w->sinks[k].max[2], 0 };
+        ns++;
+    }
+    g.sink_count = ns;
+    g.capacity = w->capacity;
+    g.append_count = 0;
+    g.count_mode = 0;
+    g.count = w->count;
+    g.collider_count = w->gpu_colliders;
+    g.metrics_slot = (uint32_t)slot;
+    g.substep = (uint32_t)substep;
+    glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof g, &g);
+}
+
+static void grow_staging(pbf_world *w, uint32_t n)
+{
+    if (n <= w->stage_cap) return;
+    uint32_t cap = w->stage_cap ? w->stage_cap : 1024;
+    while (cap < n) cap *= 2;
+    GLuint old[3] = { w->stage_pos, w->stage_vel, w->stage_id };
+    glDeleteBuffers(3, old);
+    w->stage_pos = pbf_cpu_buffer((GLsizeiptr)cap * 16, NULL, "pbf.stage_pos");
+    w->stage_vel = pbf_cpu_buffer((GLsizeiptr)cap * 16, NULL, "pbf.stage_vel");
+    w->stage_id = pbf_cpu_buffer((GLsizeiptr)cap * 4, NULL, "pbf.stage_id");
+    w->stage_cap = cap;
+}
+
+pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32_t n)
+{
+    if (n == 0) return PBF_OK;
+    uint32_t *ids = malloc((size_t)n * 4);
+    if (!ids) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
+    for (uint32_t i = 0; i < n; i++) ids[i] = w->next_id + i;
+    grow_staging(w, n);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->stage_pos);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, pos4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->stage_vel);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, vel4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->stage_id);
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 4, ids);
+    free(ids);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    pbf_write_params(w, 1.0f / 60.0f, 0, 0);
+    // append_count and count_mode ride in the same uniform block.
+    uint32_t extra[2] = { n, 1u };
+    glBindBuffer(GL_UNIFORM_BUFFER, w->params_ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, offsetof(pbf_gpu_params, append_count), sizeof extra, extra);
+    pbf_bind_all(w);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STAGE_POS, w->stage_pos);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STAGE_VEL, w->stage_vel);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_STAGE_ID, w->stage_id);
+    glUseProgram(w->programs[PROG_APPEND]);
+    glDispatchCompute((n + PBF_WG - 1) / PBF_WG, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(w->programs[PROG_LIVE_COUNT]);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    w->next_id += n;
+    w->appended_total += n;
+    uint64_t c = w->known_count + (w->appended_total - w->known_appended);
+    w->count = c > w->capacity ? w->capacity : (uint32_t)c;
+    return PBF_OK;
+}
