@@ -4,11 +4,15 @@
 #   make build   build only (CONFIG=debug for a debug build)
 #   make bench   the benchmark (docs/performance.md)
 #   make plots   density and stage-time plots of the two paper scenes (docs/)
+#   make install PREFIX=/usr/local   the library (.so and .a), headers, pkg-config files,
+#                the runner and the scenes (docs/embedding.md); DESTDIR is honoured
 CONFIG ?= release
 JOBS ?= $(shell nproc)
 SEICHE = build/bin/seiche
 
-.PHONY: all setup build demo test bench plots clean
+PREFIX ?= /usr/local
+
+.PHONY: all setup build demo test bench plots clean install
 
 all: build
 
@@ -41,6 +45,9 @@ bench: build
 
 plots: build
 	tools/plots.sh
+
+install: build
+	tools/install.sh "$(PREFIX)"
 
 clean:
 	rm -rf build

@@ -103,8 +103,26 @@ local system_libs = { "imgui", "epoxy", "EGL", "glfw", "lua5.4", "BulletDynamics
 -- shim, after seiche_engine, which calls it).
 local seiche_libs = { "seiche_engine", "seiche_ui", "seiche_coupling", "seiche_phys", "seiche_fluid" }
 
+-- The version, read from its one place (fluid/pbf.h).
+local version = {}
+for line in io.lines("fluid/pbf.h") do
+   local k, v = line:match("^#define PBF_VERSION_(%u+) (%d+)")
+   if k then version[k] = v end
+end
+
+local fluid_files = { "fluid/*.c", "fluid/*.h", "shaders/fluid/*.h", "build/gen/shaders_fluid.c" }
 c_project("seiche_fluid", "StaticLib")
-   files { "fluid/*.c", "fluid/*.h", "shaders/fluid/*.h", "build/gen/shaders_fluid.c" }
+   files(fluid_files)
+
+-- The same library shared, for embedders (make install): build/lib/libseiche_fluid.so with
+-- soname libseiche_fluid.so.<major>. Kept out of build/bin so that the programs here link
+-- the static one and a copied build/ needs no library path.
+c_project("seiche_fluid_shared", "SharedLib")
+   targetname "seiche_fluid"
+   targetdir "build/lib"
+   files(fluid_files)
+   linkoptions { "-Wl,-soname,libseiche_fluid.so." .. version.MAJOR }
+   links { "epoxy", "m" }
 
 cpp_project("seiche_phys", "StaticLib")
    files { "fluid/bullet/phys*.cpp", "fluid/bullet/phys*.h" }

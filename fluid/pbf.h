@@ -48,6 +48,18 @@
 extern "C" {
 #endif
 
+/// The version of Seiche, semantic (major.minor.patch), defined here only: the build, the
+/// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
+/// in Lua all read it from these lines.
+#define PBF_VERSION_MAJOR 0
+#define PBF_VERSION_MINOR 2
+#define PBF_VERSION_PATCH 0
+#define PBF_VERSION_STRING "0.2.0"
+
+/// PBF_VERSION_STRING of the library actually linked (a host built against one header
+/// and run with another shared library can tell).
+const char *pbf_version(void);
+
 typedef struct pbf_world pbf_world;
 
 typedef enum pbf_result {

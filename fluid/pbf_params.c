@@ -384,3 +384,5 @@ bool pbf_points_check(const char *fn, const float *positions, const float *veloc
     }
     return true;
 }
+
+const char *pbf_version(void) { return PBF_VERSION_STRING; }

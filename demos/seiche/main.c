@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "engine/app/app.h"
+#include "fluid/pbf.h"
 
 static void usage(FILE *f)
 {
@@ -30,6 +31,7 @@ static void usage(FILE *f)
             "  --no-watch            window: do not reload the script when its file is saved\n"
             "  --no-ui               window: no parameter panel or on-screen error box\n"
             "  --quiet               no summary line\n"
+            "  --version             print the version and exit\n"
             "  --help                this text\n"
             "keys in a window: space pause, n single step, r reset, F5 reload (on_reload), c camera\n"
             "mode, F1 panel, Esc quit; orbit with the left mouse button, zoom with the wheel.\n"
@@ -58,6 +60,9 @@ int main(int argc, char **argv)
         if (takes && !v) return bad("option %s needs a value%s", a, "");
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
+            return 0;
+        } else if (strcmp(a, "--version") == 0) {
+            printf("seiche %s\n", pbf_version());
             return 0;
         } else if (strcmp(a, "--headless") == 0) {
             o.headless = true;
