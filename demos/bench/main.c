@@ -7,6 +7,7 @@
 // milliseconds (GL timer queries), the wall-clock time per step, the density error the
 // solver reached, and the GL renderer; --json writes the same.
 #include <errno.h>
+#include <stdbool.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,7 +126,12 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
         pbf_world_destroy(w);
         return 0;
     }
-    for (int i = 0; i < o->warmup; i++) pbf_world_step(w, (float)o->dt);
+    for (int i = 0; i < o->warmup; i++)
+        if (pbf_world_step(w, (float)o->dt) != PBF_OK) {
+            fprintf(stderr, "seiche-bench: %ld particles: %s\n", n, pbf_world_last_error(w));
+            pbf_world_destroy(w);
+            return 0;
+        }
     pbf_world_poll_stats(w, NULL, 0, true);
     int cap = o->steps;
     double *step = calloc((size_t)cap, sizeof *step);
@@ -136,8 +142,13 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
     pbf_step_stats st[16];
     glFinish();
     double t0 = now_s(), c0 = cpu_s();
-    for (int i = 0; i < o->steps; i++) {
-        pbf_world_step(w, (float)o->dt);
+    bool failed = false;
+    for (int i = 0; i < o->steps && !failed; i++) {
+        if (pbf_world_step(w, (float)o->dt) != PBF_OK) {
+            fprintf(stderr, "seiche-bench: %ld particles: %s\n", n, pbf_world_last_error(w));
+            failed = true;
+            break;
+        }
         int k;
         while ((k = pbf_world_poll_stats(w, st, 16, i == o->steps - 1)) > 0) {
             for (int j = 0; j < k && got < cap; j++, got++) {
@@ -164,7 +175,11 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
     free(step);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) free(stage[s]);
     pbf_world_destroy(w);
-    return 1;
+    if (!failed && got == 0) {
+        fprintf(stderr, "seiche-bench: %ld particles: no step statistics came back\n", n);
+        failed = true;
+    }
+    return !failed;
 }
 
 static void usage(FILE *f)
@@ -172,7 +187,9 @@ static void usage(FILE *f)
     fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--json FILE] [--shaders DIR]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
-               "lists (comma-separated) of particles, iterations and substeps run every combination\n");
+               "lists (comma-separated) of particles, iterations and substeps run every combination\n"
+               "exit status: 0 ok, 1 a run lost particles or produced NaN, 2 a usage, world or write error,\n"
+               "             3 no OpenGL 4.3 compute context\n");
 }
 
 int main(int argc, char **argv)
@@ -257,7 +274,7 @@ int main(int argc, char **argv)
     printf("%9s %5s %4s %9s %9s %9s %9s %9s %9s", "particles", "iter", "sub", "step_ms", "wall_ms", "cpu_ms", "rho_avg%", "err_avg%", "rho_max%");
     for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %s", pbf_stage_name((pbf_stage)s));
     printf("\n");
-    int ok = 1, first = 1;
+    int ok = 1, first = 1, diverged = 0;
     for (int pi = 0; pi < o.particle_count && ok; pi++)
         for (int si = 0; si < o.substep_count && ok; si++)
         for (int ii = 0; ii < o.iteration_count && ok; ii++) {
@@ -270,6 +287,7 @@ int main(int argc, char **argv)
                    r.wall_ms, r.cpu_ms, 100.0 * r.rho_err_avg, 100.0 * r.err_avg, 100.0 * r.rho_err_max);
             for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %.2f", r.stage_ms[s]);
             printf("%s\n", r.nan_count || r.outside_count ? "  (NaN or lost particles!)" : "");
+            if (r.nan_count || r.outside_count) diverged = 1;
             fflush(stdout);
             if (js) {
                 fprintf(js, "%s\n    {\"particles\": %u, \"iterations\": %d, \"substeps\": %d, \"step_ms\": %.4f, "
@@ -285,8 +303,15 @@ int main(int argc, char **argv)
         }
     if (js) {
         fprintf(js, "\n  ]\n}\n");
-        fclose(js);
+        bool bad = ferror(js) != 0;
+        if (fclose(js) != 0) bad = true;
+        if (bad) {
+            fprintf(stderr, "seiche-bench: writing '%s' failed: %s\n", o.json, strerror(errno));
+            ok = 0;
+        }
     }
     eng_context_destroy(ctx);
-    return ok ? 0 : 2;
+    if (ok && diverged) fprintf(stderr, "seiche-bench: a run lost particles or produced NaN (marked above)\n");
+    if (ok && fflush(stdout) != 0) ok = 0;
+    return !ok ? 2 : diverged ? 1 : 0;
 }

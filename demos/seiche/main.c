@@ -1,6 +1,9 @@
 // seiche: the scene runner. Runs a Lua scene script in a window or headless.
 // Command line and exit statuses: docs/runner.md (and `seiche --help`).
 #include <errno.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <sys/stat.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -16,7 +19,7 @@ static void usage(FILE *f)
             "usage: seiche [options] SCRIPT.lua\n"
             "  --headless            no window (EGL surfaceless or device platform)\n"
             "  --frames N            run N frames, then exit (headless default: 600)\n"
-            "  --dt SECONDS          fixed frame step, (0, 1] (default 1/60)\n"
+            "  --dt SECONDS          fixed frame step, [0.00001, 1] (default 1/60)\n"
             "  --set KEY=VALUE       override a scene parameter, e.g. fluid.iterations=4 (repeatable)\n"
             "  --metrics FILE.csv    one row per frame: frame, time, particles, rho0, rho_max, rho_avg,\n"
             "                        step_ms, <stage>_ms ..., nan, outside, overflow\n"
@@ -38,6 +41,14 @@ static void usage(FILE *f)
             "Saving the script reloads it. The Lua API: docs/lua-api.md; this command: docs/runner.md.\n"
             "exit status: 0 ok, 1 a check in the script failed, 2 usage or script error,\n"
             "             3 no OpenGL 4.3 compute context\n");
+}
+
+// True when the two paths name one file: the same text, or both exist as one inode.
+static bool same_file(const char *a, const char *b)
+{
+    if (strcmp(a, b) == 0) return true;
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
 static int bad(const char *fmt, const char *a, const char *b)
@@ -94,8 +105,8 @@ int main(int argc, char **argv)
             char *end;
             errno = 0;
             double dt = strtod(v, &end);
-            if (*end || end == v || errno || !isfinite(dt) || dt <= 0.0 || dt > 1.0)
-                return bad("--dt must be a number of seconds in (0, 1] (got '%s')%s", v, "");
+            if (*end || end == v || errno || !isfinite(dt) || dt < 1e-5 || dt > 1.0)
+                return bad("--dt must be a number of seconds in [0.00001, 1] (got '%s')%s", v, "");
             o.dt = dt;
             i++;
         } else if (strcmp(a, "--set") == 0) {
@@ -116,12 +127,14 @@ int main(int argc, char **argv)
             o.shader_dir = v;
             i++;
         } else if (strcmp(a, "--size") == 0) {
-            int w, h;
-            char tail;
-            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 16 || h < 16 || w > 16384 || h > 16384)
+            char *x, *end;
+            errno = 0;
+            long w = strtol(v, &x, 10);
+            long h = *x == 'x' ? strtol(x + 1, &end, 10) : -1;
+            if (errno || x == v || *x != 'x' || end == x + 1 || *end || w < 16 || h < 16 || w > 16384 || h > 16384)
                 return bad("--size must be WxH with each in [16, 16384] (got '%s')%s", v, "");
-            o.width = w;
-            o.height = h;
+            o.width = (int)w;
+            o.height = (int)h;
             i++;
         } else if (a[0] == '-' && a[1]) {
             return bad("unknown option '%s'%s", a, "");
@@ -135,5 +148,18 @@ int main(int argc, char **argv)
     FILE *f = fopen(o.script, "rb");
     if (!f) return bad("cannot open script '%s': %s", o.script, strerror(errno));
     fclose(f);
+    // No output may overwrite the script or another output.
+    const char *names[4] = { "the script", "--metrics", "--screenshot", "--record" };
+    const char *paths[4] = { o.script, o.metrics_path, o.screenshot_path, o.record_path };
+    for (int i = 1; i < 4; i++)
+        for (int j = 0; j < i; j++)
+            if (paths[i] && paths[j] && same_file(paths[i], paths[j])) {
+                fprintf(stderr, "seiche: %s would overwrite %s ('%s'): give each output its own file\n"
+                        "(try 'seiche --help')\n", names[i], names[j], paths[i]);
+                return 2;
+            }
+    // A video whose reader (ffmpeg) stops must not kill the runner: writes fail with EPIPE
+    // and are reported instead.
+    signal(SIGPIPE, SIG_IGN);
     return eng_app_run(&o);
 }

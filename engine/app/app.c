@@ -14,9 +14,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+
+extern char **environ;
 
 #include "engine/render/camera.h"
 #include "engine/gl/context.h"
@@ -73,7 +78,8 @@ typedef struct app {
     struct timespec watch_mtime;
     off_t watch_size;
     FILE *metrics;
-    FILE *video;
+    FILE *video;      // the pipe into ffmpeg
+    pid_t video_pid;  // ffmpeg, spawned without a shell
     unsigned char *video_pixels;
     pbf_step_stats last_stats;
     bool have_stats;
@@ -663,6 +669,8 @@ static void draw_ui(app *a)
     if (f.reset || f.reload) load_scene(a, f.reload);
 }
 
+static int close_video(app *a, bool quiet);
+
 static int record_frame(app *a)
 {
     int w, h;
@@ -673,31 +681,107 @@ static int record_frame(app *a)
         return ENG_EXIT_USAGE;
     }
     if (fwrite(a->video_pixels, 4, (size_t)w * (size_t)h, a->video) != (size_t)w * (size_t)h) {
-        fprintf(stderr, "seiche: --record: ffmpeg stopped taking frames\n");
+        int e = errno;
+        close_video(a, true);
+        fprintf(stderr, "seiche: --record: ffmpeg stopped taking frames (%s) for '%s'\n", strerror(e),
+                a->opt->record_path);
         return ENG_EXIT_USAGE;
     }
     return ENG_EXIT_OK;
 }
 
+// ffmpeg reads raw frames from a pipe; it is spawned with an argument vector (no shell
+// sees the path) and the path is given as file:PATH so that ffmpeg reads no protocol or
+// option into it. The output file is opened here first, so an unwritable path fails at once.
 static int open_video(app *a)
 {
-    if (system("command -v ffmpeg >/dev/null 2>&1") != 0) {
-        fprintf(stderr, "seiche: --record needs ffmpeg on the PATH (apt-get install ffmpeg)\n");
+    const char *path = a->opt->record_path;
+    struct stat before;
+    bool existed = stat(path, &before) == 0;
+    FILE *probe = fopen(path, "ab"); // creates it if missing, keeps what is there
+    if (!probe) {
+        fprintf(stderr, "seiche: --record: cannot write '%s': %s\n", path, strerror(errno));
         return ENG_EXIT_USAGE;
     }
+    fclose(probe);
     int w, h;
     eng_context_size(a->ctx, &w, &h);
-    char cmd[1400];
-    snprintf(cmd, sizeof cmd,
-             "ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s %dx%d -r %d -i - -vf vflip -pix_fmt yuv420p '%s'",
-             w, h, (int)lround(1.0 / a->opt->dt), a->opt->record_path);
-    a->video = popen(cmd, "w");
+    char size[32], rate[16], target[1100];
+    snprintf(size, sizeof size, "%dx%d", w, h);
+    snprintf(rate, sizeof rate, "%d", (int)lround(1.0 / a->opt->dt));
+    snprintf(target, sizeof target, "file:%s", path);
+    char *const argv[] = { "ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba",
+                           "-s", size, "-r", rate, "-i", "pipe:0", "-vf", "vflip", "-pix_fmt", "yuv420p",
+                           target, NULL };
+    int fds[2];
+    if (pipe(fds) != 0) {
+        fprintf(stderr, "seiche: --record: cannot make a pipe for ffmpeg: %s\n", strerror(errno));
+        return ENG_EXIT_USAGE;
+    }
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_adddup2(&fa, fds[0], 0);
+    posix_spawn_file_actions_addclose(&fa, fds[0]);
+    posix_spawn_file_actions_addclose(&fa, fds[1]);
+    // -nostdin is ignored for the input pipe "pipe:0"; it keeps ffmpeg off the terminal.
+    int e = posix_spawnp(&a->video_pid, "ffmpeg", &fa, NULL, argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    close(fds[0]);
+    if (e != 0) {
+        close(fds[1]);
+        a->video_pid = 0;
+        if (!existed) remove(path);
+        if (e == ENOENT) fprintf(stderr, "seiche: --record needs ffmpeg on the PATH (apt-get install ffmpeg)\n");
+        else fprintf(stderr, "seiche: --record: cannot start ffmpeg: %s\n", strerror(e));
+        return ENG_EXIT_USAGE;
+    }
+    a->video = fdopen(fds[1], "w");
     a->video_pixels = malloc((size_t)w * (size_t)h * 4);
     if (!a->video || !a->video_pixels) {
-        fprintf(stderr, "seiche: --record: cannot start ffmpeg\n");
+        if (!a->video) close(fds[1]);
+        fprintf(stderr, "seiche: --record: out of memory\n");
         return ENG_EXIT_USAGE;
     }
     return ENG_EXIT_OK;
+}
+
+// Ends the video: closes the pipe and waits for ffmpeg. ENG_EXIT_USAGE with a message when
+// ffmpeg failed (quiet with `quiet`, on the error paths).
+static int close_video(app *a, bool quiet)
+{
+    if (!a->video_pid) return ENG_EXIT_OK;
+    int status = ENG_EXIT_OK;
+    if (a->video && fclose(a->video) != 0 && !quiet) {
+        fprintf(stderr, "seiche: --record: ffmpeg stopped taking frames: %s\n", strerror(errno));
+        status = ENG_EXIT_USAGE;
+    }
+    a->video = NULL;
+    int ws = 0;
+    while (waitpid(a->video_pid, &ws, 0) < 0 && errno == EINTR) {}
+    a->video_pid = 0;
+    if (status == ENG_EXIT_OK && !(WIFEXITED(ws) && WEXITSTATUS(ws) == 0)) {
+        if (!quiet)
+            fprintf(stderr, "seiche: --record: ffmpeg failed (%s %d) writing '%s'\n",
+                    WIFEXITED(ws) ? "exit status" : "signal", WIFEXITED(ws) ? WEXITSTATUS(ws) : WTERMSIG(ws),
+                    a->opt->record_path);
+        status = ENG_EXIT_USAGE;
+    }
+    return status;
+}
+
+// Closes the metrics file; ENG_EXIT_USAGE with a message if any row could not be written.
+static int close_metrics(app *a, bool quiet)
+{
+    if (!a->metrics) return ENG_EXIT_OK;
+    bool failed = ferror(a->metrics) != 0;
+    int e = errno;
+    if (fclose(a->metrics) != 0 && !failed) {
+        failed = true;
+        e = errno;
+    }
+    a->metrics = NULL;
+    if (failed && !quiet) fprintf(stderr, "seiche: --metrics: writing '%s' failed: %s\n", a->opt->metrics_path, strerror(e));
+    return failed ? ENG_EXIT_USAGE : ENG_EXIT_OK;
 }
 
 // A status from a script callback or an applied edit.
@@ -802,8 +886,8 @@ static void print_summary(app *a)
 
 static void shutdown_app(app *a)
 {
-    if (a->metrics) fclose(a->metrics);
-    if (a->video) pclose(a->video);
+    close_metrics(a, true);
+    close_video(a, true);
     free(a->video_pixels);
     destroy_instance(a, &a->inst);
     eng_ui_destroy(a->ui);
@@ -912,7 +996,7 @@ int eng_app_run(const eng_app_options *o)
                     break;
                 }
                 a->frame++;
-                a->time += o->dt;
+                a->time = (double)a->frame * o->dt; // exact multiples, no running sum
                 take_stats(a, false);
                 update_host(a);
                 if (!a->halted) status = script_result(a, eng_script_on_step(in->script, o->dt, a->time));
@@ -942,8 +1026,19 @@ int eng_app_run(const eng_app_options *o)
             if (write_screenshot(a) != ENG_EXIT_OK) status = ENG_EXIT_USAGE;
         }
         if (o->hash && a->inst.world) printf("state hash: %016llx\n", (unsigned long long)pbf_world_state_hash(a->inst.world));
-        if (status == ENG_EXIT_OK) print_summary(a);
     }
+    // Every output is complete and checked before the run counts as a success.
+    int out = close_metrics(a, false);
+    int vid = close_video(a, status != ENG_EXIT_OK && status != ENG_EXIT_CHECK_FAILED);
+    if (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED) {
+        if (out != ENG_EXIT_OK) status = out;
+        else if (vid != ENG_EXIT_OK) status = vid;
+        else if (fflush(stdout) != 0) {
+            fprintf(stderr, "seiche: writing standard output failed: %s\n", strerror(errno));
+            status = ENG_EXIT_USAGE;
+        }
+    }
+    if (status == ENG_EXIT_OK) print_summary(a);
     shutdown_app(a);
     return status;
 }
