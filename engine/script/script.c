@@ -1,20 +1,16 @@
-// Lua host for scene scripts. See script.h and docs/lua-api.md.
+// Lua host for scene scripts. See script.h and docs/lua-api.md; the types and the helpers the
+// bindings share (argument readers, vectors, handles) are in script_internal.h / script_args.c.
 //
 // Layout of this file:
-//   objects      the handles a script holds (emitters, sinks, bodies, timers, grabs): slots
-//                with a generation, full userdata {slot, generation} with named metatables
 //   commands     world edits queued by the script, applied by eng_script_apply
-//   arguments    readers that check type, NaN/inf and range and name fn, field, value, rule
 //   bindings     seiche.* functions and the methods of each handle type
 //   running      pcall with a traceback handler, the time budget hook, a memory limit
 //   apply        the commands against the pbf_world / phys_world / coupling / scene graph
 //   callbacks    on_start, on_step (+ timers), input callbacks, on_reload
-#include "engine/script/script.h"
+#include "engine/script/script_internal.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <lauxlib.h>
-#include <lua.h>
 #include <lualib.h>
 #include <math.h>
 #include <stdarg.h>
@@ -23,157 +19,8 @@
 #include <string.h>
 #include <time.h>
 
-#define PI 3.14159265358979323846
-/// Positions a script may give, m (far beyond any scene; keeps Bullet and the grid sane).
-#define MAX_COORD 1.0e5
-/// Speeds a script may give, m/s (and rad/s).
-#define MAX_SPEED 1.0e4
 /// The most memory a script's Lua state may hold.
 #define LUA_MEMORY_LIMIT ((size_t)512 << 20)
-
-// ---- objects -------------------------------------------------------------------------
-
-typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_KIND_COUNT } obj_kind;
-static const char *const KIND_NAME[OBJ_KIND_COUNT] = { "emitter", "sink", "body", "timer", "grab" };
-static const char *const KIND_META[OBJ_KIND_COUNT] = { "seiche.emitter", "seiche.sink", "seiche.body", "seiche.timer",
-                                                       "seiche.grab" };
-
-typedef enum obj_state {
-    OBJ_FREE = 0, // slot unused
-    OBJ_PENDING,  // created by the script, its creation still queued
-    OBJ_LIVE,     // exists in the world
-} obj_state;
-
-typedef enum body_shape {
-    SHAPE_BOX = 0, SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_CYLINDER, SHAPE_PLANE, SHAPE_HULL, SHAPE_MESH, SHAPE_COMPOUND,
-    SHAPE_COUNT
-} body_shape;
-static const char *const SHAPE_NAME[SHAPE_COUNT] = { "box", "sphere", "capsule", "cylinder", "plane", "hull", "mesh",
-                                                     "compound" };
-
-// One part of a compound body, in the frame the script gave the parts in.
-typedef struct body_part {
-    body_shape shape;       // box, sphere, capsule or cylinder
-    float dims[4];          // as body_rec.dims
-    float pos[3];           // m
-    float rot[4];           // unit quaternion x, y, z, w
-} body_part;
-
-// The most parts a compound may have: each is a fluid collider, and the fluid has 64.
-#define MAX_BODY_PARTS 64
-static const char *const BODY_KIND_NAME[3] = { "static", "kinematic", "dynamic" }; // = phys_body_type
-
-typedef struct body_rec {
-    body_shape shape;
-    float dims[4];          // box: half extents; sphere: r; capsule/cylinder: r, half height; plane: n, offset
-    float *points;          // hull points / mesh vertices, xyz, m (owned)
-    uint32_t point_count;
-    uint32_t *indices;      // mesh, 0-based (owned)
-    uint32_t index_count;
-    body_part *parts;       // compound (owned)
-    uint32_t part_count;
-    bool has_factors;       // linear_factor / angular_factor / axle given
-    float linear_factor[3], angular_factor[3];
-    phys_body_def def;      // everything but the shape
-    bool two_way;
-    float color[3];
-    bool visible;
-    phys_body_id id;
-    phys_shape_id shape_id;
-    eng_node_id node;
-    eng_mesh_id mesh;
-    bool target_mode;       // moving towards a move_to target
-    uint64_t target_step;   // the step (frame + 1) the target was set for
-} body_rec;
-
-typedef struct obj {
-    obj_kind kind;
-    obj_state state;
-    uint32_t generation;
-    int ref;                // registry reference to the userdata (LUA_NOREF: none yet)
-    union {
-        struct { pbf_emitter_def def; pbf_emitter_id id; bool full_rate; } emitter;
-        struct { float min[3], max[3]; pbf_sink_id id; } sink;
-        body_rec body;
-        struct { double due, period; int fn; uint64_t fired; } timer;
-        struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
-    } u;
-} obj;
-
-typedef struct handle {
-    uint32_t slot;
-    uint32_t generation;
-} handle;
-
-// ---- commands ------------------------------------------------------------------------
-
-typedef enum cmd_type {
-    CMD_BLOCK = 1, CMD_SPHERE, CMD_PARTICLES,
-    CMD_EMITTER_ADD, CMD_EMITTER_SET, CMD_EMITTER_REMOVE,
-    CMD_SINK_ADD, CMD_SINK_REMOVE,
-    CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
-    CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
-    CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
-    CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
-} cmd_type;
-
-typedef struct command {
-    cmd_type type;
-    char where[160];        // "file:line:" of the call
-    const char *fn;         // "seiche.block", "body:move_to", ...
-    uint32_t slot, gen;     // the object it concerns, if any
-    bool full_rate;         // emitters: pour the most the nozzle can (no rate given)
-    union {
-        pbf_block_def block;
-        struct { float center[3], radius, velocity[3]; } sphere;
-        struct { float *pos, *vel; uint32_t n; } particles;
-        pbf_emitter_def emitter;
-        pbf_emitter_id emitter_id;
-        pbf_sink_id sink_id;
-        struct { phys_body_id id; phys_shape_id shape; eng_node_id node; eng_mesh_id mesh; } body;
-        struct { float v[3], p[3]; bool at_point; } vec;
-        struct { float pos[3], rot[4]; } pose;
-        struct { float color[3]; bool visible; } look;
-        phys_constraint_id constraint;
-        pbf_params params;
-        float gravity[3];
-        struct { float eye[3], target[3], fov; int mode; bool has_eye, has_target, has_fov, has_mode; } camera;
-    } u;
-} command;
-
-struct eng_script {
-    lua_State *L;
-    eng_logger log;
-    double budget_s;
-    double deadline;        // monotonic seconds; 0 when no callback runs
-    const char *running;    // name of the running callback, for messages
-    size_t memory;          // bytes held by the Lua state
-    bool out_of_memory;
-    char path[512];
-    char error[8192];
-    bool check_failed;
-    bool quit;
-    bool scene_called;
-    bool in_main_chunk;
-    eng_scene_config config;
-    command *commands;
-    int command_count, command_cap;
-    obj *objs;
-    uint32_t obj_count, obj_cap;
-    eng_script_host host;
-    pbf_params pending_params;   // the parameters after the queued set_param calls
-    bool have_pending_params;
-    float pending_gravity[3];
-    bool have_pending_gravity;
-    bool capacity_warned;
-    eng_event *events;           // injected input, handed to the app's input next frame
-    int event_count, event_cap;
-    // The particle download shared by the queries of one frame (surface_height, ...).
-    float *cache;
-    uint32_t cache_count, cache_cap;
-    uint64_t cache_frame;
-    bool cache_valid;
-};
 
 static const char *const REGISTRY_KEY = "seiche.script";
 
@@ -215,337 +62,13 @@ eng_scene_config eng_default_scene_config(void)
     return c;
 }
 
-// The script of a binding: an upvalue of every function (lmathlib style), and the
-// registry for the budget hook, which has no upvalues.
-static eng_script *get_script(lua_State *L) { return lua_touserdata(L, lua_upvalueindex(1)); }
-
+// The script for the budget hook, which has no upvalues (bindings use scr_get_script).
 static eng_script *registry_script(lua_State *L)
 {
     lua_getfield(L, LUA_REGISTRYINDEX, REGISTRY_KEY);
     eng_script *s = lua_touserdata(L, -1);
     lua_pop(L, 1);
     return s;
-}
-
-// Raises a Lua error with the caller's file:line, formatted by printf rules (luaL_error's
-// own formatter knows no %g).
-static int raise(lua_State *L, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
-static int raise(lua_State *L, const char *fmt, ...)
-{
-    char msg[1536];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    luaL_where(L, 1);
-    lua_pushstring(L, msg);
-    lua_concat(L, 2);
-    return lua_error(L);
-}
-
-// ---- arguments -----------------------------------------------------------------------
-// Every message names the function, the field or argument, the value given and what is
-// allowed: "seiche.emitter: field 'rate' must be a number in [0, 1e+06] particles/s (got -5)".
-
-static const char *fmt_number(double v, char *buf, size_t size)
-{
-    if (isnan(v)) snprintf(buf, size, "nan");
-    else if (isinf(v)) snprintf(buf, size, v > 0 ? "inf" : "-inf");
-    else if (v == floor(v) && fabs(v) < 1e15) snprintf(buf, size, "%.0f", v);
-    else if ((double)(float)v == v) snprintf(buf, size, "%.7g", v); // a float: its 7 digits
-    else snprintf(buf, size, "%.14g", v);
-    return buf;
-}
-
-// What the value at idx is, for "(got ...)": numbers and short strings as written, other
-// types by name.
-static const char *describe(lua_State *L, int idx, char *buf, size_t size)
-{
-    int t = lua_type(L, idx);
-    if (t == LUA_TNUMBER) {
-        if (lua_isinteger(L, idx)) snprintf(buf, size, "%lld", (long long)lua_tointeger(L, idx));
-        else fmt_number(lua_tonumber(L, idx), buf, size);
-    } else if (t == LUA_TSTRING) {
-        snprintf(buf, size, "\"%.40s%s\"", lua_tostring(L, idx), lua_rawlen(L, idx) > 40 ? "..." : "");
-    } else if (t == LUA_TBOOLEAN) {
-        snprintf(buf, size, "%s", lua_toboolean(L, idx) ? "true" : "false");
-    } else if (t == LUA_TUSERDATA && luaL_getmetafield(L, idx, "__name") == LUA_TSTRING) {
-        snprintf(buf, size, "%s", lua_tostring(L, -1));
-        lua_pop(L, 1);
-    } else {
-        snprintf(buf, size, "%s", luaL_typename(L, idx));
-    }
-    return buf;
-}
-
-enum { OPEN_LO = 1, OPEN_HI = 2, WHOLE = 4 };
-
-// "in [0, 100] m/s", "in (0, 1]", "a finite number" (unbounded).
-static const char *range_text(double lo, double hi, int flags, const char *unit, char *buf, size_t size)
-{
-    char a[32], b[32];
-    const char *kind = flags & WHOLE ? "a whole number" : "a number";
-    if (lo <= -1e30 && hi >= 1e30) snprintf(buf, size, "a finite number%s%s%s", unit && *unit ? " (" : "", unit ? unit : "", unit && *unit ? ")" : "");
-    else snprintf(buf, size, "%s in %c%s, %s%c%s%s", kind, flags & OPEN_LO ? '(' : '[', fmt_number(lo, a, sizeof a),
-                  fmt_number(hi, b, sizeof b), flags & OPEN_HI ? ')' : ']', unit && *unit ? " " : "", unit ? unit : "");
-    return buf;
-}
-
-static bool in_range(double v, double lo, double hi, int flags)
-{
-    if (!isfinite(v)) return false;
-    if (flags & OPEN_LO ? !(v > lo) : !(v >= lo)) return false;
-    if (flags & OPEN_HI ? !(v < hi) : !(v <= hi)) return false;
-    if ((flags & WHOLE) && v != floor(v)) return false;
-    return true;
-}
-
-// `what` names the place: "field 'rate'" or "argument #2 'speed'".
-static double check_number_at(lua_State *L, int idx, const char *fn, const char *what, double lo, double hi, int flags,
-                              const char *unit)
-{
-    char got[64], rule[128];
-    if (lua_type(L, idx) != LUA_TNUMBER || !in_range(lua_tonumber(L, idx), lo, hi, flags))
-        raise(L, "%s: %s must be %s (got %s)", fn, what, range_text(lo, hi, flags, unit, rule, sizeof rule),
-              describe(L, idx, got, sizeof got));
-    return lua_tonumber(L, idx);
-}
-
-static bool field_present(lua_State *L, int t, const char *field)
-{
-    lua_getfield(L, t, field);
-    if (lua_isnil(L, -1)) {
-        lua_pop(L, 1);
-        return false;
-    }
-    return true; // value left on the stack
-}
-
-static bool opt_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi, int flags,
-                       const char *unit, double *out)
-{
-    if (!field_present(L, t, field)) return false;
-    char what[96];
-    snprintf(what, sizeof what, "field '%s'", field);
-    *out = check_number_at(L, -1, fn, what, lo, hi, flags, unit);
-    lua_pop(L, 1);
-    return true;
-}
-
-static double req_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi, int flags,
-                         const char *unit)
-{
-    double v = 0.0;
-    if (!opt_number(L, t, fn, field, lo, hi, flags, unit, &v)) {
-        char rule[128];
-        raise(L, "%s: field '%s' is required: %s (got nil)", fn, field, range_text(lo, hi, flags, unit, rule, sizeof rule));
-    }
-    return v;
-}
-
-static double arg_number(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, int flags,
-                         const char *unit)
-{
-    char what[96];
-    snprintf(what, sizeof what, "argument #%d '%s'", idx, name);
-    return check_number_at(L, idx, fn, what, lo, hi, flags, unit);
-}
-
-// A vector of n numbers: {a, b, c} or {x = a, y = b, z = c} (w for the fourth).
-static void check_vec_at(lua_State *L, int idx, const char *fn, const char *what, int n, double lo, double hi,
-                         int flags, const char *unit, float *out)
-{
-    static const char *const names[4] = { "x", "y", "z", "w" };
-    char got[64], rule[128];
-    idx = lua_absindex(L, idx);
-    const char *shape = n == 4 ? "{x, y, z, w}" : "{x, y, z}";
-    if (!lua_istable(L, idx))
-        raise(L, "%s: %s must be a table of %d numbers %s%s%s (got %s)", fn, what, n, shape, unit && *unit ? " in " : "",
-              unit ? unit : "", describe(L, idx, got, sizeof got));
-    lua_geti(L, idx, 1);
-    bool named = lua_isnil(L, -1);
-    lua_pop(L, 1);
-    if (!named && luaL_len(L, idx) != n)
-        raise(L, "%s: %s must be a table of %d numbers %s (got a table of %lld)", fn, what, n, shape,
-              (long long)luaL_len(L, idx));
-    for (int k = 0; k < n; k++) {
-        if (named) lua_getfield(L, idx, names[k]);
-        else lua_geti(L, idx, k + 1);
-        if (lua_type(L, -1) != LUA_TNUMBER || !in_range(lua_tonumber(L, -1), lo, hi, flags))
-            raise(L, "%s: %s.%s must be %s (got %s)", fn, what, names[k], range_text(lo, hi, flags, unit, rule, sizeof rule),
-                  describe(L, -1, got, sizeof got));
-        out[k] = (float)lua_tonumber(L, -1);
-        lua_pop(L, 1);
-    }
-}
-
-static bool opt_vec(lua_State *L, int t, const char *fn, const char *field, int n, double lo, double hi, int flags,
-                    const char *unit, float *out)
-{
-    if (!field_present(L, t, field)) return false;
-    char what[96];
-    snprintf(what, sizeof what, "field '%s'", field);
-    check_vec_at(L, -1, fn, what, n, lo, hi, flags, unit, out);
-    lua_pop(L, 1);
-    return true;
-}
-
-static bool opt_position(lua_State *L, int t, const char *fn, const char *field, float out[3])
-{
-    return opt_vec(L, t, fn, field, 3, -MAX_COORD, MAX_COORD, 0, "m", out);
-}
-
-static void req_position(lua_State *L, int t, const char *fn, const char *field, float out[3])
-{
-    if (!opt_position(L, t, fn, field, out))
-        raise(L, "%s: field '%s' is required: a table of 3 numbers {x, y, z} in m (got nil)", fn, field);
-}
-
-static void arg_vec(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, const char *unit,
-                    float out[3])
-{
-    char what[96];
-    snprintf(what, sizeof what, "argument #%d '%s'", idx, name);
-    check_vec_at(L, idx, fn, what, 3, lo, hi, 0, unit, out);
-}
-
-static bool opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *out)
-{
-    if (!field_present(L, t, field)) return false;
-    char got[64];
-    if (!lua_isboolean(L, -1)) raise(L, "%s: field '%s' must be true or false (got %s)", fn, field, describe(L, -1, got, sizeof got));
-    *out = lua_toboolean(L, -1);
-    lua_pop(L, 1);
-    return true;
-}
-
-static bool opt_color(lua_State *L, int t, const char *fn, const char *field, float out[3])
-{
-    return opt_vec(L, t, fn, field, 3, 0.0, 1.0, 0, "", out);
-}
-
-// One of a list of names; returns its index or -1 when the field is absent.
-static int opt_enum(lua_State *L, int t, const char *fn, const char *field, const char *const *names, int n)
-{
-    if (!field_present(L, t, field)) return -1;
-    if (lua_type(L, -1) == LUA_TSTRING)
-        for (int i = 0; i < n; i++)
-            if (strcmp(lua_tostring(L, -1), names[i]) == 0) {
-                lua_pop(L, 1);
-                return i;
-            }
-    char list[256] = "", got[64];
-    size_t len = 0;
-    for (int i = 0; i < n && len < sizeof list; i++)
-        len += (size_t)snprintf(list + len, sizeof list - len, "%s\"%s\"", i ? ", " : "", names[i]);
-    return raise(L, "%s: field '%s' must be one of %s (got %s)", fn, field, list, describe(L, -1, got, sizeof got));
-}
-
-static void check_table_arg(lua_State *L, int idx, const char *fn, const char *fields)
-{
-    char got[64];
-    if (!lua_istable(L, idx))
-        raise(L, "%s: argument #%d must be a table {%s} (got %s)", fn, idx, fields, describe(L, idx, got, sizeof got));
-}
-
-// A field that must hold a table: "fn: field 'name' must be a table {fields} (got ...)".
-static void check_table_field(lua_State *L, int idx, const char *fn, const char *field, const char *fields)
-{
-    char got[64];
-    if (!lua_istable(L, idx))
-        raise(L, "%s: field '%s' must be a table {%s} (got %s)", fn, field, fields, describe(L, idx, got, sizeof got));
-}
-
-// Rejects keys of table t that are not in `known` (a misspelt field is an error, not a no-op).
-static void check_fields(lua_State *L, int t, const char *fn, const char *const *known)
-{
-    t = lua_absindex(L, t);
-    lua_pushnil(L);
-    while (lua_next(L, t)) {
-        lua_pop(L, 1);
-        bool ok = false;
-        if (lua_type(L, -1) == LUA_TSTRING) {
-            const char *k = lua_tostring(L, -1);
-            for (const char *const *p = known; *p; p++)
-                if (strcmp(*p, k) == 0) ok = true;
-        }
-        if (!ok) {
-            char list[640] = "";
-            size_t n = 0;
-            for (const char *const *p = known; *p && n < sizeof list; p++)
-                n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", p == known ? "" : ", ", *p);
-            char buf[64];
-            raise(L, "%s: unknown field %s (known: %s)", fn, describe(L, -1, buf, sizeof buf), list);
-        }
-    }
-}
-
-// A rotation: a unit quaternion {x, y, z, w} (normalised when its length is within 1 %
-// of 1) or {axis = {x, y, z}, angle = radians}.
-static bool opt_rotation(lua_State *L, int t, const char *fn, const char *field, float q[4])
-{
-    if (!field_present(L, t, field)) return false;
-    int v = lua_gettop(L);
-    char what[96], got[64];
-    snprintf(what, sizeof what, "field '%s'", field);
-    if (!lua_istable(L, v))
-        raise(L, "%s: %s must be a unit quaternion {x, y, z, w} or {axis = {x, y, z}, angle = radians} (got %s)", fn,
-              what, describe(L, v, got, sizeof got));
-    lua_getfield(L, v, "axis");
-    bool axis_angle = !lua_isnil(L, -1);
-    lua_pop(L, 1);
-    if (axis_angle) {
-        static const char *const known[] = { "axis", "angle", NULL };
-        char sub[128];
-        snprintf(sub, sizeof sub, "%s: field '%s'", fn, field);
-        check_fields(L, v, sub, known);
-        float axis[3];
-        opt_vec(L, v, sub, "axis", 3, -1e6, 1e6, 0, "", axis);
-        double angle = req_number(L, v, sub, "angle", -1e6, 1e6, 0, "radians");
-        double len = sqrt((double)axis[0] * axis[0] + (double)axis[1] * axis[1] + (double)axis[2] * axis[2]);
-        if (!(len > 1e-9)) raise(L, "%s: field '%s'.axis must not be zero (got {0, 0, 0})", fn, field);
-        double sn = sin(angle / 2.0) / len;
-        q[0] = (float)(axis[0] * sn);
-        q[1] = (float)(axis[1] * sn);
-        q[2] = (float)(axis[2] * sn);
-        q[3] = (float)cos(angle / 2.0);
-    } else {
-        check_vec_at(L, v, fn, what, 4, -2.0, 2.0, 0, "", q);
-        double len = sqrt((double)q[0] * q[0] + (double)q[1] * q[1] + (double)q[2] * q[2] + (double)q[3] * q[3]);
-        if (!(fabs(len - 1.0) <= 0.01))
-            raise(L, "%s: %s must be a unit quaternion {x, y, z, w} (length 1; got length %.6g); or use {axis = "
-                  "{x, y, z}, angle = radians}", fn, what, len);
-        for (int k = 0; k < 4; k++) q[k] = (float)(q[k] / len);
-    }
-    lua_pop(L, 1);
-    return true;
-}
-
-// ---- small vector and quaternion helpers ------------------------------------------------
-
-static void quat_mul(const float a[4], const float b[4], float out[4])
-{
-    float r[4] = {
-        a[3] * b[0] + a[0] * b[3] + a[1] * b[2] - a[2] * b[1],
-        a[3] * b[1] - a[0] * b[2] + a[1] * b[3] + a[2] * b[0],
-        a[3] * b[2] + a[0] * b[1] - a[1] * b[0] + a[2] * b[3],
-        a[3] * b[3] - a[0] * b[0] - a[1] * b[1] - a[2] * b[2],
-    };
-    memcpy(out, r, sizeof r);
-}
-
-static void quat_rotate(const float q[4], const float v[3], float out[3])
-{
-    // v' = v + 2 w (u x v) + 2 u x (u x v)
-    float u[3] = { q[0], q[1], q[2] }, w = q[3];
-    float t[3] = { 2 * (u[1] * v[2] - u[2] * v[1]), 2 * (u[2] * v[0] - u[0] * v[2]), 2 * (u[0] * v[1] - u[1] * v[0]) };
-    float r[3] = { v[0] + w * t[0] + (u[1] * t[2] - u[2] * t[1]), v[1] + w * t[1] + (u[2] * t[0] - u[0] * t[2]),
-                   v[2] + w * t[2] + (u[0] * t[1] - u[1] * t[0]) };
-    memcpy(out, r, sizeof r);
 }
 
 // The rotation taking +Y to the unit vector n.
@@ -562,148 +85,15 @@ static void quat_from_y(const float n[3], float q[4])
     q[0] = x / len, q[1] = 0.0f, q[2] = z / len, q[3] = w / len;
 }
 
-static phys_vec3 pv(const float v[3]) { return (phys_vec3){ v[0], v[1], v[2] }; }
-static phys_quat pq(const float q[4]) { return (phys_quat){ q[0], q[1], q[2], q[3] }; }
-
-// Pushes {x, y, z} as a table with both an array part and named fields.
-static void push_vec3(lua_State *L, double x, double y, double z)
-{
-    lua_createtable(L, 3, 3);
-    double v[3] = { x, y, z };
-    static const char *const names[3] = { "x", "y", "z" };
-    for (int k = 0; k < 3; k++) {
-        lua_pushnumber(L, v[k]);
-        lua_rawseti(L, -2, k + 1);
-        lua_pushnumber(L, v[k]);
-        lua_setfield(L, -2, names[k]);
-    }
-}
-
-static void push_quat(lua_State *L, const float q[4])
-{
-    lua_createtable(L, 4, 4);
-    static const char *const names[4] = { "x", "y", "z", "w" };
-    for (int k = 0; k < 4; k++) {
-        lua_pushnumber(L, q[k]);
-        lua_rawseti(L, -2, k + 1);
-        lua_pushnumber(L, q[k]);
-        lua_setfield(L, -2, names[k]);
-    }
-}
-
-static void set_num(lua_State *L, const char *k, double v)
-{
-    lua_pushnumber(L, v);
-    lua_setfield(L, -2, k);
-}
-
-// ---- objects and handles --------------------------------------------------------------
-
-static obj *obj_at(eng_script *s, uint32_t slot, uint32_t gen)
-{
-    if (slot >= s->obj_count) return NULL;
-    obj *o = &s->objs[slot];
-    return o->state != OBJ_FREE && o->generation == gen ? o : NULL;
-}
-
-static uint32_t obj_new(lua_State *L, eng_script *s, obj_kind kind)
-{
-    uint32_t slot = s->obj_count;
-    for (uint32_t i = 0; i < s->obj_count; i++)
-        if (s->objs[i].state == OBJ_FREE) {
-            slot = i;
-            break;
-        }
-    if (slot == s->obj_count) {
-        if (s->obj_count == s->obj_cap) {
-            uint32_t cap = s->obj_cap ? 2 * s->obj_cap : 32;
-            if (cap > (1u << 20)) raise(L, "seiche: more than %u live objects (emitters, sinks, bodies, timers)", 1u << 20);
-            obj *o = realloc(s->objs, (size_t)cap * sizeof *o);
-            if (!o) raise(L, "seiche: out of memory");
-            memset(o + s->obj_cap, 0, (size_t)(cap - s->obj_cap) * sizeof *o);
-            s->objs = o;
-            s->obj_cap = cap;
-        }
-        s->obj_count++;
-    }
-    obj *o = &s->objs[slot];
-    uint32_t gen = o->generation + 1;
-    memset(o, 0, sizeof *o);
-    o->generation = gen;
-    o->kind = kind;
-    o->state = OBJ_PENDING;
-    o->ref = LUA_NOREF;
-    return slot;
-}
-
-static void body_free_data(body_rec *b)
-{
-    free(b->points);
-    free(b->indices);
-    free(b->parts);
-    b->points = NULL;
-    b->indices = NULL;
-    b->parts = NULL;
-}
-
-// Frees the slot: every handle to it becomes stale ("attempt to use a destroyed ...").
-static void obj_release(eng_script *s, uint32_t slot)
-{
-    obj *o = &s->objs[slot];
-    if (o->ref != LUA_NOREF) luaL_unref(s->L, LUA_REGISTRYINDEX, o->ref);
-    if (o->kind == OBJ_TIMER && o->u.timer.fn != LUA_NOREF) luaL_unref(s->L, LUA_REGISTRYINDEX, o->u.timer.fn);
-    if (o->kind == OBJ_BODY) body_free_data(&o->u.body);
-    uint32_t gen = o->generation;
-    memset(o, 0, sizeof *o);
-    o->generation = gen;
-    o->state = OBJ_FREE;
-    o->ref = LUA_NOREF;
-}
-
-// Pushes the (one) userdata of an object, making it on first use.
-static void push_handle(lua_State *L, eng_script *s, uint32_t slot)
-{
-    obj *o = &s->objs[slot];
-    if (o->ref != LUA_NOREF) {
-        lua_rawgeti(L, LUA_REGISTRYINDEX, o->ref);
-        return;
-    }
-    handle *h = lua_newuserdatauv(L, sizeof *h, 1);
-    h->slot = slot;
-    h->generation = o->generation;
-    lua_newtable(L);
-    lua_setiuservalue(L, -2, 1);
-    luaL_setmetatable(L, KIND_META[o->kind]);
-    lua_pushvalue(L, -1);
-    o->ref = luaL_ref(L, LUA_REGISTRYINDEX);
-}
-
-// The object behind argument 1 of a method `fn` ("body:position"): a live handle of the
-// right kind, or an error that says what went wrong.
-static obj *check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_out)
-{
-    eng_script *s = get_script(L);
-    handle *h = luaL_testudata(L, 1, KIND_META[kind]);
-    if (!h) {
-        char got[64];
-        raise(L, "%s: argument #1 'self' must be %s %s (got %s); call methods with a colon: x:%s(...)", fn,
-              kind == OBJ_EMITTER ? "an" : "a", KIND_NAME[kind], describe(L, 1, got, sizeof got), strchr(fn, ':') + 1);
-    }
-    obj *o = obj_at(s, h->slot, h->generation);
-    if (!o) raise(L, "%s: attempt to use a destroyed %s", fn, KIND_NAME[kind]);
-    if (slot_out) *slot_out = h->slot;
-    return o;
-}
-
 // ---- commands ---------------------------------------------------------------------------
 
 static command *push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn)
 {
     if (s->command_count == s->command_cap) {
         int cap = s->command_cap ? 2 * s->command_cap : 32;
-        if (cap > (1 << 22)) raise(L, "%s: more than %d edits queued in one frame", fn, 1 << 22);
+        if (cap > (1 << 22)) scr_raise(L, "%s: more than %d edits queued in one frame", fn, 1 << 22);
         command *c = realloc(s->commands, (size_t)cap * sizeof *c);
-        if (!c) raise(L, "%s: out of memory", fn);
+        if (!c) scr_raise(L, "%s: out of memory", fn);
         s->commands = c;
         s->command_cap = cap;
     }
@@ -732,20 +122,6 @@ static void clear_commands(eng_script *s)
     s->command_count = 0;
 }
 
-// The fluid parameters as they will be once the queued changes are applied.
-static const pbf_params *current_params(eng_script *s)
-{
-    if (s->have_pending_params) return &s->pending_params;
-    return s->host.world ? pbf_world_params(s->host.world) : &s->config.params;
-}
-
-static void require_world(lua_State *L, eng_script *s, const char *fn)
-{
-    if (!s->host.world)
-        raise(L, "%s: the world is built after the script's main chunk; call this from a callback (on_start, "
-              "on_step, ...)", fn);
-}
-
 // ---- seiche.scene and the look -------------------------------------------------------------
 
 static void read_fluid(lua_State *L, int t, pbf_params *p)
@@ -756,12 +132,12 @@ static void read_fluid(lua_State *L, int t, pbf_params *p)
     int k = 0;
     for (int i = 0; i < n && k < 38; i++) known[k++] = tab[i].name;
     known[k] = NULL;
-    check_fields(L, t, "seiche.scene: fluid", known);
+    scr_check_fields(L, t, "seiche.scene: fluid", known);
     for (int i = 0; i < n; i++) {
         double v;
-        if (!opt_number(L, t, "seiche.scene: fluid", tab[i].name, -1e30, 1e30, 0, tab[i].unit, &v)) continue;
+        if (!scr_opt_number(L, t, "seiche.scene: fluid", tab[i].name, -1e30, 1e30, 0, tab[i].unit, &v)) continue;
         char err[512];
-        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) raise(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
+        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) scr_raise(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
     }
 }
 
@@ -772,16 +148,16 @@ static const char *const CAMERA_MODES[2] = { "orbit", "fly" };
 static int read_camera(lua_State *L, int t, const char *fn, float eye[3], float target[3], float *fov, int *mode)
 {
     static const char *const known[] = { "eye", "target", "fov", "mode", NULL };
-    check_fields(L, t, fn, known);
+    scr_check_fields(L, t, fn, known);
     int has = 0;
-    if (opt_position(L, t, fn, "eye", eye)) has |= 1;
-    if (opt_position(L, t, fn, "target", target)) has |= 2;
+    if (scr_opt_position(L, t, fn, "eye", eye)) has |= 1;
+    if (scr_opt_position(L, t, fn, "target", target)) has |= 2;
     double f;
-    if (opt_number(L, t, fn, "fov", 1, 170, 0, "degrees", &f)) {
+    if (scr_opt_number(L, t, fn, "fov", 1, 170, 0, "degrees", &f)) {
         *fov = (float)f;
         has |= 4;
     }
-    int m = opt_enum(L, t, fn, "mode", CAMERA_MODES, 2);
+    int m = scr_opt_enum(L, t, fn, "mode", CAMERA_MODES, 2);
     if (m >= 0) {
         *mode = m;
         has |= 8;
@@ -792,108 +168,97 @@ static int read_camera(lua_State *L, int t, const char *fn, float eye[3], float 
 static void read_look(lua_State *L, int t, const char *fn, eng_look *k)
 {
     static const char *const known[] = { "sky", "light", "water", "ground", "ground_height", "container", "panel", NULL };
-    check_fields(L, t, fn, known);
-    opt_color(L, t, fn, "sky", k->sky);
+    scr_check_fields(L, t, fn, known);
+    scr_opt_color(L, t, fn, "sky", k->sky);
     char sub[96];
-    if (field_present(L, t, "light")) {
+    if (scr_field_present(L, t, "light")) {
         int l = lua_gettop(L);
         snprintf(sub, sizeof sub, "%s: light", fn);
-        check_table_field(L, l, fn, "light", "direction, color, ambient");
+        scr_check_table_field(L, l, fn, "light", "direction, color, ambient");
         static const char *const lk[] = { "direction", "color", "ambient", NULL };
-        check_fields(L, l, sub, lk);
+        scr_check_fields(L, l, sub, lk);
         float d[3];
-        if (opt_vec(L, l, sub, "direction", 3, -1e6, 1e6, 0, "", d)) {
+        if (scr_opt_vec(L, l, sub, "direction", 3, -1e6, 1e6, 0, "", d)) {
             if (!(fabsf(d[0]) + fabsf(d[1]) + fabsf(d[2]) > 0.0f))
-                raise(L, "%s: field 'direction' must not be zero (it points from the scene towards the light)", sub);
+                scr_raise(L, "%s: field 'direction' must not be zero (it points from the scene towards the light)", sub);
             memcpy(k->light.direction, d, sizeof d);
         }
-        opt_vec(L, l, sub, "color", 3, 0.0, 4.0, 0, "", k->light.color);
-        opt_color(L, l, sub, "ambient", k->light.ambient);
+        scr_opt_vec(L, l, sub, "color", 3, 0.0, 4.0, 0, "", k->light.color);
+        scr_opt_color(L, l, sub, "ambient", k->light.ambient);
         lua_pop(L, 1);
     }
-    if (field_present(L, t, "water")) {
+    if (scr_field_present(L, t, "water")) {
         int w = lua_gettop(L);
         snprintf(sub, sizeof sub, "%s: water", fn);
-        check_table_field(L, w, fn, "water", "low, mid, high, specular, shininess");
+        scr_check_table_field(L, w, fn, "water", "low, mid, high, specular, shininess");
         static const char *const wk[] = { "low", "mid", "high", "specular", "shininess", NULL };
-        check_fields(L, w, sub, wk);
-        opt_color(L, w, sub, "low", k->water.color_low);
-        opt_color(L, w, sub, "mid", k->water.color_mid);
-        opt_color(L, w, sub, "high", k->water.color_high);
+        scr_check_fields(L, w, sub, wk);
+        scr_opt_color(L, w, sub, "low", k->water.color_low);
+        scr_opt_color(L, w, sub, "mid", k->water.color_mid);
+        scr_opt_color(L, w, sub, "high", k->water.color_high);
         double v;
-        if (opt_number(L, w, sub, "specular", 0, 1, 0, "", &v)) k->water.specular = (float)v;
-        if (opt_number(L, w, sub, "shininess", 1, 1024, 0, "", &v)) k->water.shininess = (float)v;
+        if (scr_opt_number(L, w, sub, "specular", 0, 1, 0, "", &v)) k->water.specular = (float)v;
+        if (scr_opt_number(L, w, sub, "shininess", 1, 1024, 0, "", &v)) k->water.shininess = (float)v;
         lua_pop(L, 1);
     }
-    opt_bool(L, t, fn, "ground", &k->ground);
+    scr_opt_bool(L, t, fn, "ground", &k->ground);
     double gh;
-    if (opt_number(L, t, fn, "ground_height", -MAX_COORD, MAX_COORD, 0, "m", &gh)) k->ground_height = (float)gh;
-    opt_bool(L, t, fn, "container", &k->container);
-    opt_bool(L, t, fn, "panel", &k->panel);
-}
-
-static void read_box(lua_State *L, int t, const char *fn, float mn[3], float mx[3])
-{
-    req_position(L, t, fn, "min", mn);
-    req_position(L, t, fn, "max", mx);
-    static const char axis[] = "xyz";
-    for (int k = 0; k < 3; k++)
-        if (!(mx[k] > mn[k]))
-            raise(L, "%s: max.%c must be greater than min.%c (got min %g, max %g)", fn, axis[k], axis[k], (double)mn[k],
-                  (double)mx[k]);
+    if (scr_opt_number(L, t, fn, "ground_height", -MAX_COORD, MAX_COORD, 0, "m", &gh)) k->ground_height = (float)gh;
+    scr_opt_bool(L, t, fn, "container", &k->container);
+    scr_opt_bool(L, t, fn, "panel", &k->panel);
 }
 
 static int l_scene(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.scene", "name, preset, fluid, gravity, capacity, container, domain, camera, look");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.scene", "name, preset, fluid, gravity, capacity, container, domain, camera, look");
     if (s->host.world || !s->in_main_chunk)
-        raise(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
-    if (s->scene_called) raise(L, "seiche.scene: called twice (the first call was at %s)", s->config.scene_where);
+        scr_raise(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
+    if (s->scene_called) scr_raise(L, "seiche.scene: called twice (the first call was at %s)", s->config.scene_where);
     static const char *const known[] = { "name", "preset", "fluid", "gravity", "capacity", "container", "domain", "camera",
                                          "look", NULL };
-    check_fields(L, 1, "seiche.scene", known);
+    scr_check_fields(L, 1, "seiche.scene", known);
     eng_scene_config *c = &s->config;
     static const char *const presets[] = { "default", "seed" };
-    int preset = opt_enum(L, 1, "seiche.scene", "preset", presets, 2);
+    int preset = scr_opt_enum(L, 1, "seiche.scene", "preset", presets, 2);
     if (preset == 0) c->params = pbf_default_params();
     if (preset == 1) c->params = pbf_seed_params();
-    if (field_present(L, 1, "name")) {
+    if (scr_field_present(L, 1, "name")) {
         char got[64];
         if (lua_type(L, -1) != LUA_TSTRING || lua_rawlen(L, -1) == 0 || lua_rawlen(L, -1) >= sizeof c->name)
-            raise(L, "seiche.scene: field 'name' must be a string of 1 to %zu characters (got %s)", sizeof c->name - 1,
-                  describe(L, -1, got, sizeof got));
+            scr_raise(L, "seiche.scene: field 'name' must be a string of 1 to %zu characters (got %s)", sizeof c->name - 1,
+                      scr_describe(L, -1, got, sizeof got));
         snprintf(c->name, sizeof c->name, "%s", lua_tostring(L, -1));
         lua_pop(L, 1);
     }
-    if (field_present(L, 1, "fluid")) {
+    if (scr_field_present(L, 1, "fluid")) {
         char got[64];
         if (!lua_istable(L, -1))
-            raise(L, "seiche.scene: field 'fluid' must be a table of fluid parameters {iterations = 3, ...} (got %s)",
-                  describe(L, -1, got, sizeof got));
+            scr_raise(L, "seiche.scene: field 'fluid' must be a table of fluid parameters {iterations = 3, ...} (got %s)",
+                      scr_describe(L, -1, got, sizeof got));
         read_fluid(L, lua_gettop(L), &c->params);
         lua_pop(L, 1);
     }
-    opt_vec(L, 1, "seiche.scene", "gravity", 3, -1000, 1000, 0, "m/s^2", c->params.gravity);
+    scr_opt_vec(L, 1, "seiche.scene", "gravity", 3, -1000, 1000, 0, "m/s^2", c->params.gravity);
     double cap;
-    if (opt_number(L, 1, "seiche.scene", "capacity", 1, 67108864, WHOLE, "particles", &cap)) c->capacity = (uint32_t)cap;
-    if (field_present(L, 1, "container")) {
+    if (scr_opt_number(L, 1, "seiche.scene", "capacity", 1, 67108864, WHOLE, "particles", &cap)) c->capacity = (uint32_t)cap;
+    if (scr_field_present(L, 1, "container")) {
         int t = lua_gettop(L);
-        check_table_field(L, t, "seiche.scene", "container", "min = {x, y, z}, max = {x, y, z}, closed_top = false");
+        scr_check_table_field(L, t, "seiche.scene", "container", "min = {x, y, z}, max = {x, y, z}, closed_top = false");
         static const char *const ck[] = { "min", "max", "closed_top", NULL };
-        check_fields(L, t, "seiche.scene: container", ck);
-        read_box(L, t, "seiche.scene: container", c->container_min, c->container_max);
+        scr_check_fields(L, t, "seiche.scene: container", ck);
+        scr_read_box(L, t, "seiche.scene: container", c->container_min, c->container_max);
         c->closed_top = false;
-        opt_bool(L, t, "seiche.scene: container", "closed_top", &c->closed_top);
+        scr_opt_bool(L, t, "seiche.scene: container", "closed_top", &c->closed_top);
         c->has_container = true;
         lua_pop(L, 1);
     }
-    if (field_present(L, 1, "domain")) {
+    if (scr_field_present(L, 1, "domain")) {
         int t = lua_gettop(L);
-        check_table_field(L, t, "seiche.scene", "domain", "min = {x, y, z}, max = {x, y, z}");
+        scr_check_table_field(L, t, "seiche.scene", "domain", "min = {x, y, z}, max = {x, y, z}");
         static const char *const dk[] = { "min", "max", NULL };
-        check_fields(L, t, "seiche.scene: domain", dk);
-        read_box(L, t, "seiche.scene: domain", c->domain_min, c->domain_max);
+        scr_check_fields(L, t, "seiche.scene: domain", dk);
+        scr_read_box(L, t, "seiche.scene: domain", c->domain_min, c->domain_max);
         c->has_domain = true;
         lua_pop(L, 1);
     }
@@ -901,13 +266,13 @@ static int l_scene(lua_State *L)
         static const char axis[] = "xyz";
         for (int k = 0; k < 3; k++)
             if (c->container_min[k] < c->domain_min[k] || c->container_max[k] > c->domain_max[k])
-                raise(L, "seiche.scene: the container's %c range [%g, %g] must lie inside the domain's [%g, %g]", axis[k],
-                      (double)c->container_min[k], (double)c->container_max[k], (double)c->domain_min[k],
-                      (double)c->domain_max[k]);
+                scr_raise(L, "seiche.scene: the container's %c range [%g, %g] must lie inside the domain's [%g, %g]", axis[k],
+                          (double)c->container_min[k], (double)c->container_max[k], (double)c->domain_min[k],
+                          (double)c->domain_max[k]);
     }
-    if (field_present(L, 1, "camera")) {
+    if (scr_field_present(L, 1, "camera")) {
         int t = lua_gettop(L);
-        check_table_field(L, t, "seiche.scene", "camera", "eye, target, fov, mode");
+        scr_check_table_field(L, t, "seiche.scene", "camera", "eye, target, fov, mode");
         int mode = c->camera_mode;
         read_camera(L, t, "seiche.scene: camera", c->camera_eye, c->camera_target, &c->camera_fov, &mode);
         c->camera_mode = (eng_camera_mode)mode;
@@ -917,12 +282,12 @@ static int l_scene(lua_State *L)
         float d[3] = { c->camera_eye[0] - c->camera_target[0], c->camera_eye[1] - c->camera_target[1],
                        c->camera_eye[2] - c->camera_target[2] };
         if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-8f))
-            raise(L, "seiche.scene: camera eye and target must differ (both at {%g, %g, %g})", (double)c->camera_eye[0],
-                  (double)c->camera_eye[1], (double)c->camera_eye[2]);
+            scr_raise(L, "seiche.scene: camera eye and target must differ (both at {%g, %g, %g})", (double)c->camera_eye[0],
+                      (double)c->camera_eye[1], (double)c->camera_eye[2]);
     }
-    if (field_present(L, 1, "look")) {
+    if (scr_field_present(L, 1, "look")) {
         int t = lua_gettop(L);
-        check_table_field(L, t, "seiche.scene", "look", "sky, light, water, ground, ground_height, container, panel");
+        scr_check_table_field(L, t, "seiche.scene", "look", "sky, light, water, ground, ground_height, container, panel");
         read_look(L, t, "seiche.scene: look", &c->look);
         lua_pop(L, 1);
     }
@@ -935,8 +300,8 @@ static int l_scene(lua_State *L)
 
 static int l_set_look(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.set_look", "sky, light, water, ground, ground_height, container, panel");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.set_look", "sky, light, water, ground, ground_height, container, panel");
     eng_look k = s->config.look;
     read_look(L, 1, "seiche.set_look", &k);
     s->config.look = k; // read by the app every frame; not a world edit
@@ -954,12 +319,12 @@ static void push_color(lua_State *L, const float c[3])
 
 static int l_look(lua_State *L)
 {
-    const eng_look *k = &get_script(L)->config.look;
+    const eng_look *k = &scr_get_script(L)->config.look;
     lua_createtable(L, 0, 7);
     push_color(L, k->sky);
     lua_setfield(L, -2, "sky");
     lua_createtable(L, 0, 3);
-    push_vec3(L, k->light.direction[0], k->light.direction[1], k->light.direction[2]);
+    scr_push_vec3(L, k->light.direction[0], k->light.direction[1], k->light.direction[2]);
     lua_setfield(L, -2, "direction");
     push_color(L, k->light.color);
     lua_setfield(L, -2, "color");
@@ -973,12 +338,12 @@ static int l_look(lua_State *L)
     lua_setfield(L, -2, "mid");
     push_color(L, k->water.color_high);
     lua_setfield(L, -2, "high");
-    set_num(L, "specular", k->water.specular);
-    set_num(L, "shininess", k->water.shininess);
+    scr_set_num(L, "specular", k->water.specular);
+    scr_set_num(L, "shininess", k->water.shininess);
     lua_setfield(L, -2, "water");
     lua_pushboolean(L, k->ground);
     lua_setfield(L, -2, "ground");
-    set_num(L, "ground_height", k->ground_height);
+    scr_set_num(L, "ground_height", k->ground_height);
     lua_pushboolean(L, k->container);
     lua_setfield(L, -2, "container");
     lua_pushboolean(L, k->panel);
@@ -988,14 +353,14 @@ static int l_look(lua_State *L)
 
 static int l_set_camera(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.set_camera", "eye, target, fov, mode");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.set_camera", "eye, target, fov, mode");
     float eye[3] = { 0 }, target[3] = { 0 }, fov = 0;
     int mode = 0;
     int has = read_camera(L, 1, "seiche.set_camera", eye, target, &fov, &mode);
     if ((has & 3) == 3 && eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
-        raise(L, "seiche.set_camera: eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
-              (double)eye[2]);
+        scr_raise(L, "seiche.set_camera: eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
+                  (double)eye[2]);
     command *c = push_command(L, s, CMD_CAMERA, "seiche.set_camera");
     memcpy(c->u.camera.eye, eye, sizeof eye);
     memcpy(c->u.camera.target, target, sizeof target);
@@ -1010,17 +375,17 @@ static int l_set_camera(lua_State *L)
 
 static int l_camera(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const eng_scene_config *c = &s->config;
     const eng_camera *cam = s->host.camera;
     lua_createtable(L, 0, 4);
-    if (cam) push_vec3(L, cam->position[0], cam->position[1], cam->position[2]);
-    else push_vec3(L, c->camera_eye[0], c->camera_eye[1], c->camera_eye[2]);
+    if (cam) scr_push_vec3(L, cam->position[0], cam->position[1], cam->position[2]);
+    else scr_push_vec3(L, c->camera_eye[0], c->camera_eye[1], c->camera_eye[2]);
     lua_setfield(L, -2, "eye");
-    if (cam) push_vec3(L, cam->target[0], cam->target[1], cam->target[2]);
-    else push_vec3(L, c->camera_target[0], c->camera_target[1], c->camera_target[2]);
+    if (cam) scr_push_vec3(L, cam->target[0], cam->target[1], cam->target[2]);
+    else scr_push_vec3(L, c->camera_target[0], c->camera_target[1], c->camera_target[2]);
     lua_setfield(L, -2, "target");
-    set_num(L, "fov", cam ? cam->fov_y * 180.0 / PI : c->camera_fov);
+    scr_set_num(L, "fov", cam ? cam->fov_y * 180.0 / PI : c->camera_fov);
     lua_pushstring(L, CAMERA_MODES[cam ? (int)cam->mode : (int)c->camera_mode]);
     lua_setfield(L, -2, "mode");
     return 1;
@@ -1030,17 +395,17 @@ static int l_camera(lua_State *L)
 
 static void check_velocity_field(lua_State *L, int t, const char *fn, const char *field, float out[3])
 {
-    opt_vec(L, t, fn, field, 3, -MAX_SPEED, MAX_SPEED, 0, "m/s", out);
+    scr_opt_vec(L, t, fn, field, 3, -MAX_SPEED, MAX_SPEED, 0, "m/s", out);
 }
 
 static int l_block(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.block", "min = {x, y, z}, max = {x, y, z}, velocity = {x, y, z}");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.block", "min = {x, y, z}, max = {x, y, z}, velocity = {x, y, z}");
     static const char *const known[] = { "min", "max", "velocity", NULL };
-    check_fields(L, 1, "seiche.block", known);
+    scr_check_fields(L, 1, "seiche.block", known);
     pbf_block_def b = pbf_default_block_def();
-    read_box(L, 1, "seiche.block", b.min, b.max);
+    scr_read_box(L, 1, "seiche.block", b.min, b.max);
     check_velocity_field(L, 1, "seiche.block", "velocity", b.velocity);
     command *c = push_command(L, s, CMD_BLOCK, "seiche.block");
     c->u.block = b;
@@ -1049,13 +414,13 @@ static int l_block(lua_State *L)
 
 static int l_sphere(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.sphere", "center = {x, y, z}, radius = m, velocity = {x, y, z}");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.sphere", "center = {x, y, z}, radius = m, velocity = {x, y, z}");
     static const char *const known[] = { "center", "radius", "velocity", NULL };
-    check_fields(L, 1, "seiche.sphere", known);
+    scr_check_fields(L, 1, "seiche.sphere", known);
     float center[3], vel[3] = { 0, 0, 0 };
-    req_position(L, 1, "seiche.sphere", "center", center);
-    double r = req_number(L, 1, "seiche.sphere", "radius", 0, 1000, OPEN_LO, "m");
+    scr_req_position(L, 1, "seiche.sphere", "center", center);
+    double r = scr_req_number(L, 1, "seiche.sphere", "radius", 0, 1000, OPEN_LO, "m");
     check_velocity_field(L, 1, "seiche.sphere", "velocity", vel);
     command *c = push_command(L, s, CMD_SPHERE, "seiche.sphere");
     memcpy(c->u.sphere.center, center, sizeof center);
@@ -1064,56 +429,24 @@ static int l_sphere(lua_State *L)
     return 0;
 }
 
-// A list of n points {{x, y, z}, ...}: pushes a userdata holding 3n floats (garbage
-// collected, so nothing leaks when a later check raises) and returns its memory.
-static float *read_point_list(lua_State *L, int t, const char *fn, const char *field, double lo, double hi,
-                              const char *unit, uint32_t *n_out, uint32_t min_n, uint32_t max_n)
-{
-    char got[64];
-    t = lua_absindex(L, t);
-    if (!field_present(L, t, field))
-        raise(L, "%s: field '%s' is required: a list of %u to %u points {{x, y, z}, ...}", fn, field, min_n, max_n);
-    int v = lua_gettop(L);
-    if (!lua_istable(L, v))
-        raise(L, "%s: field '%s' must be a list of points {{x, y, z}, ...} (got %s)", fn, field, describe(L, v, got, sizeof got));
-    lua_Integer n = luaL_len(L, v);
-    if (n < (lua_Integer)min_n || n > (lua_Integer)max_n)
-        raise(L, "%s: field '%s' must hold %u to %u points (got %lld)", fn, field, min_n, max_n, (long long)n);
-    float *out = lua_newuserdatauv(L, (size_t)(n > 0 ? n : 1) * 3 * sizeof(float), 0);
-    for (lua_Integer i = 1; i <= n; i++) {
-        char what[96];
-        snprintf(what, sizeof what, "field '%s'[%lld]", field, (long long)i);
-        lua_geti(L, v, i);
-        check_vec_at(L, -1, fn, what, 3, lo, hi, 0, unit, out + 3 * (i - 1));
-        lua_pop(L, 1);
-    }
-    lua_remove(L, v);
-    *n_out = (uint32_t)n;
-    return out;
-}
 
 static float *copy_floats(lua_State *L, const char *fn, const float *src, size_t count)
 {
     float *p = malloc(count * sizeof(float) + 4);
-    if (!p) raise(L, "%s: out of memory", fn);
+    if (!p) scr_raise(L, "%s: out of memory", fn);
     memcpy(p, src, count * sizeof(float));
     return p;
 }
 
-static uint32_t capacity_of(eng_script *s)
-{
-    return s->host.world ? pbf_world_capacity(s->host.world) : s->config.capacity;
-}
-
 static int l_particles(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.particles", "positions = {{x, y, z}, ...}, velocities = {{x, y, z}, ...} or velocity");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.particles", "positions = {{x, y, z}, ...}, velocities = {{x, y, z}, ...} or velocity");
     static const char *const known[] = { "positions", "velocities", "velocity", NULL };
-    check_fields(L, 1, "seiche.particles", known);
-    uint32_t cap = capacity_of(s);
+    scr_check_fields(L, 1, "seiche.particles", known);
+    uint32_t cap = scr_capacity_of(s);
     uint32_t n = 0, nv = 0;
-    const float *pos = read_point_list(L, 1, "seiche.particles", "positions", -MAX_COORD, MAX_COORD, "m", &n, 1, cap);
+    const float *pos = scr_read_point_list(L, 1, "seiche.particles", "positions", -MAX_COORD, MAX_COORD, "m", &n, 1, cap);
     const float *vel = NULL;
     float v[3] = { 0, 0, 0 };
     lua_getfield(L, 1, "velocities");
@@ -1123,8 +456,8 @@ static int l_particles(lua_State *L)
         lua_getfield(L, 1, "velocity");
         bool both = !lua_isnil(L, -1);
         lua_pop(L, 1);
-        if (both) raise(L, "seiche.particles: give either 'velocities' (one per point) or 'velocity' (one for all), not both");
-        vel = read_point_list(L, 1, "seiche.particles", "velocities", -MAX_SPEED, MAX_SPEED, "m/s", &nv, n, n);
+        if (both) scr_raise(L, "seiche.particles: give either 'velocities' (one per point) or 'velocity' (one for all), not both");
+        vel = scr_read_point_list(L, 1, "seiche.particles", "velocities", -MAX_SPEED, MAX_SPEED, "m/s", &nv, n, n);
     } else {
         check_velocity_field(L, 1, "seiche.particles", "velocity", v);
     }
@@ -1133,7 +466,7 @@ static int l_particles(lua_State *L)
     c->u.particles.pos = copy_floats(L, "seiche.particles", pos, 3 * (size_t)n);
     if (vel || v[0] != 0 || v[1] != 0 || v[2] != 0) {
         float *q = malloc(3 * (size_t)n * sizeof(float) + 1);
-        if (!q) raise(L, "seiche.particles: out of memory");
+        if (!q) scr_raise(L, "seiche.particles: out of memory");
         for (uint32_t i = 0; i < n; i++) memcpy(q + 3 * i, vel ? vel + 3 * i : v, 3 * sizeof(float));
         c->u.particles.vel = q;
     }
@@ -1148,55 +481,55 @@ static int l_particles(lua_State *L)
 static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d, bool full_rate)
 {
     static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", NULL };
-    check_fields(L, t, fn, known);
-    opt_position(L, t, fn, "position", d->position);
+    scr_check_fields(L, t, fn, known);
+    scr_opt_position(L, t, fn, "position", d->position);
     float dir[3];
-    if (opt_vec(L, t, fn, "direction", 3, -1e6, 1e6, 0, "", dir)) {
+    if (scr_opt_vec(L, t, fn, "direction", 3, -1e6, 1e6, 0, "", dir)) {
         if (!(fabsf(dir[0]) + fabsf(dir[1]) + fabsf(dir[2]) > 0.0f))
-            raise(L, "%s: field 'direction' must not be zero (got {0, 0, 0})", fn);
+            scr_raise(L, "%s: field 'direction' must not be zero (got {0, 0, 0})", fn);
         memcpy(d->direction, dir, sizeof dir);
     }
     double v;
-    if (opt_number(L, t, fn, "speed", 0, 100, OPEN_LO, "m/s", &v)) d->speed = (float)v;
-    const pbf_params *p = current_params(s);
-    if (opt_number(L, t, fn, "radius", p->particle_radius, 10, 0, "m (the particle radius at least)", &v))
+    if (scr_opt_number(L, t, fn, "speed", 0, 100, OPEN_LO, "m/s", &v)) d->speed = (float)v;
+    const pbf_params *p = scr_current_params(s);
+    if (scr_opt_number(L, t, fn, "radius", p->particle_radius, 10, 0, "m (the particle radius at least)", &v))
         d->radius = (float)v;
-    if (field_present(L, t, "rate")) {
+    if (scr_field_present(L, t, "rate")) {
         char got[64];
         double max_rate = s->host.world ? pbf_emitter_max_rate(s->host.world, d->speed, d->radius) : 1e9;
         double r = lua_tonumber(L, -1);
         if (lua_type(L, -1) != LUA_TNUMBER || !(isfinite(r) && r >= 0.0 && r <= max_rate * 1.0001)) {
             if (s->host.world)
-                raise(L, "%s: field 'rate' must be a number in [0, %g] particles/s (got %s); %g is the most a nozzle of "
-                      "radius %g m pours at speed %g m/s: raise speed or radius for more", fn, max_rate,
-                      describe(L, -1, got, sizeof got), max_rate, (double)d->radius, (double)d->speed);
-            raise(L, "%s: field 'rate' must be a number >= 0 particles/s, at most seiche.max_emitter_rate(speed, radius) "
-                  "(got %s)", fn, describe(L, -1, got, sizeof got));
+                scr_raise(L, "%s: field 'rate' must be a number in [0, %g] particles/s (got %s); %g is the most a nozzle of "
+                          "radius %g m pours at speed %g m/s: raise speed or radius for more", fn, max_rate,
+                          scr_describe(L, -1, got, sizeof got), max_rate, (double)d->radius, (double)d->speed);
+            scr_raise(L, "%s: field 'rate' must be a number >= 0 particles/s, at most seiche.max_emitter_rate(speed, radius) "
+                      "(got %s)", fn, scr_describe(L, -1, got, sizeof got));
         }
         d->rate = (float)r;
         lua_pop(L, 1);
-        opt_bool(L, t, fn, "enabled", &d->enabled);
+        scr_opt_bool(L, t, fn, "enabled", &d->enabled);
         return true;
     } else if (!full_rate && s->host.world && d->rate > pbf_emitter_max_rate(s->host.world, d->speed, d->radius) * 1.0001) {
         double max_rate = pbf_emitter_max_rate(s->host.world, d->speed, d->radius);
-        raise(L, "%s: the rate %g particles/s is more than a nozzle of radius %g m pours at speed %g m/s (at most %g); "
-              "raise speed or radius, or lower rate", fn, (double)d->rate, (double)d->radius, (double)d->speed, max_rate);
+        scr_raise(L, "%s: the rate %g particles/s is more than a nozzle of radius %g m pours at speed %g m/s (at most %g); "
+                  "raise speed or radius, or lower rate", fn, (double)d->rate, (double)d->radius, (double)d->speed, max_rate);
     }
-    opt_bool(L, t, fn, "enabled", &d->enabled);
+    scr_opt_bool(L, t, fn, "enabled", &d->enabled);
     return false;
 }
 
 static int l_emitter(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.emitter", "position, direction, speed, rate, radius, enabled");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.emitter", "position, direction, speed, rate, radius, enabled");
     pbf_emitter_def d = pbf_default_emitter_def();
     lua_getfield(L, 1, "position");
     bool has_pos = !lua_isnil(L, -1);
     lua_pop(L, 1);
-    if (!has_pos) raise(L, "seiche.emitter: field 'position' is required: a table of 3 numbers {x, y, z} in m (got nil)");
+    if (!has_pos) scr_raise(L, "seiche.emitter: field 'position' is required: a table of 3 numbers {x, y, z} in m (got nil)");
     bool full = !read_emitter(L, s, 1, "seiche.emitter", &d, true);
-    uint32_t slot = obj_new(L, s, OBJ_EMITTER);
+    uint32_t slot = scr_obj_new(L, s, OBJ_EMITTER);
     s->objs[slot].u.emitter.def = d;
     s->objs[slot].u.emitter.full_rate = full;
     command *c = push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
@@ -1204,16 +537,16 @@ static int l_emitter(lua_State *L)
     c->gen = s->objs[slot].generation;
     c->full_rate = full;
     c->u.emitter = d;
-    push_handle(L, s, slot);
+    scr_push_handle(L, s, slot);
     return 1;
 }
 
 static int m_emitter_set(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_EMITTER, "emitter:set", &slot);
-    check_table_arg(L, 2, "emitter:set", "position, direction, speed, rate, radius, enabled");
+    obj *o = scr_check_self(L, OBJ_EMITTER, "emitter:set", &slot);
+    scr_check_table_arg(L, 2, "emitter:set", "position, direction, speed, rate, radius, enabled");
     pbf_emitter_def d = o->u.emitter.def;
     if (read_emitter(L, s, 2, "emitter:set", &d, o->u.emitter.full_rate)) o->u.emitter.full_rate = false;
     o->u.emitter.def = d;
@@ -1227,12 +560,12 @@ static int m_emitter_set(lua_State *L)
 
 static int m_emitter_set_enabled(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_EMITTER, "emitter:set_enabled", &slot);
+    obj *o = scr_check_self(L, OBJ_EMITTER, "emitter:set_enabled", &slot);
     char got[64];
     if (!lua_isboolean(L, 2))
-        raise(L, "emitter:set_enabled: argument #1 'on' must be true or false (got %s)", describe(L, 2, got, sizeof got));
+        scr_raise(L, "emitter:set_enabled: argument #1 'on' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
     o->u.emitter.def.enabled = lua_toboolean(L, 2);
     command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled");
     c->slot = slot;
@@ -1244,19 +577,19 @@ static int m_emitter_set_enabled(lua_State *L)
 
 static int m_emitter_get(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_EMITTER, "emitter:get", NULL);
+    obj *o = scr_check_self(L, OBJ_EMITTER, "emitter:get", NULL);
     const pbf_emitter_def *d = &o->u.emitter.def;
     lua_createtable(L, 0, 6);
-    push_vec3(L, d->position[0], d->position[1], d->position[2]);
+    scr_push_vec3(L, d->position[0], d->position[1], d->position[2]);
     lua_setfield(L, -2, "position");
-    push_vec3(L, d->direction[0], d->direction[1], d->direction[2]);
+    scr_push_vec3(L, d->direction[0], d->direction[1], d->direction[2]);
     lua_setfield(L, -2, "direction");
-    set_num(L, "speed", d->speed);
-    eng_script *s = get_script(L);
-    if (!o->u.emitter.full_rate) set_num(L, "rate", d->rate);
-    else if (s->host.world) set_num(L, "rate", pbf_emitter_max_rate(s->host.world, d->speed, d->radius));
+    scr_set_num(L, "speed", d->speed);
+    eng_script *s = scr_get_script(L);
+    if (!o->u.emitter.full_rate) scr_set_num(L, "rate", d->rate);
+    else if (s->host.world) scr_set_num(L, "rate", pbf_emitter_max_rate(s->host.world, d->speed, d->radius));
     // else: the most the nozzle can pour, known once the world exists: rate is nil
-    set_num(L, "radius", d->radius);
+    scr_set_num(L, "radius", d->radius);
     lua_pushboolean(L, d->enabled);
     lua_setfield(L, -2, "enabled");
     return 1;
@@ -1264,14 +597,14 @@ static int m_emitter_get(lua_State *L)
 
 static int m_emitter_remove(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_EMITTER, "emitter:remove", &slot);
+    obj *o = scr_check_self(L, OBJ_EMITTER, "emitter:remove", &slot);
     if (o->state == OBJ_LIVE) {
         command *c = push_command(L, s, CMD_EMITTER_REMOVE, "emitter:remove");
         c->u.emitter_id = o->u.emitter.id;
     }
-    obj_release(s, slot);
+    scr_obj_release(s, slot);
     return 0;
 }
 
@@ -1279,57 +612,44 @@ static int m_emitter_remove(lua_State *L)
 
 static int l_sink(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    check_table_arg(L, 1, "seiche.sink", "min = {x, y, z}, max = {x, y, z}");
+    eng_script *s = scr_get_script(L);
+    scr_check_table_arg(L, 1, "seiche.sink", "min = {x, y, z}, max = {x, y, z}");
     static const char *const known[] = { "min", "max", NULL };
-    check_fields(L, 1, "seiche.sink", known);
+    scr_check_fields(L, 1, "seiche.sink", known);
     float mn[3], mx[3];
-    read_box(L, 1, "seiche.sink", mn, mx);
-    uint32_t slot = obj_new(L, s, OBJ_SINK);
+    scr_read_box(L, 1, "seiche.sink", mn, mx);
+    uint32_t slot = scr_obj_new(L, s, OBJ_SINK);
     memcpy(s->objs[slot].u.sink.min, mn, sizeof mn);
     memcpy(s->objs[slot].u.sink.max, mx, sizeof mx);
     command *c = push_command(L, s, CMD_SINK_ADD, "seiche.sink");
     c->slot = slot;
     c->gen = s->objs[slot].generation;
-    push_handle(L, s, slot);
+    scr_push_handle(L, s, slot);
     return 1;
 }
 
 static int m_sink_get(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_SINK, "sink:get", NULL);
+    obj *o = scr_check_self(L, OBJ_SINK, "sink:get", NULL);
     lua_createtable(L, 0, 2);
-    push_vec3(L, o->u.sink.min[0], o->u.sink.min[1], o->u.sink.min[2]);
+    scr_push_vec3(L, o->u.sink.min[0], o->u.sink.min[1], o->u.sink.min[2]);
     lua_setfield(L, -2, "min");
-    push_vec3(L, o->u.sink.max[0], o->u.sink.max[1], o->u.sink.max[2]);
+    scr_push_vec3(L, o->u.sink.max[0], o->u.sink.max[1], o->u.sink.max[2]);
     lua_setfield(L, -2, "max");
     return 1;
 }
 
 static int m_sink_remove(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_SINK, "sink:remove", &slot);
+    obj *o = scr_check_self(L, OBJ_SINK, "sink:remove", &slot);
     if (o->state == OBJ_LIVE) {
         command *c = push_command(L, s, CMD_SINK_REMOVE, "sink:remove");
         c->u.sink_id = o->u.sink.id;
     }
-    obj_release(s, slot);
+    scr_obj_release(s, slot);
     return 0;
-}
-
-// x:is_valid() for every handle type: false once removed or destroyed.
-static int m_is_valid(lua_State *L)
-{
-    eng_script *s = get_script(L);
-    bool ok = false;
-    for (int k = 0; k < OBJ_KIND_COUNT && !ok; k++) {
-        handle *h = luaL_testudata(L, 1, KIND_META[k]);
-        if (h) ok = obj_at(s, h->slot, h->generation) != NULL;
-    }
-    lua_pushboolean(L, ok);
-    return 1;
 }
 
 // ---- bodies ------------------------------------------------------------------------------
@@ -1388,7 +708,7 @@ static void check_shape_fields(lua_State *L, body_shape shape)
             size_t n = 0;
             for (int k = 0; k < 4 && own[shape][k]; k++)
                 n += (size_t)snprintf(list + n, sizeof list - n, "%s'%s'", k ? ", " : "", own[shape][k]);
-            raise(L, "seiche.body: field '%s' does not apply to shape \"%s\" (it takes %s)", *g, SHAPE_NAME[shape], list);
+            scr_raise(L, "seiche.body: field '%s' does not apply to shape \"%s\" (it takes %s)", *g, scr_shape_name[shape], list);
         }
     }
 }
@@ -1399,19 +719,19 @@ static void read_dims(lua_State *L, int t, const char *fn, body_shape shape, flo
     switch (shape) {
     case SHAPE_BOX: {
         float size[3];
-        if (!opt_vec(L, t, fn, "size", 3, 0, 1000, OPEN_LO, "m", size))
-            raise(L, "%s: field 'size' is required for a box: edge lengths {x, y, z}, each in (0, 1000] m (got nil)", fn);
+        if (!scr_opt_vec(L, t, fn, "size", 3, 0, 1000, OPEN_LO, "m", size))
+            scr_raise(L, "%s: field 'size' is required for a box: edge lengths {x, y, z}, each in (0, 1000] m (got nil)", fn);
         for (int k = 0; k < 3; k++) dims[k] = 0.5f * size[k];
         break;
     }
-    case SHAPE_SPHERE: dims[0] = (float)req_number(L, t, fn, "radius", 0, 1000, OPEN_LO, "m"); break;
+    case SHAPE_SPHERE: dims[0] = (float)scr_req_number(L, t, fn, "radius", 0, 1000, OPEN_LO, "m"); break;
     case SHAPE_CAPSULE:
     case SHAPE_CYLINDER: {
-        double r = req_number(L, t, fn, "radius", 0, 1000, OPEN_LO, "m");
-        double h = req_number(L, t, fn, "height", 0, 2000, OPEN_LO, "m");
+        double r = scr_req_number(L, t, fn, "radius", 0, 1000, OPEN_LO, "m");
+        double h = scr_req_number(L, t, fn, "height", 0, 2000, OPEN_LO, "m");
         if (shape == SHAPE_CAPSULE && !(h > 2.0 * r))
-            raise(L, "%s: field 'height' of a capsule is its total height and must exceed 2 radius = %g m (got %g)", fn,
-                  2.0 * r, h);
+            scr_raise(L, "%s: field 'height' of a capsule is its total height and must exceed 2 radius = %g m (got %g)", fn,
+                      2.0 * r, h);
         dims[0] = (float)r;
         dims[1] = shape == SHAPE_CAPSULE ? (float)(0.5 * h - r) : (float)(0.5 * h);
         break;
@@ -1424,18 +744,18 @@ static void read_dims(lua_State *L, int t, const char *fn, body_shape shape, flo
 // position, rotation}. Returns them in garbage-collected userdata (left on the stack).
 static body_part *read_parts(lua_State *L, int t, const char *fn, uint32_t *count)
 {
-    if (!field_present(L, t, "parts"))
-        raise(L, "%s: field 'parts' is required for a compound: a list of 1 to %d parts {shape = \"box\", size = "
-              "{x, y, z}, position = {x, y, z}, rotation = ...} (got nil)", fn, MAX_BODY_PARTS);
+    if (!scr_field_present(L, t, "parts"))
+        scr_raise(L, "%s: field 'parts' is required for a compound: a list of 1 to %d parts {shape = \"box\", size = "
+                  "{x, y, z}, position = {x, y, z}, rotation = ...} (got nil)", fn, MAX_BODY_PARTS);
     int pt = lua_gettop(L);
     char got[64];
     if (!lua_istable(L, pt))
-        raise(L, "%s: field 'parts' must be a list of parts {shape, size | radius, height, position, rotation} (got %s)",
-              fn, describe(L, pt, got, sizeof got));
+        scr_raise(L, "%s: field 'parts' must be a list of parts {shape, size | radius, height, position, rotation} (got %s)",
+                  fn, scr_describe(L, pt, got, sizeof got));
     lua_Integer n = luaL_len(L, pt);
     if (n < 1 || n > MAX_BODY_PARTS)
-        raise(L, "%s: field 'parts' must hold 1 to %d parts (each part is one of the fluid's %d colliders; got %lld)", fn,
-              MAX_BODY_PARTS, MAX_BODY_PARTS, (long long)n);
+        scr_raise(L, "%s: field 'parts' must hold 1 to %d parts (each part is one of the fluid's %d colliders; got %lld)", fn,
+                  MAX_BODY_PARTS, MAX_BODY_PARTS, (long long)n);
     body_part *parts = lua_newuserdatauv(L, (size_t)n * sizeof *parts, 0);
     static const char *const known[] = { "shape", "size", "radius", "height", "position", "rotation", NULL };
     static const char *const part_shapes[] = { "box", "sphere", "capsule", "cylinder" };
@@ -1446,28 +766,28 @@ static body_part *read_parts(lua_State *L, int t, const char *fn, uint32_t *coun
         lua_geti(L, pt, i);
         int e = lua_gettop(L);
         if (!lua_istable(L, e))
-            raise(L, "%s must be a table {shape, size | radius, height, position, rotation} (got %s)", sub,
-                  describe(L, e, got, sizeof got));
-        check_fields(L, e, sub, known);
-        int shape = opt_enum(L, e, sub, "shape", part_shapes, 4);
+            scr_raise(L, "%s must be a table {shape, size | radius, height, position, rotation} (got %s)", sub,
+                      scr_describe(L, e, got, sizeof got));
+        scr_check_fields(L, e, sub, known);
+        int shape = scr_opt_enum(L, e, sub, "shape", part_shapes, 4);
         if (shape < 0)
-            raise(L, "%s: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\" (got nil)",
-                  sub);
+            scr_raise(L, "%s: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\" (got nil)",
+                      sub);
         static const char *const geometric[] = { "size", "radius", "height" };
         for (int g = 0; g < 3; g++) {
             bool mine = false;
             for (int k = 0; k < 2 && own[shape][k]; k++)
                 if (strcmp(own[shape][k], geometric[g]) == 0) mine = true;
-            if (!mine && field_present(L, e, geometric[g]))
-                raise(L, "%s: field '%s' does not apply to shape \"%s\"", sub, geometric[g], part_shapes[shape]);
+            if (!mine && scr_field_present(L, e, geometric[g]))
+                scr_raise(L, "%s: field '%s' does not apply to shape \"%s\"", sub, geometric[g], part_shapes[shape]);
         }
         body_part *bp = &parts[i - 1];
         memset(bp, 0, sizeof *bp);
         bp->shape = (body_shape)shape;
         read_dims(L, e, sub, bp->shape, bp->dims);
-        opt_position(L, e, sub, "position", bp->pos);
+        scr_opt_position(L, e, sub, "position", bp->pos);
         bp->rot[3] = 1.0f;
-        opt_rotation(L, e, sub, "rotation", bp->rot);
+        scr_opt_rotation(L, e, sub, "rotation", bp->rot);
         lua_pop(L, 1);
     }
     *count = (uint32_t)n;
@@ -1476,20 +796,20 @@ static body_part *read_parts(lua_State *L, int t, const char *fn, uint32_t *coun
 
 static int l_body(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.body";
-    check_table_arg(L, 1, fn, "shape = \"box\", size = {x, y, z}, position = {x, y, z}, ...");
-    check_fields(L, 1, fn, BODY_FIELDS);
-    int shape = opt_enum(L, 1, fn, "shape", SHAPE_NAME, SHAPE_COUNT);
+    scr_check_table_arg(L, 1, fn, "shape = \"box\", size = {x, y, z}, position = {x, y, z}, ...");
+    scr_check_fields(L, 1, fn, BODY_FIELDS);
+    int shape = scr_opt_enum(L, 1, fn, "shape", scr_shape_name, SHAPE_COUNT);
     if (shape < 0)
-        raise(L, "seiche.body: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\", "
-              "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil)");
+        scr_raise(L, "seiche.body: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\", "
+                  "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil)");
     check_shape_fields(L, (body_shape)shape);
-    int kind = opt_enum(L, 1, fn, "kind", BODY_KIND_NAME, 3);
+    int kind = scr_opt_enum(L, 1, fn, "kind", scr_body_kind_name, 3);
     if (kind < 0) kind = (shape == SHAPE_PLANE || shape == SHAPE_MESH) ? PHYS_BODY_STATIC : PHYS_BODY_DYNAMIC;
     if (kind == PHYS_BODY_DYNAMIC && (shape == SHAPE_PLANE || shape == SHAPE_MESH))
-        raise(L, "seiche.body: shape \"%s\" has no volume and must be kind \"static\" or \"kinematic\" (got kind \"dynamic\")",
-              SHAPE_NAME[shape]);
+        scr_raise(L, "seiche.body: shape \"%s\" has no volume and must be kind \"static\" or \"kinematic\" (got kind \"dynamic\")",
+                  scr_shape_name[shape]);
 
     body_rec b;
     memset(&b, 0, sizeof b);
@@ -1502,44 +822,44 @@ static int l_body(lua_State *L)
 
     // Common fields.
     double v;
-    bool has_mass = opt_number(L, 1, fn, "mass", 0, 1e9, OPEN_LO, "kg", &v);
+    bool has_mass = scr_opt_number(L, 1, fn, "mass", 0, 1e9, OPEN_LO, "kg", &v);
     if (has_mass) b.def.mass = (float)v;
-    bool has_density = opt_number(L, 1, fn, "density", 0, 1e6, OPEN_LO, "kg/m^3", &v);
+    bool has_density = scr_opt_number(L, 1, fn, "density", 0, 1e6, OPEN_LO, "kg/m^3", &v);
     if (has_density) b.def.density = (float)v;
     if ((has_mass || has_density) && kind != PHYS_BODY_DYNAMIC)
-        raise(L, "seiche.body: fields 'mass' and 'density' apply to dynamic bodies only (this one is %s: its mass is "
-              "infinite)", BODY_KIND_NAME[kind]);
-    if (has_mass && has_density) raise(L, "seiche.body: give 'mass' or 'density', not both");
+        scr_raise(L, "seiche.body: fields 'mass' and 'density' apply to dynamic bodies only (this one is %s: its mass is "
+                  "infinite)", scr_body_kind_name[kind]);
+    if (has_mass && has_density) scr_raise(L, "seiche.body: give 'mass' or 'density', not both");
     float pos[3] = { 0, 0, 0 };
-    opt_position(L, 1, fn, "position", pos);
-    b.def.position = pv(pos);
+    scr_opt_position(L, 1, fn, "position", pos);
+    b.def.position = scr_pv(pos);
     float q[4];
-    if (opt_rotation(L, 1, fn, "rotation", q)) b.def.orientation = pq(q);
+    if (scr_opt_rotation(L, 1, fn, "rotation", q)) b.def.orientation = scr_pq(q);
     float vel[3] = { 0, 0, 0 }, ang[3] = { 0, 0, 0 };
-    bool has_v = opt_vec(L, 1, fn, "velocity", 3, -MAX_SPEED, MAX_SPEED, 0, "m/s", vel);
-    bool has_w = opt_vec(L, 1, fn, "angular_velocity", 3, -MAX_SPEED, MAX_SPEED, 0, "rad/s", ang);
+    bool has_v = scr_opt_vec(L, 1, fn, "velocity", 3, -MAX_SPEED, MAX_SPEED, 0, "m/s", vel);
+    bool has_w = scr_opt_vec(L, 1, fn, "angular_velocity", 3, -MAX_SPEED, MAX_SPEED, 0, "rad/s", ang);
     if ((has_v || has_w) && kind == PHYS_BODY_STATIC)
-        raise(L, "seiche.body: a static body cannot move: fields 'velocity' and 'angular_velocity' need kind "
-              "\"kinematic\" or \"dynamic\"");
-    b.def.linear_velocity = pv(vel);
-    b.def.angular_velocity = pv(ang);
-    if (opt_number(L, 1, fn, "friction", 0, 100, 0, "", &v)) b.def.friction = (float)v;
-    if (opt_number(L, 1, fn, "restitution", 0, 1, 0, "", &v)) b.def.restitution = (float)v;
-    if (opt_number(L, 1, fn, "linear_damping", 0, 1, 0, "(fraction of velocity removed per second)", &v))
+        scr_raise(L, "seiche.body: a static body cannot move: fields 'velocity' and 'angular_velocity' need kind "
+                  "\"kinematic\" or \"dynamic\"");
+    b.def.linear_velocity = scr_pv(vel);
+    b.def.angular_velocity = scr_pv(ang);
+    if (scr_opt_number(L, 1, fn, "friction", 0, 100, 0, "", &v)) b.def.friction = (float)v;
+    if (scr_opt_number(L, 1, fn, "restitution", 0, 1, 0, "", &v)) b.def.restitution = (float)v;
+    if (scr_opt_number(L, 1, fn, "linear_damping", 0, 1, 0, "(fraction of velocity removed per second)", &v))
         b.def.linear_damping = (float)v;
-    if (opt_number(L, 1, fn, "angular_damping", 0, 1, 0, "(fraction of angular velocity removed per second)", &v))
+    if (scr_opt_number(L, 1, fn, "angular_damping", 0, 1, 0, "(fraction of angular velocity removed per second)", &v))
         b.def.angular_damping = (float)v;
-    opt_bool(L, 1, fn, "two_way", &b.two_way);
+    scr_opt_bool(L, 1, fn, "two_way", &b.two_way);
     // Motion factors: per world axis, [0, 1]; `axle` is the short form of a fixed axle.
     for (int k = 0; k < 3; k++) b.linear_factor[k] = b.angular_factor[k] = 1.0f;
-    bool has_lf = opt_vec(L, 1, fn, "linear_factor", 3, 0, 1, 0, "", b.linear_factor);
-    bool has_af = opt_vec(L, 1, fn, "angular_factor", 3, 0, 1, 0, "", b.angular_factor);
+    bool has_lf = scr_opt_vec(L, 1, fn, "linear_factor", 3, 0, 1, 0, "", b.linear_factor);
+    bool has_af = scr_opt_vec(L, 1, fn, "angular_factor", 3, 0, 1, 0, "", b.angular_factor);
     static const char *const AXES[3] = { "x", "y", "z" };
-    int axle = opt_enum(L, 1, fn, "axle", AXES, 3);
+    int axle = scr_opt_enum(L, 1, fn, "axle", AXES, 3);
     if (axle >= 0) {
         if (has_lf || has_af)
-            raise(L, "seiche.body: give 'axle' or 'linear_factor'/'angular_factor', not both (axle = \"%s\" means "
-                  "linear_factor = {0, 0, 0} and angular_factor = 1 about %s only)", AXES[axle], AXES[axle]);
+            scr_raise(L, "seiche.body: give 'axle' or 'linear_factor'/'angular_factor', not both (axle = \"%s\" means "
+                      "linear_factor = {0, 0, 0} and angular_factor = 1 about %s only)", AXES[axle], AXES[axle]);
         for (int k = 0; k < 3; k++) {
             b.linear_factor[k] = 0.0f;
             b.angular_factor[k] = k == axle ? 1.0f : 0.0f;
@@ -1547,10 +867,10 @@ static int l_body(lua_State *L)
     }
     b.has_factors = has_lf || has_af || axle >= 0;
     if (b.has_factors && kind != PHYS_BODY_DYNAMIC)
-        raise(L, "seiche.body: fields 'axle', 'linear_factor' and 'angular_factor' apply to dynamic bodies only (this "
-              "one is %s)", BODY_KIND_NAME[kind]);
-    bool has_color = opt_color(L, 1, fn, "color", b.color);
-    opt_bool(L, 1, fn, "visible", &b.visible);
+        scr_raise(L, "seiche.body: fields 'axle', 'linear_factor' and 'angular_factor' apply to dynamic bodies only (this "
+                  "one is %s)", scr_body_kind_name[kind]);
+    bool has_color = scr_opt_color(L, 1, fn, "color", b.color);
+    scr_opt_bool(L, 1, fn, "visible", &b.visible);
 
     // The shape. Point lists stay in garbage-collected userdata until everything is checked.
     const float *pts = NULL;
@@ -1564,37 +884,37 @@ static int l_body(lua_State *L)
     case SHAPE_COMPOUND: parts = read_parts(L, 1, fn, &b.part_count); b.parts = (body_part *)parts; break;
     case SHAPE_PLANE: {
         float n[3] = { 0, 1, 0 };
-        opt_vec(L, 1, fn, "normal", 3, -1e6, 1e6, 0, "", n);
+        scr_opt_vec(L, 1, fn, "normal", 3, -1e6, 1e6, 0, "", n);
         double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
-        if (!(len > 1e-9)) raise(L, "seiche.body: field 'normal' must not be zero (got {0, 0, 0})");
+        if (!(len > 1e-9)) scr_raise(L, "seiche.body: field 'normal' must not be zero (got {0, 0, 0})");
         for (int k = 0; k < 3; k++) b.dims[k] = (float)(n[k] / len);
         double off = 0;
-        opt_number(L, 1, fn, "offset", -MAX_COORD, MAX_COORD, 0, "m", &off);
+        scr_opt_number(L, 1, fn, "offset", -MAX_COORD, MAX_COORD, 0, "m", &off);
         b.dims[3] = (float)off;
         break;
     }
     case SHAPE_HULL:
     case SHAPE_MESH: {
         const char *field = b.shape == SHAPE_HULL ? "points" : "vertices";
-        pts = read_point_list(L, 1, fn, field, -MAX_COORD, MAX_COORD, "m", &b.point_count, b.shape == SHAPE_HULL ? 4 : 3,
-                              65536);
+        pts = scr_read_point_list(L, 1, fn, field, -MAX_COORD, MAX_COORD, "m", &b.point_count, b.shape == SHAPE_HULL ? 4 : 3,
+                                  65536);
         if (b.shape == SHAPE_MESH) {
-            if (!field_present(L, 1, "indices"))
-                raise(L, "seiche.body: field 'indices' is required for a mesh: vertex numbers (1-based), three per triangle");
+            if (!scr_field_present(L, 1, "indices"))
+                scr_raise(L, "seiche.body: field 'indices' is required for a mesh: vertex numbers (1-based), three per triangle");
             int it = lua_gettop(L);
             char got[64];
             if (!lua_istable(L, it))
-                raise(L, "seiche.body: field 'indices' must be a list of vertex numbers (got %s)", describe(L, it, got, sizeof got));
+                scr_raise(L, "seiche.body: field 'indices' must be a list of vertex numbers (got %s)", scr_describe(L, it, got, sizeof got));
             lua_Integer m = luaL_len(L, it);
             if (m < 3 || m % 3 != 0 || m > 3 * 262144)
-                raise(L, "seiche.body: field 'indices' must hold 3 to %d vertex numbers, a multiple of 3 (got %lld)",
-                      3 * 262144, (long long)m);
+                scr_raise(L, "seiche.body: field 'indices' must hold 3 to %d vertex numbers, a multiple of 3 (got %lld)",
+                          3 * 262144, (long long)m);
             uint32_t *ix = lua_newuserdatauv(L, (size_t)m * sizeof *ix, 0);
             for (lua_Integer i = 1; i <= m; i++) {
                 lua_geti(L, it, i);
                 char what[64];
                 snprintf(what, sizeof what, "field 'indices'[%lld]", (long long)i);
-                ix[i - 1] = (uint32_t)check_number_at(L, -1, fn, what, 1, b.point_count, WHOLE, "(a vertex number)") - 1;
+                ix[i - 1] = (uint32_t)scr_check_number_at(L, -1, fn, what, 1, b.point_count, WHOLE, "(a vertex number)") - 1;
                 lua_pop(L, 1);
             }
             idx = ix;
@@ -1607,11 +927,11 @@ static int l_body(lua_State *L)
     if (kind == PHYS_BODY_DYNAMIC && !has_mass && b.shape != SHAPE_HULL) {
         double m = shape_volume(&b) * b.def.density;
         if (!(m > 0.0 && m <= 1e9))
-            raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside (0, 1e9] kg",
-                  (double)b.def.density, shape_volume(&b), m);
+            scr_raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside (0, 1e9] kg",
+                      (double)b.def.density, shape_volume(&b), m);
     }
 
-    uint32_t slot = obj_new(L, s, OBJ_BODY);
+    uint32_t slot = scr_obj_new(L, s, OBJ_BODY);
     obj *o = &s->objs[slot];
     if (!has_color) {
         if (kind == PHYS_BODY_DYNAMIC) memcpy(b.color, PALETTE[slot % 6], sizeof b.color);
@@ -1625,8 +945,8 @@ static int l_body(lua_State *L)
         b.parts = malloc((size_t)b.part_count * sizeof *b.parts);
         if (!b.parts) {
             s->command_count--;
-            obj_release(s, slot);
-            raise(L, "seiche.body: out of memory");
+            scr_obj_release(s, slot);
+            scr_raise(L, "seiche.body: out of memory");
         }
         memcpy(b.parts, parts, (size_t)b.part_count * sizeof *b.parts);
     }
@@ -1634,16 +954,16 @@ static int l_body(lua_State *L)
         b.points = malloc((size_t)b.point_count * 3 * sizeof(float));
         b.indices = b.index_count ? malloc((size_t)b.index_count * sizeof(uint32_t)) : NULL;
         if (!b.points || (b.index_count && !b.indices)) {
-            body_free_data(&b);
+            scr_body_free_data(&b);
             s->command_count--;
-            obj_release(s, slot);
-            raise(L, "seiche.body: out of memory");
+            scr_obj_release(s, slot);
+            scr_raise(L, "seiche.body: out of memory");
         }
         memcpy(b.points, pts, (size_t)b.point_count * 3 * sizeof(float));
         if (b.index_count) memcpy(b.indices, idx, (size_t)b.index_count * sizeof(uint32_t));
     }
     o->u.body = b;
-    push_handle(L, s, slot);
+    scr_push_handle(L, s, slot);
     return 1;
 }
 
@@ -1666,55 +986,55 @@ static void body_state(eng_script *s, obj *o, float pos[3], float rot[4], float 
 
 static int m_body_position(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:position", NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:position", NULL);
     float p[3];
-    body_state(get_script(L), o, p, NULL, NULL, NULL);
-    push_vec3(L, p[0], p[1], p[2]);
+    body_state(scr_get_script(L), o, p, NULL, NULL, NULL);
+    scr_push_vec3(L, p[0], p[1], p[2]);
     return 1;
 }
 
 static int m_body_rotation(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:rotation", NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:rotation", NULL);
     float q[4];
-    body_state(get_script(L), o, NULL, q, NULL, NULL);
-    push_quat(L, q);
+    body_state(scr_get_script(L), o, NULL, q, NULL, NULL);
+    scr_push_quat(L, q);
     return 1;
 }
 
 static int m_body_velocity(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:velocity", NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:velocity", NULL);
     float v[3];
-    body_state(get_script(L), o, NULL, NULL, v, NULL);
-    push_vec3(L, v[0], v[1], v[2]);
+    body_state(scr_get_script(L), o, NULL, NULL, v, NULL);
+    scr_push_vec3(L, v[0], v[1], v[2]);
     return 1;
 }
 
 static int m_body_angular_velocity(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:angular_velocity", NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:angular_velocity", NULL);
     float w[3];
-    body_state(get_script(L), o, NULL, NULL, NULL, w);
-    push_vec3(L, w[0], w[1], w[2]);
+    body_state(scr_get_script(L), o, NULL, NULL, NULL, w);
+    scr_push_vec3(L, w[0], w[1], w[2]);
     return 1;
 }
 
 static int m_body_velocity_at(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:velocity_at", NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:velocity_at", NULL);
     float pt[3], p[3], v[3], w[3];
-    arg_vec(L, 2, "body:velocity_at", "point", -MAX_COORD, MAX_COORD, "m", pt);
-    body_state(get_script(L), o, p, NULL, v, w);
+    scr_arg_vec(L, 2, "body:velocity_at", "point", -MAX_COORD, MAX_COORD, "m", pt);
+    body_state(scr_get_script(L), o, p, NULL, v, w);
     float r[3] = { pt[0] - p[0], pt[1] - p[1], pt[2] - p[2] };
-    push_vec3(L, v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2], v[2] + w[0] * r[1] - w[1] * r[0]);
+    scr_push_vec3(L, v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2], v[2] + w[0] * r[1] - w[1] * r[0]);
     return 1;
 }
 
 static int m_body_mass(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    obj *o = check_self(L, OBJ_BODY, "body:mass", NULL);
+    eng_script *s = scr_get_script(L);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:mass", NULL);
     body_rec *b = &o->u.body;
     if (b->def.type != PHYS_BODY_DYNAMIC) {
         lua_pushnumber(L, HUGE_VAL);
@@ -1729,48 +1049,48 @@ static int m_body_mass(lua_State *L)
     }
     if (b->def.mass > 0) lua_pushnumber(L, b->def.mass);
     else if (b->shape != SHAPE_HULL) lua_pushnumber(L, shape_volume(b) * b->def.density);
-    else raise(L, "body:mass: the hull's mass is known once the body is in the world (after this callback)");
+    else scr_raise(L, "body:mass: the hull's mass is known once the body is in the world (after this callback)");
     return 1;
 }
 
 static int m_body_kind(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:kind", NULL);
-    lua_pushstring(L, BODY_KIND_NAME[o->u.body.def.type]);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:kind", NULL);
+    lua_pushstring(L, scr_body_kind_name[o->u.body.def.type]);
     return 1;
 }
 
 static int m_body_shape(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_BODY, "body:shape", NULL);
-    lua_pushstring(L, SHAPE_NAME[o->u.body.shape]);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:shape", NULL);
+    lua_pushstring(L, scr_shape_name[o->u.body.shape]);
     return 1;
 }
 
 static int m_body_fluid_force(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    obj *o = check_self(L, OBJ_BODY, "body:fluid_force", NULL);
+    eng_script *s = scr_get_script(L);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:fluid_force", NULL);
     cpl_body_stats st;
     memset(&st, 0, sizeof st);
     if (o->state == OBJ_LIVE && s->host.coupling) cpl_body_get_stats(s->host.coupling, o->u.body.id, &st);
-    push_vec3(L, st.force[0], st.force[1], st.force[2]);
-    push_vec3(L, st.torque[0], st.torque[1], st.torque[2]);
+    scr_push_vec3(L, st.force[0], st.force[1], st.force[2]);
+    scr_push_vec3(L, st.torque[0], st.torque[1], st.torque[2]);
     return 2;
 }
 
 // A queued edit of a body that must be dynamic (forces) or may not be static (velocities).
 static command *body_edit(lua_State *L, const char *fn, cmd_type type, bool dynamic_only)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_BODY, fn, &slot);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot);
     phys_body_type t = o->u.body.def.type;
     if (dynamic_only && t != PHYS_BODY_DYNAMIC)
-        raise(L, "%s: the body is %s: forces and impulses move dynamic bodies only (use move_to or set_velocity on a "
-              "kinematic body)", fn, BODY_KIND_NAME[t]);
+        scr_raise(L, "%s: the body is %s: forces and impulses move dynamic bodies only (use move_to or set_velocity on a "
+                  "kinematic body)", fn, scr_body_kind_name[t]);
     if (t == PHYS_BODY_STATIC)
-        raise(L, "%s: the body is static: it never moves (make it kind = \"kinematic\" to move it by script)", fn);
+        scr_raise(L, "%s: the body is static: it never moves (make it kind = \"kinematic\" to move it by script)", fn);
     command *c = push_command(L, s, type, fn);
     c->slot = slot;
     c->gen = o->generation;
@@ -1782,10 +1102,10 @@ static int vector_edit(lua_State *L, const char *fn, cmd_type type, const char *
 {
     float v[3], p[3] = { 0, 0, 0 };
     // Check the arguments before the handle's kind so that messages name the argument.
-    check_self(L, OBJ_BODY, fn, NULL);
-    arg_vec(L, 2, fn, name, -1e9, 1e9, unit, v);
+    scr_check_self(L, OBJ_BODY, fn, NULL);
+    scr_arg_vec(L, 2, fn, name, -1e9, 1e9, unit, v);
     bool at_point = point_allowed && !lua_isnoneornil(L, 3);
-    if (at_point) arg_vec(L, 3, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
+    if (at_point) scr_arg_vec(L, 3, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
     command *c = body_edit(L, fn, type, dynamic_only);
     memcpy(c->u.vec.v, v, sizeof v);
     memcpy(c->u.vec.p, p, sizeof p);
@@ -1797,7 +1117,7 @@ static int vector_edit(lua_State *L, const char *fn, cmd_type type, const char *
 // coupling steps Bullet several times per frame and Bullet clears forces after each).
 static int m_body_apply_force(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     vector_edit(L, "body:apply_force", CMD_BODY_IMPULSE, "force", "N", true, true);
     command *c = &s->commands[s->command_count - 1];
     for (int k = 0; k < 3; k++) c->u.vec.v[k] *= (float)s->host.dt;
@@ -1806,7 +1126,7 @@ static int m_body_apply_force(lua_State *L)
 
 static int m_body_apply_torque(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     vector_edit(L, "body:apply_torque", CMD_BODY_ANGULAR_IMPULSE, "torque", "N m", true, false);
     command *c = &s->commands[s->command_count - 1];
     for (int k = 0; k < 3; k++) c->u.vec.v[k] *= (float)s->host.dt;
@@ -1836,30 +1156,30 @@ static int m_body_set_angular_velocity(lua_State *L)
 // pose(position [, rotation]) arguments of move_to and teleport.
 static void read_pose_args(lua_State *L, const char *fn, obj *o, float pos[3], float rot[4])
 {
-    arg_vec(L, 2, fn, "position", -MAX_COORD, MAX_COORD, "m", pos);
+    scr_arg_vec(L, 2, fn, "position", -MAX_COORD, MAX_COORD, "m", pos);
     if (lua_isnoneornil(L, 3)) {
-        body_state(get_script(L), o, NULL, rot, NULL, NULL);
+        body_state(scr_get_script(L), o, NULL, rot, NULL, NULL);
         return;
     }
-    // opt_rotation reads a field: wrap the argument in a table.
+    // scr_opt_rotation reads a field: wrap the argument in a table.
     lua_createtable(L, 0, 1);
     lua_pushvalue(L, 3);
     lua_setfield(L, -2, "rotation");
     char sub[64];
     snprintf(sub, sizeof sub, "%s: argument #2", fn);
-    opt_rotation(L, lua_gettop(L), sub, "rotation", rot);
+    scr_opt_rotation(L, lua_gettop(L), sub, "rotation", rot);
     lua_pop(L, 1);
 }
 
 static int m_body_move_to(lua_State *L)
 {
     const char *fn = "body:move_to";
-    obj *o = check_self(L, OBJ_BODY, fn, NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
     float pos[3], rot[4];
     read_pose_args(L, fn, o, pos, rot);
     if (o->u.body.def.type != PHYS_BODY_KINEMATIC)
-        raise(L, "%s: the body is %s: move_to drives kinematic bodies (use teleport, set_velocity or forces)", fn,
-              BODY_KIND_NAME[o->u.body.def.type]);
+        scr_raise(L, "%s: the body is %s: move_to drives kinematic bodies (use teleport, set_velocity or forces)", fn,
+                  scr_body_kind_name[o->u.body.def.type]);
     command *c = body_edit(L, fn, CMD_BODY_MOVE_TO, false);
     memcpy(c->u.pose.pos, pos, sizeof pos);
     memcpy(c->u.pose.rot, rot, sizeof rot);
@@ -1869,27 +1189,27 @@ static int m_body_move_to(lua_State *L)
 static int m_body_teleport(lua_State *L)
 {
     const char *fn = "body:teleport";
-    obj *o = check_self(L, OBJ_BODY, fn, NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
     float pos[3], rot[4];
     read_pose_args(L, fn, o, pos, rot);
     command *c = body_edit(L, fn, CMD_BODY_TELEPORT, false);
     memcpy(c->u.pose.pos, pos, sizeof pos);
     memcpy(c->u.pose.rot, rot, sizeof rot);
     if (o->state == OBJ_PENDING) { // not in the world yet: change its def instead
-        o->u.body.def.position = pv(pos);
-        o->u.body.def.orientation = pq(rot);
+        o->u.body.def.position = scr_pv(pos);
+        o->u.body.def.orientation = scr_pq(rot);
     }
     return 0;
 }
 
 static int m_body_set_color(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_BODY, "body:set_color", &slot);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:set_color", &slot);
     float c3[3];
     char what[] = "argument #1 'color'";
-    check_vec_at(L, 2, "body:set_color", what, 3, 0.0, 1.0, 0, "", c3);
+    scr_check_vec_at(L, 2, "body:set_color", what, 3, 0.0, 1.0, 0, "", c3);
     memcpy(o->u.body.color, c3, sizeof c3);
     command *c = push_command(L, s, CMD_BODY_LOOK, "body:set_color");
     c->slot = slot;
@@ -1899,12 +1219,12 @@ static int m_body_set_color(lua_State *L)
 
 static int m_body_set_visible(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_BODY, "body:set_visible", &slot);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:set_visible", &slot);
     char got[64];
     if (!lua_isboolean(L, 2))
-        raise(L, "body:set_visible: argument #1 'visible' must be true or false (got %s)", describe(L, 2, got, sizeof got));
+        scr_raise(L, "body:set_visible: argument #1 'visible' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
     o->u.body.visible = lua_toboolean(L, 2);
     command *c = push_command(L, s, CMD_BODY_LOOK, "body:set_visible");
     c->slot = slot;
@@ -1918,15 +1238,15 @@ static void release_grabs_of(eng_script *s, uint32_t slot, uint32_t gen)
     for (uint32_t i = 0; i < s->obj_count; i++) {
         obj *g = &s->objs[i];
         if (g->state != OBJ_FREE && g->kind == OBJ_GRAB && g->u.grab.body == slot && g->u.grab.body_gen == gen)
-            obj_release(s, i);
+            scr_obj_release(s, i);
     }
 }
 
 static int m_body_destroy(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_BODY, "body:destroy", &slot);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:destroy", &slot);
     if (o->state == OBJ_LIVE) {
         command *c = push_command(L, s, CMD_BODY_REMOVE, "body:destroy");
         c->u.body.id = o->u.body.id;
@@ -1935,24 +1255,24 @@ static int m_body_destroy(lua_State *L)
         c->u.body.mesh = o->u.body.mesh;
     }
     release_grabs_of(s, slot, o->generation);
-    obj_release(s, slot);
+    scr_obj_release(s, slot);
     return 0;
 }
 
 static int m_body_grab(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "body:grab";
     uint32_t slot;
-    obj *o = check_self(L, OBJ_BODY, fn, &slot);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot);
     float p[3];
-    arg_vec(L, 2, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
+    scr_arg_vec(L, 2, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
     double max_force = 0;
-    if (!lua_isnoneornil(L, 3)) max_force = arg_number(L, 3, fn, "max_force", 0, 1e9, OPEN_LO, "N");
+    if (!lua_isnoneornil(L, 3)) max_force = scr_arg_number(L, 3, fn, "max_force", 0, 1e9, OPEN_LO, "N");
     if (o->u.body.def.type != PHYS_BODY_DYNAMIC)
-        raise(L, "%s: the body is %s: only dynamic bodies can be grabbed", fn, BODY_KIND_NAME[o->u.body.def.type]);
+        scr_raise(L, "%s: the body is %s: only dynamic bodies can be grabbed", fn, scr_body_kind_name[o->u.body.def.type]);
     uint32_t body_gen = o->generation;
-    uint32_t g = obj_new(L, s, OBJ_GRAB);
+    uint32_t g = scr_obj_new(L, s, OBJ_GRAB);
     obj *go = &s->objs[g];
     go->u.grab.body = slot;
     go->u.grab.body_gen = body_gen;
@@ -1961,7 +1281,7 @@ static int m_body_grab(lua_State *L)
     command *c = push_command(L, s, CMD_GRAB_ADD, fn);
     c->slot = g;
     c->gen = go->generation;
-    push_handle(L, s, g);
+    scr_push_handle(L, s, g);
     return 1;
 }
 
@@ -1969,11 +1289,11 @@ static int m_body_grab(lua_State *L)
 
 static int m_grab_move(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_GRAB, "grab:move", &slot);
+    obj *o = scr_check_self(L, OBJ_GRAB, "grab:move", &slot);
     float p[3];
-    arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
+    scr_arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
     memcpy(o->u.grab.pivot, p, sizeof p);
     command *c = push_command(L, s, CMD_GRAB_MOVE, "grab:move");
     c->slot = slot;
@@ -1984,29 +1304,29 @@ static int m_grab_move(lua_State *L)
 
 static int m_grab_release(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = check_self(L, OBJ_GRAB, "grab:release", &slot);
+    obj *o = scr_check_self(L, OBJ_GRAB, "grab:release", &slot);
     if (o->state == OBJ_LIVE) {
         command *c = push_command(L, s, CMD_GRAB_REMOVE, "grab:release");
         c->u.constraint = o->u.grab.id;
     }
-    obj_release(s, slot);
+    scr_obj_release(s, slot);
     return 0;
 }
 
 static int m_grab_body(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    obj *o = check_self(L, OBJ_GRAB, "grab:body", NULL);
-    push_handle(L, s, o->u.grab.body);
+    eng_script *s = scr_get_script(L);
+    obj *o = scr_check_self(L, OBJ_GRAB, "grab:body", NULL);
+    scr_push_handle(L, s, o->u.grab.body);
     return 1;
 }
 
 static int m_grab_pivot(lua_State *L)
 {
-    obj *o = check_self(L, OBJ_GRAB, "grab:pivot", NULL);
-    push_vec3(L, o->u.grab.pivot[0], o->u.grab.pivot[1], o->u.grab.pivot[2]);
+    obj *o = scr_check_self(L, OBJ_GRAB, "grab:pivot", NULL);
+    scr_push_vec3(L, o->u.grab.pivot[0], o->u.grab.pivot[1], o->u.grab.pivot[2]);
     return 1;
 }
 
@@ -2014,19 +1334,19 @@ static int m_grab_pivot(lua_State *L)
 
 static int new_timer(lua_State *L, const char *fn, bool repeat)
 {
-    eng_script *s = get_script(L);
-    double d = arg_number(L, 1, fn, repeat ? "period" : "delay", repeat ? 0 : 0, 1e9, repeat ? OPEN_LO : 0, "s");
+    eng_script *s = scr_get_script(L);
+    double d = scr_arg_number(L, 1, fn, repeat ? "period" : "delay", repeat ? 0 : 0, 1e9, repeat ? OPEN_LO : 0, "s");
     char got[64];
     if (!lua_isfunction(L, 2))
-        raise(L, "%s: argument #2 'callback' must be a function (got %s)", fn, describe(L, 2, got, sizeof got));
-    uint32_t slot = obj_new(L, s, OBJ_TIMER);
+        scr_raise(L, "%s: argument #2 'callback' must be a function (got %s)", fn, scr_describe(L, 2, got, sizeof got));
+    uint32_t slot = scr_obj_new(L, s, OBJ_TIMER);
     obj *o = &s->objs[slot];
     lua_pushvalue(L, 2);
     o->u.timer.fn = luaL_ref(L, LUA_REGISTRYINDEX);
     o->u.timer.due = s->host.time + d;
     o->u.timer.period = repeat ? d : 0.0;
     o->state = OBJ_LIVE; // timers are the script's own: nothing to queue
-    push_handle(L, s, slot);
+    scr_push_handle(L, s, slot);
     return 1;
 }
 
@@ -2036,69 +1356,18 @@ static int l_every(lua_State *L) { return new_timer(L, "seiche.every", true); }
 static int m_timer_cancel(lua_State *L)
 {
     uint32_t slot;
-    check_self(L, OBJ_TIMER, "timer:cancel", &slot);
-    obj_release(get_script(L), slot);
+    scr_check_self(L, OBJ_TIMER, "timer:cancel", &slot);
+    scr_obj_release(scr_get_script(L), slot);
     return 0;
 }
 
 static int m_timer_remaining(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    obj *o = check_self(L, OBJ_TIMER, "timer:remaining", NULL);
+    eng_script *s = scr_get_script(L);
+    obj *o = scr_check_self(L, OBJ_TIMER, "timer:remaining", NULL);
     double r = o->u.timer.due - s->host.time;
     lua_pushnumber(L, r > 0 ? r : 0);
     return 1;
-}
-
-// ---- handle metamethods -------------------------------------------------------------------
-
-static int m_tostring(lua_State *L)
-{
-    eng_script *s = get_script(L);
-    for (int k = 0; k < OBJ_KIND_COUNT; k++) {
-        handle *h = luaL_testudata(L, 1, KIND_META[k]);
-        if (!h) continue;
-        obj *o = obj_at(s, h->slot, h->generation);
-        if (!o) lua_pushfstring(L, "%s #%d (destroyed)", KIND_NAME[k], (int)h->slot + 1);
-        else if (k == OBJ_BODY)
-            lua_pushfstring(L, "body #%d (%s %s%s)", (int)h->slot + 1, BODY_KIND_NAME[o->u.body.def.type],
-                            SHAPE_NAME[o->u.body.shape], o->state == OBJ_PENDING ? ", not yet in the world" : "");
-        else lua_pushfstring(L, "%s #%d%s", KIND_NAME[k], (int)h->slot + 1, o->state == OBJ_PENDING ? " (not yet in the world)" : "");
-        return 1;
-    }
-    return luaL_tolstring(L, 1, NULL) != NULL;
-}
-
-// h.key: a method, else the handle's own field (scripts may keep data on handles).
-static int m_index(lua_State *L)
-{
-    lua_getmetatable(L, 1);
-    lua_getfield(L, -1, "methods");
-    lua_pushvalue(L, 2);
-    lua_rawget(L, -2);
-    if (!lua_isnil(L, -1)) return 1;
-    lua_getiuservalue(L, 1, 1);
-    lua_pushvalue(L, 2);
-    lua_rawget(L, -2);
-    return 1;
-}
-
-static int m_newindex(lua_State *L)
-{
-    lua_getmetatable(L, 1);
-    lua_getfield(L, -1, "methods");
-    lua_pushvalue(L, 2);
-    lua_rawget(L, -2);
-    if (!lua_isnil(L, -1)) {
-        lua_getfield(L, -3, "__name");
-        return raise(L, "%s: '%s' is a method and cannot be assigned", lua_tostring(L, -1),
-                     lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "?");
-    }
-    lua_getiuservalue(L, 1, 1);
-    lua_pushvalue(L, 2);
-    lua_pushvalue(L, 3);
-    lua_rawset(L, -3);
-    return 0;
 }
 
 // ---- runtime settings ------------------------------------------------------------------
@@ -2113,23 +1382,23 @@ static const pbf_param_info *check_param_name(lua_State *L, int idx, const char 
         char list[512] = "";
         size_t len = 0;
         for (int i = 0; i < n && len < sizeof list; i++) len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "", tab[i].name);
-        raise(L, "%s: argument #%d 'name' must be a fluid parameter name (one of %s) (got %s)", fn, idx, list,
-              describe(L, idx, got, sizeof got));
+        scr_raise(L, "%s: argument #%d 'name' must be a fluid parameter name (one of %s) (got %s)", fn, idx, list,
+                  scr_describe(L, idx, got, sizeof got));
     }
     return info;
 }
 
 static int l_set_param(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.set_param";
     const pbf_param_info *info = check_param_name(L, 1, fn);
     char what[96];
     snprintf(what, sizeof what, "argument #2 'value' (%s)", info->name);
-    double v = check_number_at(L, 2, fn, what, info->min, info->max, info->is_int ? WHOLE : 0, info->unit);
-    pbf_params p = *current_params(s);
+    double v = scr_check_number_at(L, 2, fn, what, info->min, info->max, info->is_int ? WHOLE : 0, info->unit);
+    pbf_params p = *scr_current_params(s);
     char err[512];
-    if (pbf_params_set(&p, info->name, v, err, sizeof err) != PBF_OK) raise(L, "%s: %s", fn, err);
+    if (pbf_params_set(&p, info->name, v, err, sizeof err) != PBF_OK) scr_raise(L, "%s: %s", fn, err);
     if (!s->host.world) { // main chunk: part of the scene description
         s->config.params = p;
         return 0;
@@ -2143,33 +1412,33 @@ static int l_set_param(lua_State *L)
 
 static int l_param(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const pbf_param_info *info = check_param_name(L, 1, "seiche.param");
-    lua_pushnumber(L, pbf_params_get(current_params(s), info));
+    lua_pushnumber(L, pbf_params_get(scr_current_params(s), info));
     return 1;
 }
 
 static int l_params(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     int n;
     const pbf_param_info *tab = pbf_param_table(&n);
-    const pbf_params *p = current_params(s);
+    const pbf_params *p = scr_current_params(s);
     lua_createtable(L, 0, n);
-    for (int i = 0; i < n; i++) set_num(L, tab[i].name, pbf_params_get(p, &tab[i]));
+    for (int i = 0; i < n; i++) scr_set_num(L, tab[i].name, pbf_params_get(p, &tab[i]));
     return 1;
 }
 
 static int l_set_gravity(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     float g[3];
-    arg_vec(L, 1, "seiche.set_gravity", "gravity", -1000, 1000, "m/s^2", g);
+    scr_arg_vec(L, 1, "seiche.set_gravity", "gravity", -1000, 1000, "m/s^2", g);
     if (!s->host.world) {
         memcpy(s->config.params.gravity, g, sizeof g);
         return 0;
     }
-    pbf_params p = *current_params(s);
+    pbf_params p = *scr_current_params(s);
     memcpy(p.gravity, g, sizeof g);
     s->pending_params = p;
     s->have_pending_params = true;
@@ -2180,8 +1449,8 @@ static int l_set_gravity(lua_State *L)
 
 static int l_gravity(lua_State *L)
 {
-    const float *g = current_params(get_script(L))->gravity;
-    push_vec3(L, g[0], g[1], g[2]);
+    const float *g = scr_current_params(scr_get_script(L))->gravity;
+    scr_push_vec3(L, g[0], g[1], g[2]);
     return 1;
 }
 
@@ -2189,77 +1458,77 @@ static int l_gravity(lua_State *L)
 
 static int l_stats(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const pbf_step_stats *st = s->host.stats;
     lua_createtable(L, 0, 12);
-    set_num(L, "particles", st ? st->particles : (s->host.world ? pbf_world_particle_count(s->host.world) : 0));
-    set_num(L, "capacity", capacity_of(s));
-    set_num(L, "rho0", current_params(s)->rest_density);
-    set_num(L, "rho_avg", st ? st->density_avg : 0.0);
-    set_num(L, "rho_max", st ? st->density_max : 0.0);
-    set_num(L, "nan", st ? st->nan_count : 0);
-    set_num(L, "outside", st ? st->outside_count : 0);
-    set_num(L, "overflow", st ? st->overflow_count : 0);
-    set_num(L, "step_ms", st ? st->step_ms : 0.0);
-    set_num(L, "step", st ? (double)st->step : -1.0);
-    set_num(L, "time", st ? st->time : 0.0);
+    scr_set_num(L, "particles", st ? st->particles : (s->host.world ? pbf_world_particle_count(s->host.world) : 0));
+    scr_set_num(L, "capacity", scr_capacity_of(s));
+    scr_set_num(L, "rho0", scr_current_params(s)->rest_density);
+    scr_set_num(L, "rho_avg", st ? st->density_avg : 0.0);
+    scr_set_num(L, "rho_max", st ? st->density_max : 0.0);
+    scr_set_num(L, "nan", st ? st->nan_count : 0);
+    scr_set_num(L, "outside", st ? st->outside_count : 0);
+    scr_set_num(L, "overflow", st ? st->overflow_count : 0);
+    scr_set_num(L, "step_ms", st ? st->step_ms : 0.0);
+    scr_set_num(L, "step", st ? (double)st->step : -1.0);
+    scr_set_num(L, "time", st ? st->time : 0.0);
     lua_createtable(L, 0, PBF_STAGE_COUNT);
-    for (int k = 0; k < PBF_STAGE_COUNT; k++) set_num(L, pbf_stage_name((pbf_stage)k), st ? st->stage_ms[k] : 0.0);
+    for (int k = 0; k < PBF_STAGE_COUNT; k++) scr_set_num(L, pbf_stage_name((pbf_stage)k), st ? st->stage_ms[k] : 0.0);
     lua_setfield(L, -2, "stage_ms");
     return 1;
 }
 
 static int l_time(lua_State *L)
 {
-    lua_pushnumber(L, get_script(L)->host.time);
+    lua_pushnumber(L, scr_get_script(L)->host.time);
     return 1;
 }
 
 static int l_frame(lua_State *L)
 {
-    lua_pushinteger(L, (lua_Integer)get_script(L)->host.frame);
+    lua_pushinteger(L, (lua_Integer)scr_get_script(L)->host.frame);
     return 1;
 }
 
 static int l_dt(lua_State *L)
 {
-    lua_pushnumber(L, get_script(L)->host.dt);
+    lua_pushnumber(L, scr_get_script(L)->host.dt);
     return 1;
 }
 
 static int l_renderer(lua_State *L)
 {
-    const char *r = get_script(L)->host.renderer;
+    const char *r = scr_get_script(L)->host.renderer;
     lua_pushstring(L, r ? r : "");
     return 1;
 }
 
 static int l_headless(lua_State *L)
 {
-    lua_pushboolean(L, get_script(L)->host.headless);
+    lua_pushboolean(L, scr_get_script(L)->host.headless);
     return 1;
 }
 
 static int l_particle_count(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     lua_pushinteger(L, s->host.world ? (lua_Integer)pbf_world_particle_count(s->host.world) : 0);
     return 1;
 }
 
 static int l_capacity(lua_State *L)
 {
-    lua_pushinteger(L, capacity_of(get_script(L)));
+    lua_pushinteger(L, scr_capacity_of(scr_get_script(L)));
     return 1;
 }
 
 static int l_max_emitter_rate(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.max_emitter_rate";
-    double speed = arg_number(L, 1, fn, "speed", 0, 100, OPEN_LO, "m/s");
-    double radius = arg_number(L, 2, fn, "radius", current_params(s)->particle_radius, 10, 0, "m (the particle radius at least)");
-    require_world(L, s, fn);
+    double speed = scr_arg_number(L, 1, fn, "speed", 0, 100, OPEN_LO, "m/s");
+    double radius = scr_arg_number(L, 2, fn, "radius", scr_current_params(s)->particle_radius, 10, 0, "m (the particle radius at least)");
+    scr_require_world(L, s, fn);
     lua_pushnumber(L, pbf_emitter_max_rate(s->host.world, (float)speed, (float)radius));
     return 1;
 }
@@ -2267,12 +1536,12 @@ static int l_max_emitter_rate(lua_State *L)
 // Downloads the particle positions once per frame for the queries that need them.
 static const float *particle_positions(lua_State *L, eng_script *s, const char *fn, uint32_t *count)
 {
-    require_world(L, s, fn);
+    scr_require_world(L, s, fn);
     if (!s->cache_valid || s->cache_frame != s->host.frame) {
         uint32_t n = pbf_world_particle_count(s->host.world);
         if (n > s->cache_cap) {
             float *c = realloc(s->cache, (size_t)n * 4 * sizeof(float));
-            if (!c) raise(L, "%s: out of memory for %u particles", fn, n);
+            if (!c) scr_raise(L, "%s: out of memory for %u particles", fn, n);
             s->cache = c;
             s->cache_cap = n;
         }
@@ -2286,13 +1555,13 @@ static const float *particle_positions(lua_State *L, eng_script *s, const char *
 
 static int l_surface_height(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.surface_height";
-    double x = arg_number(L, 1, fn, "x", -MAX_COORD, MAX_COORD, 0, "m");
-    double z = arg_number(L, 2, fn, "z", -MAX_COORD, MAX_COORD, 0, "m");
-    const pbf_params *p = current_params(s);
+    double x = scr_arg_number(L, 1, fn, "x", -MAX_COORD, MAX_COORD, 0, "m");
+    double z = scr_arg_number(L, 2, fn, "z", -MAX_COORD, MAX_COORD, 0, "m");
+    const pbf_params *p = scr_current_params(s);
     double r = p->kernel_radius;
-    if (!lua_isnoneornil(L, 3)) r = arg_number(L, 3, fn, "radius", 0, 100, OPEN_LO, "m");
+    if (!lua_isnoneornil(L, 3)) r = scr_arg_number(L, 3, fn, "radius", 0, 100, OPEN_LO, "m");
     uint32_t n;
     const float *pos = particle_positions(L, s, fn, &n);
     double best = -HUGE_VAL;
@@ -2307,11 +1576,11 @@ static int l_surface_height(lua_State *L)
 
 static int l_particles_in(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.particles_in";
     float mn[3], mx[3];
-    arg_vec(L, 1, fn, "min", -MAX_COORD, MAX_COORD, "m", mn);
-    arg_vec(L, 2, fn, "max", -MAX_COORD, MAX_COORD, "m", mx);
+    scr_arg_vec(L, 1, fn, "min", -MAX_COORD, MAX_COORD, "m", mn);
+    scr_arg_vec(L, 2, fn, "max", -MAX_COORD, MAX_COORD, "m", mx);
     uint32_t n;
     const float *pos = particle_positions(L, s, fn, &n);
     lua_Integer count = 0;
@@ -2336,13 +1605,13 @@ static int find_body_slot(eng_script *s, phys_body_id id)
 
 static int l_ray_cast(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.ray_cast";
     float a[3], b[3];
-    arg_vec(L, 1, fn, "from", -MAX_COORD, MAX_COORD, "m", a);
-    arg_vec(L, 2, fn, "to", -MAX_COORD, MAX_COORD, "m", b);
-    if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) raise(L, "%s: arguments 'from' and 'to' must differ", fn);
-    require_world(L, s, fn);
+    scr_arg_vec(L, 1, fn, "from", -MAX_COORD, MAX_COORD, "m", a);
+    scr_arg_vec(L, 2, fn, "to", -MAX_COORD, MAX_COORD, "m", b);
+    if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) scr_raise(L, "%s: arguments 'from' and 'to' must differ", fn);
+    scr_require_world(L, s, fn);
     // The container's walls are thick Bullet boxes: a ray from a camera outside the
     // container would stop at the near wall's outer face. Rays that start outside begin
     // where they enter the container instead (they still hit its floor and far walls).
@@ -2367,7 +1636,7 @@ static int l_ray_cast(lua_State *L)
     }
     float a0[3] = { (float)(a[0] + t0 * (b[0] - a[0])), (float)(a[1] + t0 * (b[1] - a[1])), (float)(a[2] + t0 * (b[2] - a[2])) };
     phys_ray_hit hit;
-    if (phys_world_ray_cast(s->host.phys, pv(a0), pv(b), &hit) != PHYS_OK) raise(L, "%s: %s", fn, phys_world_last_error(s->host.phys));
+    if (phys_world_ray_cast(s->host.phys, scr_pv(a0), scr_pv(b), &hit) != PHYS_OK) scr_raise(L, "%s: %s", fn, phys_world_last_error(s->host.phys));
     if (!hit.hit) {
         lua_pushnil(L);
         return 1;
@@ -2375,25 +1644,25 @@ static int l_ray_cast(lua_State *L)
     lua_createtable(L, 0, 4);
     int slot = find_body_slot(s, hit.body);
     if (slot >= 0) {
-        push_handle(L, s, (uint32_t)slot);
+        scr_push_handle(L, s, (uint32_t)slot);
         lua_setfield(L, -2, "body");
     }
-    push_vec3(L, hit.point.x, hit.point.y, hit.point.z);
+    scr_push_vec3(L, hit.point.x, hit.point.y, hit.point.z);
     lua_setfield(L, -2, "point");
-    push_vec3(L, hit.normal.x, hit.normal.y, hit.normal.z);
+    scr_push_vec3(L, hit.normal.x, hit.normal.y, hit.normal.z);
     lua_setfield(L, -2, "normal");
-    set_num(L, "fraction", t0 + hit.fraction * (1.0 - t0));
+    scr_set_num(L, "fraction", t0 + hit.fraction * (1.0 - t0));
     return 1;
 }
 
 static int l_screen_ray(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.screen_ray";
     int w = s->host.view_width > 0 ? s->host.view_width : 1, h = s->host.view_height > 0 ? s->host.view_height : 1;
-    double x = arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
-    double y = arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
-    if (!s->host.camera) raise(L, "%s: there is no camera yet; call this from a callback", fn);
+    double x = scr_arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
+    double y = scr_arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
+    if (!s->host.camera) scr_raise(L, "%s: there is no camera yet; call this from a callback", fn);
     mat4 view, proj, vp, inv;
     eng_camera_view(s->host.camera, view);
     eng_camera_projection(s->host.camera, (float)w / (float)h, proj);
@@ -2410,8 +1679,8 @@ static int l_screen_ray(lua_State *L)
     }
     float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int k = 0; k < 3; k++) d[k] /= len;
-    push_vec3(L, o[0], o[1], o[2]);
-    push_vec3(L, d[0], d[1], d[2]);
+    scr_push_vec3(L, o[0], o[1], o[2]);
+    scr_push_vec3(L, d[0], d[1], d[2]);
     return 2;
 }
 
@@ -2419,11 +1688,11 @@ static int l_screen_ray(lua_State *L)
 // point is in front of the camera.
 static int l_screen_point(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.screen_point";
     float p[3];
-    arg_vec(L, 1, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
-    if (!s->host.camera) raise(L, "%s: there is no camera yet; call this from a callback", fn);
+    scr_arg_vec(L, 1, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
+    if (!s->host.camera) scr_raise(L, "%s: there is no camera yet; call this from a callback", fn);
     int w = s->host.view_width > 0 ? s->host.view_width : 1, h = s->host.view_height > 0 ? s->host.view_height : 1;
     mat4 view, proj, vp;
     eng_camera_view(s->host.camera, view);
@@ -2441,12 +1710,12 @@ static int l_screen_point(lua_State *L)
 
 static int l_bodies(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     lua_newtable(L);
     lua_Integer n = 0;
     for (uint32_t i = 0; i < s->obj_count; i++)
         if (s->objs[i].state != OBJ_FREE && s->objs[i].kind == OBJ_BODY) {
-            push_handle(L, s, i);
+            scr_push_handle(L, s, i);
             lua_rawseti(L, -2, ++n);
         }
     return 1;
@@ -2457,15 +1726,15 @@ static int check_key_name(lua_State *L, int idx, const char *fn)
     char got[64];
     int code = lua_type(L, idx) == LUA_TSTRING ? eng_key_code(lua_tostring(L, idx)) : -1;
     if (code < 0)
-        raise(L, "%s: argument #%d 'key' must be a key name: \"a\"..\"z\", \"0\"..\"9\", \"f1\"..\"f12\", \"space\", "
-              "\"enter\", \"escape\", \"tab\", \"backspace\", \"left\", \"right\", \"up\", \"down\", \"shift\", \"ctrl\" (got %s)",
-              fn, idx, describe(L, idx, got, sizeof got));
+        scr_raise(L, "%s: argument #%d 'key' must be a key name: \"a\"..\"z\", \"0\"..\"9\", \"f1\"..\"f12\", \"space\", "
+                  "\"enter\", \"escape\", \"tab\", \"backspace\", \"left\", \"right\", \"up\", \"down\", \"shift\", \"ctrl\" (got %s)",
+                  fn, idx, scr_describe(L, idx, got, sizeof got));
     return code;
 }
 
 static int l_key_down(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     int code = check_key_name(L, 1, "seiche.key_down");
     bool down = s->host.input && eng_input_key_down(s->host.input, code);
     if (!down && code == GLFW_KEY_LEFT_SHIFT && s->host.input) down = eng_input_key_down(s->host.input, GLFW_KEY_RIGHT_SHIFT);
@@ -2476,15 +1745,15 @@ static int l_key_down(lua_State *L)
 
 static int l_mouse_down(lua_State *L)
 {
-    eng_script *s = get_script(L);
-    int b = (int)arg_number(L, 1, "seiche.mouse_down", "button", 1, ENG_INPUT_MAX_BUTTONS, WHOLE, "(1 left, 2 right, 3 middle)");
+    eng_script *s = scr_get_script(L);
+    int b = (int)scr_arg_number(L, 1, "seiche.mouse_down", "button", 1, ENG_INPUT_MAX_BUTTONS, WHOLE, "(1 left, 2 right, 3 middle)");
     lua_pushboolean(L, s->host.input && eng_input_mouse_down(s->host.input, b - 1));
     return 1;
 }
 
 static int l_mouse_position(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     double x = 0, y = 0;
     if (s->host.input) eng_input_mouse_position(s->host.input, &x, &y);
     lua_pushnumber(L, x);
@@ -2496,7 +1765,7 @@ static int l_mouse_position(lua_State *L)
 
 static int l_check(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     luaL_checkany(L, 1);
     if (lua_toboolean(L, 1)) return 0;
     const char *msg = lua_isnoneornil(L, 2) ? "(no message)" : luaL_tolstring(L, 2, NULL);
@@ -2508,7 +1777,7 @@ static int l_check(lua_State *L)
 
 static int l_quit(lua_State *L)
 {
-    get_script(L)->quit = true;
+    scr_get_script(L)->quit = true;
     return 0;
 }
 
@@ -2521,8 +1790,8 @@ static int read_action(lua_State *L, int idx, const char *fn)
         for (int k = 0; k < 3; k++)
             if (strcmp(lua_tostring(L, idx), ACTIONS[k]) == 0) return k;
     char got[64];
-    return raise(L, "%s: argument #%d 'action' must be \"press\", \"release\" or \"repeat\" (got %s)", fn, idx,
-                 describe(L, idx, got, sizeof got));
+    return scr_raise(L, "%s: argument #%d 'action' must be \"press\", \"release\" or \"repeat\" (got %s)", fn, idx,
+                     scr_describe(L, idx, got, sizeof got));
 }
 
 // Injected input is not a world edit: it waits in its own queue for the start of the
@@ -2531,9 +1800,9 @@ static eng_event *push_event(lua_State *L, eng_script *s, const char *fn)
 {
     if (s->event_count == s->event_cap) {
         int cap = s->event_cap ? 2 * s->event_cap : 16;
-        if (cap > ENG_INPUT_QUEUE_CAPACITY) raise(L, "%s: more than %d events injected in one frame", fn, ENG_INPUT_QUEUE_CAPACITY);
+        if (cap > ENG_INPUT_QUEUE_CAPACITY) scr_raise(L, "%s: more than %d events injected in one frame", fn, ENG_INPUT_QUEUE_CAPACITY);
         eng_event *e = realloc(s->events, (size_t)cap * sizeof *e);
-        if (!e) raise(L, "%s: out of memory", fn);
+        if (!e) scr_raise(L, "%s: out of memory", fn);
         s->events = e;
         s->event_cap = cap;
     }
@@ -2544,7 +1813,7 @@ static eng_event *push_event(lua_State *L, eng_script *s, const char *fn)
 
 static int l_inject_key(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.inject_key";
     int code = check_key_name(L, 1, fn);
     int action = read_action(L, 2, fn);
@@ -2557,15 +1826,15 @@ static int l_inject_key(lua_State *L)
 
 static int l_inject_mouse(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.inject_mouse";
-    int b = (int)arg_number(L, 1, fn, "button", 1, ENG_INPUT_MAX_BUTTONS, WHOLE, "(1 left, 2 right, 3 middle)");
+    int b = (int)scr_arg_number(L, 1, fn, "button", 1, ENG_INPUT_MAX_BUTTONS, WHOLE, "(1 left, 2 right, 3 middle)");
     int action = read_action(L, 2, fn);
-    if (action == ENG_REPEAT) raise(L, "%s: argument #2 'action' must be \"press\" or \"release\" (got \"repeat\")", fn);
+    if (action == ENG_REPEAT) scr_raise(L, "%s: argument #2 'action' must be \"press\" or \"release\" (got \"repeat\")", fn);
     double x = 0, y = 0;
     if (s->host.input) eng_input_mouse_position(s->host.input, &x, &y);
-    if (!lua_isnoneornil(L, 3)) x = arg_number(L, 3, fn, "x", -1e6, 1e6, 0, "pixels");
-    if (!lua_isnoneornil(L, 4)) y = arg_number(L, 4, fn, "y", -1e6, 1e6, 0, "pixels");
+    if (!lua_isnoneornil(L, 3)) x = scr_arg_number(L, 3, fn, "x", -1e6, 1e6, 0, "pixels");
+    if (!lua_isnoneornil(L, 4)) y = scr_arg_number(L, 4, fn, "y", -1e6, 1e6, 0, "pixels");
     // A button event happens where the pointer is: move it there first.
     eng_event *e = push_event(L, s, fn);
     e->type = ENG_EVENT_MOTION;
@@ -2582,10 +1851,10 @@ static int l_inject_mouse(lua_State *L)
 
 static int l_inject_motion(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.inject_motion";
-    double x = arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
-    double y = arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
+    double x = scr_arg_number(L, 1, fn, "x", -1e6, 1e6, 0, "pixels");
+    double y = scr_arg_number(L, 2, fn, "y", -1e6, 1e6, 0, "pixels");
     eng_event *e = push_event(L, s, fn);
     e->type = ENG_EVENT_MOTION;
     e->x = x;
@@ -2595,10 +1864,10 @@ static int l_inject_motion(lua_State *L)
 
 static int l_inject_scroll(lua_State *L)
 {
-    eng_script *s = get_script(L);
+    eng_script *s = scr_get_script(L);
     const char *fn = "seiche.inject_scroll";
-    double dx = arg_number(L, 1, fn, "dx", -1e4, 1e4, 0, "steps");
-    double dy = arg_number(L, 2, fn, "dy", -1e4, 1e4, 0, "steps");
+    double dx = scr_arg_number(L, 1, fn, "dx", -1e4, 1e4, 0, "steps");
+    double dy = scr_arg_number(L, 2, fn, "dy", -1e4, 1e4, 0, "steps");
     eng_event *e = push_event(L, s, fn);
     e->type = ENG_EVENT_SCROLL;
     e->dx = dx;
@@ -2632,11 +1901,11 @@ static const luaL_Reg seiche_functions[] = {
 
 static const luaL_Reg emitter_methods[] = {
     { "set", m_emitter_set }, { "set_enabled", m_emitter_set_enabled }, { "get", m_emitter_get },
-    { "remove", m_emitter_remove }, { "is_valid", m_is_valid }, { NULL, NULL },
+    { "remove", m_emitter_remove }, { "is_valid", scr_is_valid }, { NULL, NULL },
 };
 
 static const luaL_Reg sink_methods[] = {
-    { "get", m_sink_get }, { "remove", m_sink_remove }, { "is_valid", m_is_valid }, { NULL, NULL },
+    { "get", m_sink_get }, { "remove", m_sink_remove }, { "is_valid", scr_is_valid }, { NULL, NULL },
 };
 
 static const luaL_Reg body_methods[] = {
@@ -2648,16 +1917,16 @@ static const luaL_Reg body_methods[] = {
     { "set_velocity", m_body_set_velocity }, { "set_angular_velocity", m_body_set_angular_velocity },
     { "move_to", m_body_move_to }, { "teleport", m_body_teleport }, { "set_color", m_body_set_color },
     { "set_visible", m_body_set_visible }, { "grab", m_body_grab }, { "destroy", m_body_destroy },
-    { "is_valid", m_is_valid }, { NULL, NULL },
+    { "is_valid", scr_is_valid }, { NULL, NULL },
 };
 
 static const luaL_Reg timer_methods[] = {
-    { "cancel", m_timer_cancel }, { "remaining", m_timer_remaining }, { "is_valid", m_is_valid }, { NULL, NULL },
+    { "cancel", m_timer_cancel }, { "remaining", m_timer_remaining }, { "is_valid", scr_is_valid }, { NULL, NULL },
 };
 
 static const luaL_Reg grab_methods[] = {
     { "move", m_grab_move }, { "release", m_grab_release }, { "body", m_grab_body }, { "pivot", m_grab_pivot },
-    { "is_valid", m_is_valid }, { NULL, NULL },
+    { "is_valid", scr_is_valid }, { NULL, NULL },
 };
 
 static const luaL_Reg *const METHODS[OBJ_KIND_COUNT] = { emitter_methods, sink_methods, body_methods, timer_methods,
@@ -2687,12 +1956,13 @@ const char *const *eng_script_api_names(void)
     for (int k = 0; k < OBJ_KIND_COUNT; k++)
         for (const luaL_Reg *r = METHODS[k]; r->name; r++) {
             names[n++] = storage + used;
-            used += (size_t)snprintf(storage + used, sizeof storage - used, "%s:%s", KIND_NAME[k], r->name) + 1;
+            used += (size_t)snprintf(storage + used, sizeof storage - used, "%s:%s", scr_kind_name[k], r->name) + 1;
         }
     for (const char *const *c = CALLBACKS; *c; c++) names[n++] = *c;
     names[n] = NULL;
     return names;
 }
+
 
 static void register_api(eng_script *s)
 {
@@ -2703,20 +1973,7 @@ static void register_api(eng_script *s)
     lua_pushstring(L, "0.1");
     lua_setfield(L, -2, "version");
     lua_setglobal(L, "seiche");
-    for (int k = 0; k < OBJ_KIND_COUNT; k++) {
-        luaL_newmetatable(L, KIND_META[k]);
-        lua_newtable(L);
-        lua_pushlightuserdata(L, s);
-        luaL_setfuncs(L, METHODS[k], 1);
-        lua_setfield(L, -2, "methods");
-        static const luaL_Reg meta[] = { { "__index", m_index }, { "__newindex", m_newindex },
-                                         { "__tostring", m_tostring }, { NULL, NULL } };
-        lua_pushlightuserdata(L, s);
-        luaL_setfuncs(L, meta, 1);
-        lua_pushboolean(L, false);
-        lua_setfield(L, -2, "__metatable"); // getmetatable(h) returns false: the methods are not for editing
-        lua_pop(L, 1);
-    }
+    for (int k = 0; k < OBJ_KIND_COUNT; k++) scr_new_handle_type(L, s, (obj_kind)k, METHODS[k]);
 }
 
 // ---- running Lua ---------------------------------------------------------------------
@@ -2726,8 +1983,8 @@ static void budget_hook(lua_State *L, lua_Debug *ar)
     (void)ar;
     eng_script *s = registry_script(L);
     if (s->deadline > 0.0 && now_s() > s->deadline)
-        raise(L, "%s ran longer than its budget of %g s (an endless loop?)", s->running ? s->running : "the script",
-              s->budget_s);
+        scr_raise(L, "%s ran longer than its budget of %g s (an endless loop?)", s->running ? s->running : "the script",
+                  s->budget_s);
 }
 
 static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
@@ -2811,7 +2068,7 @@ void eng_script_destroy(eng_script *s)
         if (o->state == OBJ_FREE || o->kind != OBJ_BODY) continue;
         if (s->host.scene && o->u.body.node.index1) eng_node_destroy(s->host.scene, o->u.body.node);
         if (s->host.meshes && o->u.body.mesh.index1) eng_mesh_destroy(s->host.meshes, o->u.body.mesh);
-        body_free_data(&o->u.body);
+        scr_body_free_data(&o->u.body);
     }
     clear_commands(s);
     lua_close(s->L);
@@ -2864,7 +2121,7 @@ int eng_script_pending(const eng_script *s) { return s->command_count; }
 
 bool eng_script_set_param(eng_script *s, const char *name, double value, char *err, size_t err_size)
 {
-    pbf_params p = *current_params(s);
+    pbf_params p = *scr_current_params(s);
     if (pbf_params_set(&p, name, value, err, err_size) != PBF_OK) return false;
     if (s->host.world) {
         if (pbf_world_set_params(s->host.world, &p) != PBF_OK) {
@@ -3011,7 +2268,7 @@ static void tb_triangle(tri_builder *t, int a, int b, int c)
 static void part_point(const float pos[3], const float rot[4], float x, float y, float z, float out[3])
 {
     float l[3] = { x, y, z }, w[3];
-    quat_rotate(rot, l, w);
+    scr_quat_rotate(rot, l, w);
     for (int k = 0; k < 3; k++) out[k] = pos[k] + w[k];
 }
 
@@ -3144,8 +2401,8 @@ static void body_transform(const body_rec *b, const float pos[3], const float ro
     if (b->shape == SHAPE_PLANE) {
         float qa[4], off[3] = { b->dims[0] * b->dims[3], b->dims[1] * b->dims[3], b->dims[2] * b->dims[3] }, w[3];
         quat_from_y(b->dims, qa);
-        quat_mul(rot, qa, t->rotation);
-        quat_rotate(rot, off, w);
+        scr_quat_mul(rot, qa, t->rotation);
+        scr_quat_rotate(rot, off, w);
         for (int k = 0; k < 3; k++) t->translation[k] = pos[k] + w[k];
     } else {
         memcpy(t->translation, pos, 3 * sizeof(float));
@@ -3210,8 +2467,8 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
             case SHAPE_CAPSULE: pp->type = PHYS_SHAPE_CAPSULE; pp->capsule = (phys_capsule){ dm[0], dm[1] }; break;
             default: pp->type = PHYS_SHAPE_CYLINDER; pp->cylinder = (phys_cylinder){ dm[0], dm[1] }; break;
             }
-            pp->position = pv(bp->pos);
-            pp->rotation = pq(bp->rot);
+            pp->position = scr_pv(bp->pos);
+            pp->rotation = scr_pq(bp->rot);
         }
         phys_compound cm = { parts, b->part_count };
         r = phys_shape_create_compound(w, &cm, &b->shape_id);
@@ -3231,10 +2488,10 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
             float o[3] = { sd.compound.frame_origin.x, sd.compound.frame_origin.y, sd.compound.frame_origin.z }, wo[3];
             float fr[4] = { sd.compound.frame_rotation.x, sd.compound.frame_rotation.y, sd.compound.frame_rotation.z,
                             sd.compound.frame_rotation.w }, qb[4];
-            quat_rotate(q, o, wo);
-            quat_mul(q, fr, qb);
+            scr_quat_rotate(q, o, wo);
+            scr_quat_mul(q, fr, qb);
             d.position = (phys_vec3){ d.position.x + wo[0], d.position.y + wo[1], d.position.z + wo[2] };
-            d.orientation = pq(qb);
+            d.orientation = scr_pq(qb);
         }
     }
     if (phys_body_create(w, &d, &b->id) != PHYS_OK) {
@@ -3242,8 +2499,8 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
         phys_shape_destroy(w, b->shape_id);
         return st;
     }
-    if (b->has_factors && (phys_body_set_linear_factor(w, b->id, pv(b->linear_factor)) != PHYS_OK ||
-                           phys_body_set_angular_factor(w, b->id, pv(b->angular_factor)) != PHYS_OK)) {
+    if (b->has_factors && (phys_body_set_linear_factor(w, b->id, scr_pv(b->linear_factor)) != PHYS_OK ||
+                           phys_body_set_angular_factor(w, b->id, scr_pv(b->angular_factor)) != PHYS_OK)) {
         eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
         phys_body_destroy(w, b->id);
         phys_shape_destroy(w, b->shape_id);
@@ -3299,7 +2556,7 @@ static eng_script_status apply_move_to(eng_script *s, const command *c, body_rec
                     (float)((c->u.pose.pos[2] - p.z) / dt) };
     // Rotation delta: target * conj(current), as axis * angle, the short way round.
     float inv[4] = { -q.x, -q.y, -q.z, q.w }, dq[4];
-    quat_mul(c->u.pose.rot, inv, dq);
+    scr_quat_mul(c->u.pose.rot, inv, dq);
     if (dq[3] < 0) for (int k = 0; k < 4; k++) dq[k] = -dq[k];
     double sn = sqrt((double)dq[0] * dq[0] + (double)dq[1] * dq[1] + (double)dq[2] * dq[2]);
     double angle = 2.0 * atan2(sn, dq[3]);
@@ -3319,7 +2576,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
 {
     pbf_world *fw = s->host.world;
     phys_world *pw = s->host.phys;
-    obj *o = c->slot || c->gen ? obj_at(s, c->slot, c->gen) : NULL;
+    obj *o = c->slot || c->gen ? scr_obj_at(s, c->slot, c->gen) : NULL;
     switch (c->type) {
     case CMD_BLOCK:
         if (pbf_world_add_block(fw, &c->u.block, NULL) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
@@ -3410,10 +2667,10 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     case CMD_BODY_ANGULAR_VELOCITY: {
         if (!o || o->state != OBJ_LIVE) break;
         body_rec *b = &o->u.body;
-        phys_vec3 v = pv(c->u.vec.v);
+        phys_vec3 v = scr_pv(c->u.vec.v);
         phys_result r;
         if (c->type == CMD_BODY_IMPULSE)
-            r = c->u.vec.at_point ? phys_body_apply_impulse_at_point(pw, b->id, v, pv(c->u.vec.p), true)
+            r = c->u.vec.at_point ? phys_body_apply_impulse_at_point(pw, b->id, v, scr_pv(c->u.vec.p), true)
                                   : phys_body_apply_impulse(pw, b->id, v, true);
         else if (c->type == CMD_BODY_ANGULAR_IMPULSE) r = phys_body_apply_angular_impulse(pw, b->id, v, true);
         else if (c->type == CMD_BODY_VELOCITY) r = phys_body_set_linear_velocity(pw, b->id, v);
@@ -3428,8 +2685,8 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     case CMD_BODY_TELEPORT: {
         if (!o || o->state != OBJ_LIVE) break;
         body_rec *b = &o->u.body;
-        phys_vec3 p = pv(c->u.pose.pos);
-        phys_quat q = pq(c->u.pose.rot);
+        phys_vec3 p = scr_pv(c->u.pose.pos);
+        phys_quat q = scr_pq(c->u.pose.rot);
         if (s->host.coupling && cpl_has_body(s->host.coupling, b->id)) {
             if (cpl_teleport_body(s->host.coupling, b->id, p, q) != CPL_OK)
                 return refuse(s, c, "%s", cpl_last_error(s->host.coupling));
@@ -3446,11 +2703,11 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         break;
     case CMD_GRAB_ADD: {
         if (!o) break;
-        obj *b = obj_at(s, o->u.grab.body, o->u.grab.body_gen);
+        obj *b = scr_obj_at(s, o->u.grab.body, o->u.grab.body_gen);
         if (!b || b->state != OBJ_LIVE) break;
         phys_point_constraint_def d = phys_default_point_constraint_def();
         d.body = b->u.body.id;
-        d.pivot = pv(o->u.grab.pivot);
+        d.pivot = scr_pv(o->u.grab.pivot);
         if (o->u.grab.max_force > 0) d.max_force = o->u.grab.max_force;
         if (phys_point_constraint_create(pw, &d, &o->u.grab.id) != PHYS_OK)
             return refuse(s, c, "%s", phys_world_last_error(pw));
@@ -3459,7 +2716,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     }
     case CMD_GRAB_MOVE:
         if (!o || o->state != OBJ_LIVE || !phys_constraint_is_valid(pw, o->u.grab.id)) break;
-        if (phys_point_constraint_set_pivot(pw, o->u.grab.id, pv(c->u.vec.v)) != PHYS_OK)
+        if (phys_point_constraint_set_pivot(pw, o->u.grab.id, scr_pv(c->u.vec.v)) != PHYS_OK)
             return refuse(s, c, "%s", phys_world_last_error(pw));
         break;
     case CMD_GRAB_REMOVE:
@@ -3472,7 +2729,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         pbf_params p = *pbf_world_params(fw);
         memcpy(p.gravity, c->u.gravity, sizeof p.gravity);
         if (pbf_world_set_params(fw, &p) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        if (pw && phys_world_set_gravity(pw, pv(c->u.gravity)) != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
+        if (pw && phys_world_set_gravity(pw, scr_pv(c->u.gravity)) != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
         break;
     }
     case CMD_CAMERA: {
@@ -3572,7 +2829,7 @@ static eng_script_status fire_timers(eng_script *s, double time)
         lua_rawgeti(s->L, LUA_REGISTRYINDEX, o->u.timer.fn);
         lua_pushnumber(s->L, time);
         if (o->u.timer.period > 0) o->u.timer.due += o->u.timer.period;
-        else obj_release(s, best); // one-shot: done before it runs (it may make new timers)
+        else scr_obj_release(s, best); // one-shot: done before it runs (it may make new timers)
         eng_script_status st = run(s, 1, 0, "a timer callback");
         if (st != ENG_SCRIPT_OK) return st;
     }
