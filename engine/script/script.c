@@ -1,11 +1,9 @@
-// Lua host for scene scripts. See script.h and docs/lua-api.md; the types and the helpers the
-// bindings share (argument readers, vectors, handles) are in script_internal.h / script_args.c.
+// Lua host for scene scripts. See script.h and docs/lua-api.md; the files of the host are
+// listed in script_internal.h.
 //
 // Layout of this file:
-//   commands     world edits queued by the script, applied by eng_script_apply
 //   bindings     seiche.* functions and the methods of each handle type
 //   running      pcall with a traceback handler, the time budget hook, a memory limit
-//   apply        the commands against the pbf_world / phys_world / coupling / scene graph
 //   callbacks    on_start, on_step (+ timers), input callbacks, on_reload
 #include "engine/script/script_internal.h"
 
@@ -13,7 +11,6 @@
 #include <GLFW/glfw3.h>
 #include <lualib.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,57 +66,6 @@ static eng_script *registry_script(lua_State *L)
     eng_script *s = lua_touserdata(L, -1);
     lua_pop(L, 1);
     return s;
-}
-
-// The rotation taking +Y to the unit vector n.
-static void quat_from_y(const float n[3], float q[4])
-{
-    float d = n[1];
-    if (d < -0.999999f) {
-        q[0] = 1, q[1] = 0, q[2] = 0, q[3] = 0;
-        return;
-    }
-    // axis = y x n = (n.z, 0, -n.x), q = (axis, 1 + d) normalised
-    float x = n[2], z = -n[0], w = 1.0f + d;
-    float len = sqrtf(x * x + z * z + w * w);
-    q[0] = x / len, q[1] = 0.0f, q[2] = z / len, q[3] = w / len;
-}
-
-// ---- commands ---------------------------------------------------------------------------
-
-static command *push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn)
-{
-    if (s->command_count == s->command_cap) {
-        int cap = s->command_cap ? 2 * s->command_cap : 32;
-        if (cap > (1 << 22)) scr_raise(L, "%s: more than %d edits queued in one frame", fn, 1 << 22);
-        command *c = realloc(s->commands, (size_t)cap * sizeof *c);
-        if (!c) scr_raise(L, "%s: out of memory", fn);
-        s->commands = c;
-        s->command_cap = cap;
-    }
-    command *c = &s->commands[s->command_count++];
-    memset(c, 0, sizeof *c);
-    c->type = type;
-    c->fn = fn;
-    luaL_where(L, 1);
-    snprintf(c->where, sizeof c->where, "%s", lua_tostring(L, -1));
-    lua_pop(L, 1);
-    return c;
-}
-
-static void free_command(command *c)
-{
-    if (c->type == CMD_PARTICLES) {
-        free(c->u.particles.pos);
-        free(c->u.particles.vel);
-        c->u.particles.pos = c->u.particles.vel = NULL;
-    }
-}
-
-static void clear_commands(eng_script *s)
-{
-    for (int i = 0; i < s->command_count; i++) free_command(&s->commands[i]);
-    s->command_count = 0;
 }
 
 // ---- seiche.scene and the look -------------------------------------------------------------
@@ -361,7 +307,7 @@ static int l_set_camera(lua_State *L)
     if ((has & 3) == 3 && eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
         scr_raise(L, "seiche.set_camera: eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
                   (double)eye[2]);
-    command *c = push_command(L, s, CMD_CAMERA, "seiche.set_camera");
+    command *c = scr_push_command(L, s, CMD_CAMERA, "seiche.set_camera");
     memcpy(c->u.camera.eye, eye, sizeof eye);
     memcpy(c->u.camera.target, target, sizeof target);
     c->u.camera.fov = fov;
@@ -407,7 +353,7 @@ static int l_block(lua_State *L)
     pbf_block_def b = pbf_default_block_def();
     scr_read_box(L, 1, "seiche.block", b.min, b.max);
     check_velocity_field(L, 1, "seiche.block", "velocity", b.velocity);
-    command *c = push_command(L, s, CMD_BLOCK, "seiche.block");
+    command *c = scr_push_command(L, s, CMD_BLOCK, "seiche.block");
     c->u.block = b;
     return 0;
 }
@@ -422,7 +368,7 @@ static int l_sphere(lua_State *L)
     scr_req_position(L, 1, "seiche.sphere", "center", center);
     double r = scr_req_number(L, 1, "seiche.sphere", "radius", 0, 1000, OPEN_LO, "m");
     check_velocity_field(L, 1, "seiche.sphere", "velocity", vel);
-    command *c = push_command(L, s, CMD_SPHERE, "seiche.sphere");
+    command *c = scr_push_command(L, s, CMD_SPHERE, "seiche.sphere");
     memcpy(c->u.sphere.center, center, sizeof center);
     c->u.sphere.radius = (float)r;
     memcpy(c->u.sphere.velocity, vel, sizeof vel);
@@ -461,8 +407,8 @@ static int l_particles(lua_State *L)
     } else {
         check_velocity_field(L, 1, "seiche.particles", "velocity", v);
     }
-    // The command first (push_command may raise), then the arrays it owns.
-    command *c = push_command(L, s, CMD_PARTICLES, "seiche.particles");
+    // The command first (scr_push_command may raise), then the arrays it owns.
+    command *c = scr_push_command(L, s, CMD_PARTICLES, "seiche.particles");
     c->u.particles.pos = copy_floats(L, "seiche.particles", pos, 3 * (size_t)n);
     if (vel || v[0] != 0 || v[1] != 0 || v[2] != 0) {
         float *q = malloc(3 * (size_t)n * sizeof(float) + 1);
@@ -532,7 +478,7 @@ static int l_emitter(lua_State *L)
     uint32_t slot = scr_obj_new(L, s, OBJ_EMITTER);
     s->objs[slot].u.emitter.def = d;
     s->objs[slot].u.emitter.full_rate = full;
-    command *c = push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
+    command *c = scr_push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
     c->slot = slot;
     c->gen = s->objs[slot].generation;
     c->full_rate = full;
@@ -550,7 +496,7 @@ static int m_emitter_set(lua_State *L)
     pbf_emitter_def d = o->u.emitter.def;
     if (read_emitter(L, s, 2, "emitter:set", &d, o->u.emitter.full_rate)) o->u.emitter.full_rate = false;
     o->u.emitter.def = d;
-    command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set");
+    command *c = scr_push_command(L, s, CMD_EMITTER_SET, "emitter:set");
     c->slot = slot;
     c->gen = o->generation;
     c->full_rate = o->u.emitter.full_rate;
@@ -567,7 +513,7 @@ static int m_emitter_set_enabled(lua_State *L)
     if (!lua_isboolean(L, 2))
         scr_raise(L, "emitter:set_enabled: argument #1 'on' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
     o->u.emitter.def.enabled = lua_toboolean(L, 2);
-    command *c = push_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled");
+    command *c = scr_push_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled");
     c->slot = slot;
     c->gen = o->generation;
     c->full_rate = o->u.emitter.full_rate;
@@ -601,7 +547,7 @@ static int m_emitter_remove(lua_State *L)
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_EMITTER, "emitter:remove", &slot);
     if (o->state == OBJ_LIVE) {
-        command *c = push_command(L, s, CMD_EMITTER_REMOVE, "emitter:remove");
+        command *c = scr_push_command(L, s, CMD_EMITTER_REMOVE, "emitter:remove");
         c->u.emitter_id = o->u.emitter.id;
     }
     scr_obj_release(s, slot);
@@ -621,7 +567,7 @@ static int l_sink(lua_State *L)
     uint32_t slot = scr_obj_new(L, s, OBJ_SINK);
     memcpy(s->objs[slot].u.sink.min, mn, sizeof mn);
     memcpy(s->objs[slot].u.sink.max, mx, sizeof mx);
-    command *c = push_command(L, s, CMD_SINK_ADD, "seiche.sink");
+    command *c = scr_push_command(L, s, CMD_SINK_ADD, "seiche.sink");
     c->slot = slot;
     c->gen = s->objs[slot].generation;
     scr_push_handle(L, s, slot);
@@ -645,7 +591,7 @@ static int m_sink_remove(lua_State *L)
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_SINK, "sink:remove", &slot);
     if (o->state == OBJ_LIVE) {
-        command *c = push_command(L, s, CMD_SINK_REMOVE, "sink:remove");
+        command *c = scr_push_command(L, s, CMD_SINK_REMOVE, "sink:remove");
         c->u.sink_id = o->u.sink.id;
     }
     scr_obj_release(s, slot);
@@ -937,7 +883,7 @@ static int l_body(lua_State *L)
         if (kind == PHYS_BODY_DYNAMIC) memcpy(b.color, PALETTE[slot % 6], sizeof b.color);
         else b.color[0] = b.color[1] = b.color[2] = 0.55f;
     }
-    command *c = push_command(L, s, CMD_BODY_ADD, fn);
+    command *c = scr_push_command(L, s, CMD_BODY_ADD, fn);
     c->slot = slot;
     c->gen = o->generation;
     b.parts = NULL;
@@ -968,7 +914,7 @@ static int l_body(lua_State *L)
 }
 
 // The body's pose and velocities: from Bullet when it is in the world, else from its def.
-static void body_state(eng_script *s, obj *o, float pos[3], float rot[4], float vel[3], float ang[3])
+void scr_body_state(eng_script *s, obj *o, float pos[3], float rot[4], float vel[3], float ang[3])
 {
     body_rec *b = &o->u.body;
     phys_vec3 p = b->def.position, v = b->def.linear_velocity, w = b->def.angular_velocity;
@@ -988,7 +934,7 @@ static int m_body_position(lua_State *L)
 {
     obj *o = scr_check_self(L, OBJ_BODY, "body:position", NULL);
     float p[3];
-    body_state(scr_get_script(L), o, p, NULL, NULL, NULL);
+    scr_body_state(scr_get_script(L), o, p, NULL, NULL, NULL);
     scr_push_vec3(L, p[0], p[1], p[2]);
     return 1;
 }
@@ -997,7 +943,7 @@ static int m_body_rotation(lua_State *L)
 {
     obj *o = scr_check_self(L, OBJ_BODY, "body:rotation", NULL);
     float q[4];
-    body_state(scr_get_script(L), o, NULL, q, NULL, NULL);
+    scr_body_state(scr_get_script(L), o, NULL, q, NULL, NULL);
     scr_push_quat(L, q);
     return 1;
 }
@@ -1006,7 +952,7 @@ static int m_body_velocity(lua_State *L)
 {
     obj *o = scr_check_self(L, OBJ_BODY, "body:velocity", NULL);
     float v[3];
-    body_state(scr_get_script(L), o, NULL, NULL, v, NULL);
+    scr_body_state(scr_get_script(L), o, NULL, NULL, v, NULL);
     scr_push_vec3(L, v[0], v[1], v[2]);
     return 1;
 }
@@ -1015,7 +961,7 @@ static int m_body_angular_velocity(lua_State *L)
 {
     obj *o = scr_check_self(L, OBJ_BODY, "body:angular_velocity", NULL);
     float w[3];
-    body_state(scr_get_script(L), o, NULL, NULL, NULL, w);
+    scr_body_state(scr_get_script(L), o, NULL, NULL, NULL, w);
     scr_push_vec3(L, w[0], w[1], w[2]);
     return 1;
 }
@@ -1025,7 +971,7 @@ static int m_body_velocity_at(lua_State *L)
     obj *o = scr_check_self(L, OBJ_BODY, "body:velocity_at", NULL);
     float pt[3], p[3], v[3], w[3];
     scr_arg_vec(L, 2, "body:velocity_at", "point", -MAX_COORD, MAX_COORD, "m", pt);
-    body_state(scr_get_script(L), o, p, NULL, v, w);
+    scr_body_state(scr_get_script(L), o, p, NULL, v, w);
     float r[3] = { pt[0] - p[0], pt[1] - p[1], pt[2] - p[2] };
     scr_push_vec3(L, v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2], v[2] + w[0] * r[1] - w[1] * r[0]);
     return 1;
@@ -1091,7 +1037,7 @@ static command *body_edit(lua_State *L, const char *fn, cmd_type type, bool dyna
                   "kinematic body)", fn, scr_body_kind_name[t]);
     if (t == PHYS_BODY_STATIC)
         scr_raise(L, "%s: the body is static: it never moves (make it kind = \"kinematic\" to move it by script)", fn);
-    command *c = push_command(L, s, type, fn);
+    command *c = scr_push_command(L, s, type, fn);
     c->slot = slot;
     c->gen = o->generation;
     return c;
@@ -1158,7 +1104,7 @@ static void read_pose_args(lua_State *L, const char *fn, obj *o, float pos[3], f
 {
     scr_arg_vec(L, 2, fn, "position", -MAX_COORD, MAX_COORD, "m", pos);
     if (lua_isnoneornil(L, 3)) {
-        body_state(scr_get_script(L), o, NULL, rot, NULL, NULL);
+        scr_body_state(scr_get_script(L), o, NULL, rot, NULL, NULL);
         return;
     }
     // scr_opt_rotation reads a field: wrap the argument in a table.
@@ -1211,7 +1157,7 @@ static int m_body_set_color(lua_State *L)
     char what[] = "argument #1 'color'";
     scr_check_vec_at(L, 2, "body:set_color", what, 3, 0.0, 1.0, 0, "", c3);
     memcpy(o->u.body.color, c3, sizeof c3);
-    command *c = push_command(L, s, CMD_BODY_LOOK, "body:set_color");
+    command *c = scr_push_command(L, s, CMD_BODY_LOOK, "body:set_color");
     c->slot = slot;
     c->gen = o->generation;
     return 0;
@@ -1226,7 +1172,7 @@ static int m_body_set_visible(lua_State *L)
     if (!lua_isboolean(L, 2))
         scr_raise(L, "body:set_visible: argument #1 'visible' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
     o->u.body.visible = lua_toboolean(L, 2);
-    command *c = push_command(L, s, CMD_BODY_LOOK, "body:set_visible");
+    command *c = scr_push_command(L, s, CMD_BODY_LOOK, "body:set_visible");
     c->slot = slot;
     c->gen = o->generation;
     return 0;
@@ -1248,7 +1194,7 @@ static int m_body_destroy(lua_State *L)
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_BODY, "body:destroy", &slot);
     if (o->state == OBJ_LIVE) {
-        command *c = push_command(L, s, CMD_BODY_REMOVE, "body:destroy");
+        command *c = scr_push_command(L, s, CMD_BODY_REMOVE, "body:destroy");
         c->u.body.id = o->u.body.id;
         c->u.body.shape = o->u.body.shape_id;
         c->u.body.node = o->u.body.node;
@@ -1278,7 +1224,7 @@ static int m_body_grab(lua_State *L)
     go->u.grab.body_gen = body_gen;
     memcpy(go->u.grab.pivot, p, sizeof p);
     go->u.grab.max_force = (float)max_force;
-    command *c = push_command(L, s, CMD_GRAB_ADD, fn);
+    command *c = scr_push_command(L, s, CMD_GRAB_ADD, fn);
     c->slot = g;
     c->gen = go->generation;
     scr_push_handle(L, s, g);
@@ -1295,7 +1241,7 @@ static int m_grab_move(lua_State *L)
     float p[3];
     scr_arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
     memcpy(o->u.grab.pivot, p, sizeof p);
-    command *c = push_command(L, s, CMD_GRAB_MOVE, "grab:move");
+    command *c = scr_push_command(L, s, CMD_GRAB_MOVE, "grab:move");
     c->slot = slot;
     c->gen = o->generation;
     memcpy(c->u.vec.v, p, sizeof p);
@@ -1308,7 +1254,7 @@ static int m_grab_release(lua_State *L)
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_GRAB, "grab:release", &slot);
     if (o->state == OBJ_LIVE) {
-        command *c = push_command(L, s, CMD_GRAB_REMOVE, "grab:release");
+        command *c = scr_push_command(L, s, CMD_GRAB_REMOVE, "grab:release");
         c->u.constraint = o->u.grab.id;
     }
     scr_obj_release(s, slot);
@@ -1405,7 +1351,7 @@ static int l_set_param(lua_State *L)
     }
     s->pending_params = p;
     s->have_pending_params = true;
-    command *c = push_command(L, s, CMD_PARAMS, fn);
+    command *c = scr_push_command(L, s, CMD_PARAMS, fn);
     c->u.params = p;
     return 0;
 }
@@ -1442,7 +1388,7 @@ static int l_set_gravity(lua_State *L)
     memcpy(p.gravity, g, sizeof g);
     s->pending_params = p;
     s->have_pending_params = true;
-    command *c = push_command(L, s, CMD_GRAVITY, "seiche.set_gravity");
+    command *c = scr_push_command(L, s, CMD_GRAVITY, "seiche.set_gravity");
     memcpy(c->u.gravity, g, sizeof g);
     return 0;
 }
@@ -2070,7 +2016,7 @@ void eng_script_destroy(eng_script *s)
         if (s->host.meshes && o->u.body.mesh.index1) eng_mesh_destroy(s->host.meshes, o->u.body.mesh);
         scr_body_free_data(&o->u.body);
     }
-    clear_commands(s);
+    scr_clear_commands(s);
     lua_close(s->L);
     free(s->commands);
     free(s->objs);
@@ -2133,668 +2079,6 @@ bool eng_script_set_param(eng_script *s, const char *name, double value, char *e
         s->config.params = p;
     }
     return true;
-}
-
-// ---- applying the queued edits ------------------------------------------------------------
-
-static eng_script_status refuse(eng_script *s, const command *c, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-static eng_script_status refuse(eng_script *s, const command *c, const char *fmt, ...)
-{
-    char msg[2048];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    snprintf(s->error, sizeof s->error, "%s%s: %s", c->where, c->fn, msg);
-    return ENG_SCRIPT_ERROR;
-}
-
-// A triangle mesh of a convex hull: each face's points in order around its normal.
-static eng_mesh_id hull_mesh(eng_mesh_store *store, const phys_shape_desc *d)
-{
-    const phys_hull_desc *h = &d->hull;
-    uint32_t np = h->point_count;
-    float *pos = malloc((size_t)h->plane_count * np * 3 * sizeof(float) + 4);
-    uint32_t *idx = malloc((size_t)h->plane_count * np * 3 * sizeof(uint32_t) + 4);
-    uint32_t *face = malloc((size_t)np * sizeof(uint32_t) + 4);
-    float *ang = malloc((size_t)np * sizeof(float) + 4);
-    eng_mesh_id id = ENG_NULL_MESH;
-    if (!pos || !idx || !face || !ang) goto done;
-    float scale = 0;
-    for (uint32_t i = 0; i < np; i++)
-        scale = fmaxf(scale, fmaxf(fabsf(h->points[i].x), fmaxf(fabsf(h->points[i].y), fabsf(h->points[i].z))));
-    float eps = 1e-4f * scale + 1e-6f;
-    int nv = 0, ni = 0;
-    for (uint32_t f = 0; f < h->plane_count; f++) {
-        const phys_hull_plane *pl = &h->planes[f];
-        float n[3] = { pl->normal.x, pl->normal.y, pl->normal.z };
-        uint32_t k = 0;
-        float c[3] = { 0, 0, 0 };
-        for (uint32_t i = 0; i < np; i++) {
-            const phys_vec3 *p = &h->points[i];
-            if (fabsf(n[0] * p->x + n[1] * p->y + n[2] * p->z - pl->offset) <= eps) {
-                face[k++] = i;
-                c[0] += p->x, c[1] += p->y, c[2] += p->z;
-            }
-        }
-        if (k < 3) continue;
-        for (int a = 0; a < 3; a++) c[a] /= (float)k;
-        float u[3] = { 1, 0, 0 };
-        if (fabsf(n[0]) > 0.9f) u[0] = 0, u[1] = 1;
-        float dn = u[0] * n[0] + u[1] * n[1] + u[2] * n[2];
-        for (int a = 0; a < 3; a++) u[a] -= dn * n[a];
-        float v[3] = { n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0] };
-        for (uint32_t i = 0; i < k; i++) {
-            const phys_vec3 *p = &h->points[face[i]];
-            float r[3] = { p->x - c[0], p->y - c[1], p->z - c[2] };
-            ang[i] = atan2f(r[0] * v[0] + r[1] * v[1] + r[2] * v[2], r[0] * u[0] + r[1] * u[1] + r[2] * u[2]);
-        }
-        for (uint32_t i = 1; i < k; i++) // insertion sort by angle (faces are small)
-            for (uint32_t j = i; j > 0 && ang[j - 1] > ang[j]; j--) {
-                float ta = ang[j];
-                ang[j] = ang[j - 1], ang[j - 1] = ta;
-                uint32_t tf = face[j];
-                face[j] = face[j - 1], face[j - 1] = tf;
-            }
-        int base = nv;
-        for (uint32_t i = 0; i < k; i++) {
-            const phys_vec3 *p = &h->points[face[i]];
-            pos[3 * nv] = p->x, pos[3 * nv + 1] = p->y, pos[3 * nv + 2] = p->z;
-            nv++;
-        }
-        for (uint32_t i = 1; i + 1 < k; i++) {
-            idx[ni++] = (uint32_t)base;
-            idx[ni++] = (uint32_t)base + i;
-            idx[ni++] = (uint32_t)base + i + 1;
-        }
-    }
-    if (ni > 0) id = eng_mesh_create_triangles(store, pos, nv, idx, ni);
-done:
-    free(pos);
-    free(idx);
-    free(face);
-    free(ang);
-    return id;
-}
-
-// ---- compound meshes: every part's triangles, in the body frame ---------------------------
-
-typedef struct tri_builder {
-    float *pos;
-    uint32_t *idx;
-    int nv, ni, cap_v, cap_i;
-    bool failed;
-} tri_builder;
-
-static int tb_vertex(tri_builder *t, const float p[3])
-{
-    if (t->nv == t->cap_v) {
-        int cap = t->cap_v ? 2 * t->cap_v : 256;
-        float *n = realloc(t->pos, (size_t)cap * 3 * sizeof *n);
-        if (!n) {
-            t->failed = true;
-            return 0;
-        }
-        t->pos = n;
-        t->cap_v = cap;
-    }
-    memcpy(t->pos + 3 * t->nv, p, 3 * sizeof(float));
-    return t->nv++;
-}
-
-static void tb_triangle(tri_builder *t, int a, int b, int c)
-{
-    if (t->failed) return;
-    if (t->ni + 3 > t->cap_i) {
-        int cap = t->cap_i ? 2 * t->cap_i : 768;
-        uint32_t *n = realloc(t->idx, (size_t)cap * sizeof *n);
-        if (!n) {
-            t->failed = true;
-            return;
-        }
-        t->idx = n;
-        t->cap_i = cap;
-    }
-    t->idx[t->ni++] = (uint32_t)a;
-    t->idx[t->ni++] = (uint32_t)b;
-    t->idx[t->ni++] = (uint32_t)c;
-}
-
-// A point of a part (its own frame) moved into the body frame.
-static void part_point(const float pos[3], const float rot[4], float x, float y, float z, float out[3])
-{
-    float l[3] = { x, y, z }, w[3];
-    scr_quat_rotate(rot, l, w);
-    for (int k = 0; k < 3; k++) out[k] = pos[k] + w[k];
-}
-
-// A solid of revolution about the part's y axis from a profile of (radius, y) pairs, bottom
-// to top; counter-clockwise seen from outside.
-static void tb_lathe(tri_builder *t, const float pos[3], const float rot[4], const float (*prof)[2], int np)
-{
-    enum { SEG = 20 };
-    int base = t->nv;
-    for (int j = 0; j < np; j++)
-        for (int i = 0; i < SEG; i++) {
-            float a = 2.0f * (float)PI * (float)i / SEG, p[3];
-            part_point(pos, rot, prof[j][0] * cosf(a), prof[j][1], prof[j][0] * sinf(a), p);
-            tb_vertex(t, p);
-        }
-    for (int j = 0; j + 1 < np; j++)
-        for (int i = 0; i < SEG; i++) {
-            int a = base + j * SEG + i, b = base + j * SEG + (i + 1) % SEG;
-            int c = base + (j + 1) * SEG + (i + 1) % SEG, d = base + (j + 1) * SEG + i;
-            if (prof[j][0] > 0.0f) tb_triangle(t, a, d, b);
-            if (prof[j + 1][0] > 0.0f) tb_triangle(t, b, d, c);
-        }
-}
-
-static void tb_part(tri_builder *t, const phys_shape_desc *d, const float pos[3], const float rot[4])
-{
-    enum { RINGS = 8 };
-    float prof[2 * RINGS + 4][2];
-    int np = 0;
-    switch (d->type) {
-    case PHYS_SHAPE_BOX: {
-        const float h[3] = { d->box.half_extents.x, d->box.half_extents.y, d->box.half_extents.z };
-        for (int a = 0; a < 3; a++)
-            for (int sgn = -1; sgn <= 1; sgn += 2) {
-                int u = (a + 1) % 3, v = (a + 2) % 3, first = t->nv;
-                static const float cu[4] = { -1, 1, 1, -1 }, cv[4] = { -1, -1, 1, 1 };
-                for (int k = 0; k < 4; k++) {
-                    float l[3], p[3];
-                    l[a] = (float)sgn * h[a];
-                    l[u] = cu[k] * h[u];
-                    l[v] = cv[k] * h[v];
-                    part_point(pos, rot, l[0], l[1], l[2], p);
-                    tb_vertex(t, p);
-                }
-                if (sgn > 0) {
-                    tb_triangle(t, first, first + 1, first + 2);
-                    tb_triangle(t, first, first + 2, first + 3);
-                } else {
-                    tb_triangle(t, first, first + 2, first + 1);
-                    tb_triangle(t, first, first + 3, first + 2);
-                }
-            }
-        return;
-    }
-    case PHYS_SHAPE_CYLINDER: {
-        float r = d->cylinder.radius, hh = d->cylinder.half_height;
-        const float cyl[4][2] = { { 0, -hh }, { r, -hh }, { r, hh }, { 0, hh } };
-        tb_lathe(t, pos, rot, cyl, 4);
-        return;
-    }
-    case PHYS_SHAPE_SPHERE:
-    case PHYS_SHAPE_CAPSULE: {
-        float r = d->type == PHYS_SHAPE_SPHERE ? d->sphere.radius : d->capsule.radius;
-        float hh = d->type == PHYS_SHAPE_SPHERE ? 0.0f : d->capsule.half_height;
-        for (int j = 0; j <= RINGS; j++) { // bottom cap, from the pole up to the equator
-            float phi = 0.5f * (float)PI * (float)j / RINGS;
-            prof[np][0] = r * sinf(phi);
-            prof[np][1] = -hh - r * cosf(phi);
-            np++;
-        }
-        for (int j = hh > 0.0f ? 0 : 1; j <= RINGS; j++) { // top cap, from the equator to the pole
-            float phi = 0.5f * (float)PI * (float)j / RINGS;
-            prof[np][0] = r * cosf(phi);
-            prof[np][1] = hh + r * sinf(phi);
-            np++;
-        }
-        prof[RINGS][0] = r;
-        prof[np - 1][0] = 0.0f;
-        prof[0][0] = 0.0f;
-        tb_lathe(t, pos, rot, (const float(*)[2])prof, np);
-        return;
-    }
-    default: return; // hull parts are not made from scripts
-    }
-}
-
-static eng_mesh_id compound_mesh(eng_script *s, body_rec *b)
-{
-    phys_shape_desc d;
-    if (phys_shape_get_desc(s->host.phys, b->shape_id, &d) != PHYS_OK) return ENG_NULL_MESH;
-    tri_builder t;
-    memset(&t, 0, sizeof t);
-    for (uint32_t i = 0; i < d.compound.child_count; i++) {
-        const phys_compound_child *c = &d.compound.children[i];
-        float pos[3] = { c->position.x, c->position.y, c->position.z };
-        float rot[4] = { c->rotation.x, c->rotation.y, c->rotation.z, c->rotation.w };
-        tb_part(&t, &c->desc, pos, rot);
-    }
-    eng_mesh_id id = ENG_NULL_MESH;
-    if (!t.failed && t.ni > 0) id = eng_mesh_create_triangles(s->host.meshes, t.pos, t.nv, t.idx, t.ni);
-    free(t.pos);
-    free(t.idx);
-    return id;
-}
-
-static eng_mesh_id body_mesh(eng_script *s, body_rec *b)
-{
-    eng_mesh_store *m = s->host.meshes;
-    switch (b->shape) {
-    case SHAPE_BOX: return eng_mesh_create_box(m, b->dims);
-    case SHAPE_SPHERE: return eng_mesh_create_sphere(m, b->dims[0]);
-    case SHAPE_CAPSULE: return eng_mesh_create_capsule(m, b->dims[0], b->dims[1]);
-    case SHAPE_CYLINDER: return eng_mesh_create_cylinder(m, b->dims[0], b->dims[1]);
-    case SHAPE_PLANE: return eng_mesh_create_plane(m, 10.0f, 10.0f);
-    case SHAPE_MESH:
-        return eng_mesh_create_triangles(m, b->points, (int)b->point_count, b->indices, (int)b->index_count);
-    case SHAPE_HULL: {
-        phys_shape_desc d;
-        if (phys_shape_get_desc(s->host.phys, b->shape_id, &d) != PHYS_OK) return ENG_NULL_MESH;
-        return hull_mesh(m, &d);
-    }
-    case SHAPE_COMPOUND: return compound_mesh(s, b);
-    default: return ENG_NULL_MESH;
-    }
-}
-
-static void body_transform(const body_rec *b, const float pos[3], const float rot[4], eng_transform *t)
-{
-    *t = eng_identity_transform();
-    if (b->shape == SHAPE_PLANE) {
-        float qa[4], off[3] = { b->dims[0] * b->dims[3], b->dims[1] * b->dims[3], b->dims[2] * b->dims[3] }, w[3];
-        quat_from_y(b->dims, qa);
-        scr_quat_mul(rot, qa, t->rotation);
-        scr_quat_rotate(rot, off, w);
-        for (int k = 0; k < 3; k++) t->translation[k] = pos[k] + w[k];
-    } else {
-        memcpy(t->translation, pos, 3 * sizeof(float));
-        memcpy(t->rotation, rot, 4 * sizeof(float));
-    }
-    float len = sqrtf(t->rotation[0] * t->rotation[0] + t->rotation[1] * t->rotation[1] + t->rotation[2] * t->rotation[2] +
-                      t->rotation[3] * t->rotation[3]);
-    for (int k = 0; k < 4; k++) t->rotation[k] /= len;
-}
-
-static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
-{
-    body_rec *b = &o->u.body;
-    phys_world *w = s->host.phys;
-    phys_result r = PHYS_OK;
-    switch (b->shape) {
-    case SHAPE_BOX: {
-        phys_box box = { { b->dims[0], b->dims[1], b->dims[2] } };
-        r = phys_shape_create_box(w, &box, &b->shape_id);
-        break;
-    }
-    case SHAPE_SPHERE: {
-        phys_sphere sp = { b->dims[0] };
-        r = phys_shape_create_sphere(w, &sp, &b->shape_id);
-        break;
-    }
-    case SHAPE_CAPSULE: {
-        phys_capsule cp = { b->dims[0], b->dims[1] };
-        r = phys_shape_create_capsule(w, &cp, &b->shape_id);
-        break;
-    }
-    case SHAPE_CYLINDER: {
-        phys_cylinder cy = { b->dims[0], b->dims[1] };
-        r = phys_shape_create_cylinder(w, &cy, &b->shape_id);
-        break;
-    }
-    case SHAPE_PLANE: {
-        phys_plane pl = { { b->dims[0], b->dims[1], b->dims[2] }, b->dims[3] };
-        r = phys_shape_create_plane(w, &pl, &b->shape_id);
-        break;
-    }
-    case SHAPE_HULL: {
-        phys_convex_hull h = { (const phys_vec3 *)b->points, b->point_count };
-        r = phys_shape_create_convex_hull(w, &h, &b->shape_id);
-        break;
-    }
-    case SHAPE_MESH: {
-        phys_triangle_mesh m = { (const phys_vec3 *)b->points, b->point_count, b->indices, b->index_count / 3 };
-        r = phys_shape_create_triangle_mesh(w, &m, &b->shape_id);
-        break;
-    }
-    case SHAPE_COMPOUND: {
-        phys_compound_part parts[MAX_BODY_PARTS];
-        memset(parts, 0, sizeof parts);
-        for (uint32_t i = 0; i < b->part_count; i++) {
-            const body_part *bp = &b->parts[i];
-            phys_compound_part *pp = &parts[i];
-            const float *dm = bp->dims;
-            switch (bp->shape) {
-            case SHAPE_BOX: pp->type = PHYS_SHAPE_BOX; pp->box.half_extents = (phys_vec3){ dm[0], dm[1], dm[2] }; break;
-            case SHAPE_SPHERE: pp->type = PHYS_SHAPE_SPHERE; pp->sphere.radius = dm[0]; break;
-            case SHAPE_CAPSULE: pp->type = PHYS_SHAPE_CAPSULE; pp->capsule = (phys_capsule){ dm[0], dm[1] }; break;
-            default: pp->type = PHYS_SHAPE_CYLINDER; pp->cylinder = (phys_cylinder){ dm[0], dm[1] }; break;
-            }
-            pp->position = scr_pv(bp->pos);
-            pp->rotation = scr_pq(bp->rot);
-        }
-        phys_compound cm = { parts, b->part_count };
-        r = phys_shape_create_compound(w, &cm, &b->shape_id);
-        break;
-    }
-    default: break;
-    }
-    if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(w));
-    phys_body_def d = b->def;
-    d.shape = b->shape_id;
-    if (b->shape == SHAPE_COMPOUND) {
-        // The script placed the parts' frame; the body's frame sits at the centre of mass,
-        // along the principal axes: position P + Q frame_origin, orientation Q frame_rotation.
-        phys_shape_desc sd;
-        if (phys_shape_get_desc(w, b->shape_id, &sd) == PHYS_OK) {
-            float q[4] = { d.orientation.x, d.orientation.y, d.orientation.z, d.orientation.w };
-            float o[3] = { sd.compound.frame_origin.x, sd.compound.frame_origin.y, sd.compound.frame_origin.z }, wo[3];
-            float fr[4] = { sd.compound.frame_rotation.x, sd.compound.frame_rotation.y, sd.compound.frame_rotation.z,
-                            sd.compound.frame_rotation.w }, qb[4];
-            scr_quat_rotate(q, o, wo);
-            scr_quat_mul(q, fr, qb);
-            d.position = (phys_vec3){ d.position.x + wo[0], d.position.y + wo[1], d.position.z + wo[2] };
-            d.orientation = scr_pq(qb);
-        }
-    }
-    if (phys_body_create(w, &d, &b->id) != PHYS_OK) {
-        eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
-        phys_shape_destroy(w, b->shape_id);
-        return st;
-    }
-    if (b->has_factors && (phys_body_set_linear_factor(w, b->id, scr_pv(b->linear_factor)) != PHYS_OK ||
-                           phys_body_set_angular_factor(w, b->id, scr_pv(b->angular_factor)) != PHYS_OK)) {
-        eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
-        phys_body_destroy(w, b->id);
-        phys_shape_destroy(w, b->shape_id);
-        return st;
-    }
-    if (s->host.coupling) {
-        cpl_body_def cd = cpl_default_body_def();
-        cd.two_way = b->two_way;
-        cpl_result cr = cpl_add_body(s->host.coupling, b->id, &cd);
-        if (cr != CPL_OK) {
-            eng_script_status st = refuse(s, c, "%s%s", cpl_last_error(s->host.coupling),
-                                          cr == CPL_ERR_CAPACITY ? " (the fluid couples a limited number of bodies at a "
-                                                                   "time: destroy one before making another)" : "");
-            phys_body_destroy(w, b->id);
-            phys_shape_destroy(w, b->shape_id);
-            return st;
-        }
-    }
-    o->state = OBJ_LIVE;
-    if (s->host.scene && s->host.meshes) {
-        b->mesh = body_mesh(s, b);
-        eng_node_def nd = eng_default_node_def();
-        nd.parent = s->host.root;
-        nd.mesh = b->mesh;
-        memcpy(nd.color, b->color, sizeof nd.color);
-        nd.visible = b->visible;
-        float pos[3] = { d.position.x, d.position.y, d.position.z }, rot[4] = { d.orientation.x, d.orientation.y,
-                                                                                   d.orientation.z, d.orientation.w };
-        body_transform(b, pos, rot, &nd.local);
-        b->node = eng_node_create(s->host.scene, &nd);
-    }
-    return ENG_SCRIPT_OK;
-}
-
-static void body_remove_ids(eng_script *s, phys_body_id id, phys_shape_id shape, eng_node_id node, eng_mesh_id mesh)
-{
-    if (s->host.coupling && cpl_has_body(s->host.coupling, id)) cpl_remove_body(s->host.coupling, id);
-    if (s->host.phys && phys_body_is_valid(s->host.phys, id)) phys_body_destroy(s->host.phys, id);
-    if (s->host.phys && phys_shape_is_valid(s->host.phys, shape)) phys_shape_destroy(s->host.phys, shape);
-    if (s->host.scene && node.index1) eng_node_destroy(s->host.scene, node);
-    if (s->host.meshes && mesh.index1) eng_mesh_destroy(s->host.meshes, mesh);
-}
-
-// Velocities that take a kinematic body from its pose to (pos, rot) in one step of dt.
-static eng_script_status apply_move_to(eng_script *s, const command *c, body_rec *b)
-{
-    phys_world *w = s->host.phys;
-    phys_vec3 p;
-    phys_quat q;
-    phys_body_get_pose(w, b->id, &p, &q);
-    double dt = s->host.dt;
-    phys_vec3 v = { (float)((c->u.pose.pos[0] - p.x) / dt), (float)((c->u.pose.pos[1] - p.y) / dt),
-                    (float)((c->u.pose.pos[2] - p.z) / dt) };
-    // Rotation delta: target * conj(current), as axis * angle, the short way round.
-    float inv[4] = { -q.x, -q.y, -q.z, q.w }, dq[4];
-    scr_quat_mul(c->u.pose.rot, inv, dq);
-    if (dq[3] < 0) for (int k = 0; k < 4; k++) dq[k] = -dq[k];
-    double sn = sqrt((double)dq[0] * dq[0] + (double)dq[1] * dq[1] + (double)dq[2] * dq[2]);
-    double angle = 2.0 * atan2(sn, dq[3]);
-    phys_vec3 om = { 0, 0, 0 };
-    if (sn > 1e-9) {
-        double k = angle / (sn * dt);
-        om = (phys_vec3){ (float)(dq[0] * k), (float)(dq[1] * k), (float)(dq[2] * k) };
-    }
-    if (phys_body_set_linear_velocity(w, b->id, v) != PHYS_OK || phys_body_set_angular_velocity(w, b->id, om) != PHYS_OK)
-        return refuse(s, c, "%s", phys_world_last_error(w));
-    b->target_mode = true;
-    b->target_step = s->host.frame + 1;
-    return ENG_SCRIPT_OK;
-}
-
-static eng_script_status apply_one(eng_script *s, const command *c)
-{
-    pbf_world *fw = s->host.world;
-    phys_world *pw = s->host.phys;
-    obj *o = c->slot || c->gen ? scr_obj_at(s, c->slot, c->gen) : NULL;
-    switch (c->type) {
-    case CMD_BLOCK:
-        if (pbf_world_add_block(fw, &c->u.block, NULL) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        break;
-    case CMD_SPHERE: {
-        const pbf_params *p = pbf_world_params(fw);
-        float sp = 2.0f * p->particle_radius, r = c->u.sphere.radius;
-        static const char axis[] = "xyz";
-        const eng_scene_config *cf = &s->config;
-        for (int k = 0; k < 3; k++)
-            if (c->u.sphere.center[k] - r < cf->domain_min[k] || c->u.sphere.center[k] + r > cf->domain_max[k])
-                return refuse(s, c, "the sphere's %c range [%g, %g] must lie inside the domain [%g, %g]", axis[k],
-                              (double)(c->u.sphere.center[k] - r), (double)(c->u.sphere.center[k] + r),
-                              (double)cf->domain_min[k], (double)cf->domain_max[k]);
-        int n = (int)floorf(r / sp);
-        uint64_t est = (uint64_t)(2 * n + 1) * (uint64_t)(2 * n + 1) * (uint64_t)(2 * n + 1);
-        uint32_t room = pbf_world_capacity(fw) - pbf_world_particle_count(fw);
-        if (est / 2 > room) // a sphere fills about half its bounding cube
-            return refuse(s, c, "the sphere holds about %llu particles but only %u of capacity %u are free",
-                          (unsigned long long)(est * 0.5236), room, pbf_world_capacity(fw));
-        float *pos = malloc((size_t)est * 3 * sizeof(float) + 4), *vel = malloc((size_t)est * 3 * sizeof(float) + 4);
-        if (!pos || !vel) {
-            free(pos);
-            free(vel);
-            return refuse(s, c, "out of memory");
-        }
-        uint32_t m = 0;
-        for (int z = -n; z <= n; z++)
-            for (int y = -n; y <= n; y++)
-                for (int x = -n; x <= n; x++) {
-                    float d[3] = { (float)x * sp, (float)y * sp, (float)z * sp };
-                    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > r * r) continue;
-                    for (int k = 0; k < 3; k++) {
-                        pos[3 * m + k] = c->u.sphere.center[k] + d[k];
-                        vel[3 * m + k] = c->u.sphere.velocity[k];
-                    }
-                    m++;
-                }
-        pbf_result pr = pbf_world_add_particles(fw, pos, vel, m);
-        free(pos);
-        free(vel);
-        if (pr != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        break;
-    }
-    case CMD_PARTICLES:
-        if (c->u.particles.n &&
-            pbf_world_add_particles(fw, c->u.particles.pos, c->u.particles.vel, c->u.particles.n) != PBF_OK)
-            return refuse(s, c, "%s", pbf_world_last_error(fw));
-        break;
-    case CMD_EMITTER_ADD:
-    case CMD_EMITTER_SET: {
-        if (!o) break; // removed before it was applied
-        pbf_emitter_def full = c->u.emitter;
-        const pbf_emitter_def *d = &full;
-        float max_rate = pbf_emitter_max_rate(fw, d->speed, d->radius);
-        if (c->full_rate) full.rate = max_rate;
-        if (d->rate > max_rate * 1.0001f)
-            return refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %g); %g is the most a nozzle "
-                          "of radius %g m pours at speed %g m/s: raise speed or radius for more", (double)max_rate,
-                          (double)d->rate, (double)max_rate, (double)d->radius, (double)d->speed);
-        pbf_result r = c->type == CMD_EMITTER_ADD ? pbf_world_add_emitter(fw, d, &o->u.emitter.id)
-                                                  : pbf_world_set_emitter(fw, o->u.emitter.id, d);
-        if (r != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        o->state = OBJ_LIVE;
-        break;
-    }
-    case CMD_EMITTER_REMOVE:
-        if (pbf_emitter_is_valid(fw, c->u.emitter_id)) pbf_world_remove_emitter(fw, c->u.emitter_id);
-        break;
-    case CMD_SINK_ADD:
-        if (!o) break;
-        if (pbf_world_add_sink(fw, o->u.sink.min, o->u.sink.max, &o->u.sink.id) != PBF_OK)
-            return refuse(s, c, "%s", pbf_world_last_error(fw));
-        o->state = OBJ_LIVE;
-        break;
-    case CMD_SINK_REMOVE:
-        if (pbf_sink_is_valid(fw, c->u.sink_id)) pbf_world_remove_sink(fw, c->u.sink_id);
-        break;
-    case CMD_BODY_ADD:
-        if (!o) break;
-        return apply_body_add(s, c, o);
-    case CMD_BODY_REMOVE:
-        body_remove_ids(s, c->u.body.id, c->u.body.shape, c->u.body.node, c->u.body.mesh);
-        break;
-    case CMD_BODY_IMPULSE:
-    case CMD_BODY_ANGULAR_IMPULSE:
-    case CMD_BODY_VELOCITY:
-    case CMD_BODY_ANGULAR_VELOCITY: {
-        if (!o || o->state != OBJ_LIVE) break;
-        body_rec *b = &o->u.body;
-        phys_vec3 v = scr_pv(c->u.vec.v);
-        phys_result r;
-        if (c->type == CMD_BODY_IMPULSE)
-            r = c->u.vec.at_point ? phys_body_apply_impulse_at_point(pw, b->id, v, scr_pv(c->u.vec.p), true)
-                                  : phys_body_apply_impulse(pw, b->id, v, true);
-        else if (c->type == CMD_BODY_ANGULAR_IMPULSE) r = phys_body_apply_angular_impulse(pw, b->id, v, true);
-        else if (c->type == CMD_BODY_VELOCITY) r = phys_body_set_linear_velocity(pw, b->id, v);
-        else r = phys_body_set_angular_velocity(pw, b->id, v);
-        if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
-        if (c->type == CMD_BODY_VELOCITY || c->type == CMD_BODY_ANGULAR_VELOCITY) b->target_mode = false;
-        break;
-    }
-    case CMD_BODY_MOVE_TO:
-        if (!o || o->state != OBJ_LIVE) break;
-        return apply_move_to(s, c, &o->u.body);
-    case CMD_BODY_TELEPORT: {
-        if (!o || o->state != OBJ_LIVE) break;
-        body_rec *b = &o->u.body;
-        phys_vec3 p = scr_pv(c->u.pose.pos);
-        phys_quat q = scr_pq(c->u.pose.rot);
-        if (s->host.coupling && cpl_has_body(s->host.coupling, b->id)) {
-            if (cpl_teleport_body(s->host.coupling, b->id, p, q) != CPL_OK)
-                return refuse(s, c, "%s", cpl_last_error(s->host.coupling));
-        } else if (phys_body_set_pose(pw, b->id, p, q) != PHYS_OK) {
-            return refuse(s, c, "%s", phys_world_last_error(pw));
-        }
-        b->target_mode = false;
-        break;
-    }
-    case CMD_BODY_LOOK:
-        if (!o || !o->u.body.node.index1 || !s->host.scene) break;
-        eng_node_set_color(s->host.scene, o->u.body.node, o->u.body.color);
-        eng_node_set_visible(s->host.scene, o->u.body.node, o->u.body.visible);
-        break;
-    case CMD_GRAB_ADD: {
-        if (!o) break;
-        obj *b = scr_obj_at(s, o->u.grab.body, o->u.grab.body_gen);
-        if (!b || b->state != OBJ_LIVE) break;
-        phys_point_constraint_def d = phys_default_point_constraint_def();
-        d.body = b->u.body.id;
-        d.pivot = scr_pv(o->u.grab.pivot);
-        if (o->u.grab.max_force > 0) d.max_force = o->u.grab.max_force;
-        if (phys_point_constraint_create(pw, &d, &o->u.grab.id) != PHYS_OK)
-            return refuse(s, c, "%s", phys_world_last_error(pw));
-        o->state = OBJ_LIVE;
-        break;
-    }
-    case CMD_GRAB_MOVE:
-        if (!o || o->state != OBJ_LIVE || !phys_constraint_is_valid(pw, o->u.grab.id)) break;
-        if (phys_point_constraint_set_pivot(pw, o->u.grab.id, scr_pv(c->u.vec.v)) != PHYS_OK)
-            return refuse(s, c, "%s", phys_world_last_error(pw));
-        break;
-    case CMD_GRAB_REMOVE:
-        if (phys_constraint_is_valid(pw, c->u.constraint)) phys_constraint_destroy(pw, c->u.constraint);
-        break;
-    case CMD_PARAMS:
-        if (pbf_world_set_params(fw, &c->u.params) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        break;
-    case CMD_GRAVITY: {
-        pbf_params p = *pbf_world_params(fw);
-        memcpy(p.gravity, c->u.gravity, sizeof p.gravity);
-        if (pbf_world_set_params(fw, &p) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        if (pw && phys_world_set_gravity(pw, scr_pv(c->u.gravity)) != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
-        break;
-    }
-    case CMD_CAMERA: {
-        eng_camera *cam = s->host.camera;
-        if (!cam) break;
-        float eye[3], target[3];
-        memcpy(eye, c->u.camera.has_eye ? c->u.camera.eye : cam->position, sizeof eye);
-        memcpy(target, c->u.camera.has_target ? c->u.camera.target : cam->target, sizeof target);
-        if (eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
-            return refuse(s, c, "eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
-                          (double)eye[2]);
-        if (c->u.camera.has_mode) eng_camera_set_mode(cam, (eng_camera_mode)c->u.camera.mode);
-        if (c->u.camera.has_eye || c->u.camera.has_target) eng_camera_look_at(cam, eye, target);
-        if (c->u.camera.has_fov) cam->fov_y = (float)(c->u.camera.fov * PI / 180.0);
-        break;
-    }
-    }
-    return ENG_SCRIPT_OK;
-}
-
-eng_script_status eng_script_apply(eng_script *s)
-{
-    if (!s->host.world) return ENG_SCRIPT_OK;
-    eng_script_status st = ENG_SCRIPT_OK;
-    // In order; applying runs no Lua, so the queue cannot grow meanwhile.
-    for (int i = 0; i < s->command_count && st == ENG_SCRIPT_OK; i++) st = apply_one(s, &s->commands[i]);
-    clear_commands(s);
-    s->have_pending_params = false;
-    if (s->command_cap > 4096) { // give back the memory of a burst
-        free(s->commands);
-        s->commands = NULL;
-        s->command_cap = 0;
-    }
-    // Kinematic bodies whose target was not renewed for the coming step stop where they are.
-    for (uint32_t i = 0; i < s->obj_count && s->host.phys; i++) {
-        obj *o = &s->objs[i];
-        if (o->state != OBJ_LIVE || o->kind != OBJ_BODY || !o->u.body.target_mode) continue;
-        if (o->u.body.target_step == s->host.frame + 1) continue;
-        phys_vec3 zero = { 0, 0, 0 };
-        phys_body_set_linear_velocity(s->host.phys, o->u.body.id, zero);
-        phys_body_set_angular_velocity(s->host.phys, o->u.body.id, zero);
-        o->u.body.target_mode = false;
-    }
-    s->cache_valid = false;
-    return st;
-}
-
-void eng_script_deliver_input(eng_script *s)
-{
-    for (int i = 0; i < s->event_count && s->host.input; i++) eng_input_inject(s->host.input, &s->events[i]);
-    s->event_count = 0;
-}
-
-void eng_script_sync_nodes(eng_script *s)
-{
-    if (!s->host.scene || !s->host.phys) return;
-    for (uint32_t i = 0; i < s->obj_count; i++) {
-        obj *o = &s->objs[i];
-        if (o->state != OBJ_LIVE || o->kind != OBJ_BODY || !o->u.body.node.index1) continue;
-        float pos[3], rot[4];
-        body_state(s, o, pos, rot, NULL, NULL);
-        eng_transform t;
-        body_transform(&o->u.body, pos, rot, &t);
-        eng_node_set_local(s->host.scene, o->u.body.node, &t);
-    }
 }
 
 // ---- callbacks --------------------------------------------------------------------------

@@ -2,9 +2,11 @@
 // queued world edits (commands), and the prototypes of the helpers the files below share.
 //
 // The files of the Lua host (script.h is its public face, docs/lua-api.md its manual):
-//   script.c          the Lua state, the bindings, the queued edits, callbacks and timers
+//   script.c          the Lua state, the bindings, callbacks and timers
 //   script_args.c     argument readers that name fn, field, value and rule (scr_opt_*, scr_req_*,
 //                     scr_arg_*, scr_check_*), vectors, handles and their metamethods
+//   script_apply.c    the queues: world edits (scr_push_command, eng_script_apply) and input
+//   script_mesh.c     the meshes and scene nodes that draw the script's bodies
 //
 // Shared functions carry the scr_ prefix; file-local ones are static and unprefixed.
 #ifndef ENG_SCRIPT_INTERNAL_H
@@ -228,5 +230,16 @@ void scr_new_handle_type(lua_State *L, eng_script *s, obj_kind kind, const luaL_
 const pbf_params *scr_current_params(eng_script *s);
 void scr_require_world(lua_State *L, eng_script *s, const char *fn);
 uint32_t scr_capacity_of(eng_script *s);
+
+// ---- commands and queues (script_apply.c) -----------------------------------------------------
+
+command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn);
+void scr_clear_commands(eng_script *s);
+
+// ---- bodies (wrap_body.c, script_mesh.c) --------------------------------------------------------
+
+void scr_body_state(eng_script *s, obj *o, float pos[3], float rot[4], float vel[3], float ang[3]);
+eng_mesh_id scr_body_mesh(eng_script *s, body_rec *b);
+void scr_body_transform(const body_rec *b, const float pos[3], const float rot[4], eng_transform *t);
 
 #endif
