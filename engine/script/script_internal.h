@@ -2,13 +2,22 @@
 // queued world edits (commands), and the prototypes of the helpers the files below share.
 //
 // The files of the Lua host (script.h is its public face, docs/lua-api.md its manual):
-//   script.c          the Lua state, the bindings, callbacks and timers
+//   script.c          the Lua state, its time budget and memory limit, protected calls with a
+//                     traceback, loading the script, callbacks and timers; registers every area
 //   script_args.c     argument readers that name fn, field, value and rule (scr_opt_*, scr_req_*,
 //                     scr_arg_*, scr_check_*), vectors, handles and their metamethods
 //   script_apply.c    the queues: world edits (scr_push_command, eng_script_apply) and input
 //   script_mesh.c     the meshes and scene nodes that draw the script's bodies
+//   wrap_scene.c      seiche.scene, the look and the camera
+//   wrap_fluid.c      fluid parameters, gravity, blocks, spheres and particle lists
+//   wrap_emitter.c    emitters and sinks
+//   wrap_body.c       bodies and grabs
+//   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
+//   wrap_query.c      stats, time, counts, particle queries, check and quit
 //
-// Shared functions carry the scr_ prefix; file-local ones are static and unprefixed.
+// Each wrap_*.c ends with its luaL_Reg tables and one scr_open_* that hands them to the core
+// (scr_api); the bindings reach the eng_script as upvalue 1 (scr_get_script). Shared
+// functions carry the scr_ prefix; file-local ones are static and unprefixed.
 #ifndef ENG_SCRIPT_INTERNAL_H
 #define ENG_SCRIPT_INTERNAL_H
 
@@ -167,6 +176,29 @@ struct eng_script {
     uint64_t cache_frame;
     bool cache_valid;
 };
+
+// ---- registration (script.c) -----------------------------------------------------------
+
+/// The most API areas (wrap_*.c files).
+#define SCR_MAX_AREAS 8
+
+/// What the API areas bind, as their scr_open_* functions declare it: the core registers it
+/// in the Lua state and lists its names for the docs test (eng_script_api_names).
+typedef struct scr_api {
+    const luaL_Reg *functions[SCR_MAX_AREAS]; ///< each area's seiche.* functions, in registration order
+    int area_count;
+    const luaL_Reg *methods[OBJ_KIND_COUNT];  ///< each handle kind's methods, from the area that owns it
+} scr_api;
+
+void scr_api_functions(scr_api *api, const luaL_Reg *functions);
+void scr_api_methods(scr_api *api, obj_kind kind, const luaL_Reg *methods);
+
+void scr_open_scene(scr_api *api);    // wrap_scene.c
+void scr_open_fluid(scr_api *api);    // wrap_fluid.c
+void scr_open_emitter(scr_api *api);  // wrap_emitter.c
+void scr_open_body(scr_api *api);     // wrap_body.c
+void scr_open_interact(scr_api *api); // wrap_interact.c
+void scr_open_query(scr_api *api);    // wrap_query.c
 
 // ---- arguments (script_args.c) -----------------------------------------------------------
 
