@@ -1,0 +1,277 @@
+// Private to engine/script: the eng_script struct, the handles a script holds (objects), the
+// queued world edits (commands), and the prototypes of the helpers the files below share.
+//
+// The files of the Lua host (script.h is its public face, docs/lua-api.md its manual):
+//   script.c          the Lua state, its time budget and memory limit, protected calls with a
+//                     traceback, loading the script, callbacks and timers; registers every area
+//   script_args.c     argument readers that name fn, field, value and rule (scr_opt_*, scr_req_*,
+//                     scr_arg_*, scr_check_*), vectors, handles and their metamethods
+//   script_apply.c    the queues: world edits (scr_push_command, eng_script_apply) and input
+//   script_mesh.c     the meshes and scene nodes that draw the script's bodies
+//   wrap_scene.c      seiche.scene, the look and the camera
+//   wrap_fluid.c      fluid parameters, gravity, blocks, spheres and particle lists
+//   wrap_emitter.c    emitters and sinks
+//   wrap_body.c       bodies and grabs
+//   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
+//   wrap_query.c      stats, time, counts, particle queries, check and quit
+//
+// Each wrap_*.c ends with its luaL_Reg tables and one scr_open_* that hands them to the core
+// (scr_api); the bindings reach the eng_script as upvalue 1 (scr_get_script). Shared
+// functions carry the scr_ prefix; file-local ones are static and unprefixed.
+#ifndef ENG_SCRIPT_INTERNAL_H
+#define ENG_SCRIPT_INTERNAL_H
+
+#include "engine/script/script.h"
+
+#include <lauxlib.h>
+#include <lua.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define PI 3.14159265358979323846
+/// Positions a script may give, m (far beyond any scene; keeps Bullet and the grid sane).
+#define MAX_COORD 1.0e5
+/// Speeds a script may give, m/s (and rad/s).
+#define MAX_SPEED 1.0e4
+
+// ---- objects -------------------------------------------------------------------------
+
+typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_KIND_COUNT } obj_kind;
+extern const char *const scr_kind_name[OBJ_KIND_COUNT];   // "emitter", "sink", "body", "timer", "grab"
+extern const char *const scr_kind_meta[OBJ_KIND_COUNT];   // metatable names: "seiche.emitter", ...
+
+typedef enum obj_state {
+    OBJ_FREE = 0, // slot unused
+    OBJ_PENDING,  // created by the script, its creation still queued
+    OBJ_LIVE,     // exists in the world
+} obj_state;
+
+typedef enum body_shape {
+    SHAPE_BOX = 0, SHAPE_SPHERE, SHAPE_CAPSULE, SHAPE_CYLINDER, SHAPE_PLANE, SHAPE_HULL, SHAPE_MESH, SHAPE_COMPOUND,
+    SHAPE_COUNT
+} body_shape;
+extern const char *const scr_shape_name[SHAPE_COUNT];     // "box", "sphere", ...
+
+// One part of a compound body, in the frame the script gave the parts in.
+typedef struct body_part {
+    body_shape shape;       // box, sphere, capsule or cylinder
+    float dims[4];          // as body_rec.dims
+    float pos[3];           // m
+    float rot[4];           // unit quaternion x, y, z, w
+} body_part;
+
+// The most parts a compound may have: each is a fluid collider, and the fluid has 64.
+#define MAX_BODY_PARTS 64
+extern const char *const scr_body_kind_name[3];           // "static", "kinematic", "dynamic" = phys_body_type
+
+typedef struct body_rec {
+    body_shape shape;
+    float dims[4];          // box: half extents; sphere: r; capsule/cylinder: r, half height; plane: n, offset
+    float *points;          // hull points / mesh vertices, xyz, m (owned)
+    uint32_t point_count;
+    uint32_t *indices;      // mesh, 0-based (owned)
+    uint32_t index_count;
+    body_part *parts;       // compound (owned)
+    uint32_t part_count;
+    bool has_factors;       // linear_factor / angular_factor / axle given
+    float linear_factor[3], angular_factor[3];
+    phys_body_def def;      // everything but the shape
+    bool two_way;
+    float color[3];
+    bool visible;
+    phys_body_id id;
+    phys_shape_id shape_id;
+    eng_node_id node;
+    eng_mesh_id mesh;
+    bool target_mode;       // moving towards a move_to target
+    uint64_t target_step;   // the step (frame + 1) the target was set for
+} body_rec;
+
+typedef struct obj {
+    obj_kind kind;
+    obj_state state;
+    uint32_t generation;
+    int ref;                // registry reference to the userdata (LUA_NOREF: none yet)
+    union {
+        struct { pbf_emitter_def def; pbf_emitter_id id; bool full_rate; } emitter;
+        struct { float min[3], max[3]; pbf_sink_id id; } sink;
+        body_rec body;
+        struct { double due, period; int fn; uint64_t fired; } timer;
+        struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
+    } u;
+} obj;
+
+typedef struct handle {
+    uint32_t slot;
+    uint32_t generation;
+} handle;
+
+// ---- commands ------------------------------------------------------------------------
+
+typedef enum cmd_type {
+    CMD_BLOCK = 1, CMD_SPHERE, CMD_PARTICLES,
+    CMD_EMITTER_ADD, CMD_EMITTER_SET, CMD_EMITTER_REMOVE,
+    CMD_SINK_ADD, CMD_SINK_REMOVE,
+    CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
+    CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
+    CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
+    CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
+} cmd_type;
+
+typedef struct command {
+    cmd_type type;
+    char where[160];        // "file:line:" of the call
+    const char *fn;         // "seiche.block", "body:move_to", ...
+    uint32_t slot, gen;     // the object it concerns, if any
+    bool full_rate;         // emitters: pour the most the nozzle can (no rate given)
+    union {
+        pbf_block_def block;
+        struct { float center[3], radius, velocity[3]; } sphere;
+        struct { float *pos, *vel; uint32_t n; } particles;
+        pbf_emitter_def emitter;
+        pbf_emitter_id emitter_id;
+        pbf_sink_id sink_id;
+        struct { phys_body_id id; phys_shape_id shape; eng_node_id node; eng_mesh_id mesh; } body;
+        struct { float v[3], p[3]; bool at_point; } vec;
+        struct { float pos[3], rot[4]; } pose;
+        struct { float color[3]; bool visible; } look;
+        phys_constraint_id constraint;
+        pbf_params params;
+        float gravity[3];
+        struct { float eye[3], target[3], fov; int mode; bool has_eye, has_target, has_fov, has_mode; } camera;
+    } u;
+} command;
+
+struct eng_script {
+    lua_State *L;
+    eng_logger log;
+    double budget_s;
+    double deadline;        // monotonic seconds; 0 when no callback runs
+    const char *running;    // name of the running callback, for messages
+    size_t memory;          // bytes held by the Lua state
+    bool out_of_memory;
+    char path[512];
+    char error[8192];
+    bool check_failed;
+    bool quit;
+    bool scene_called;
+    bool in_main_chunk;
+    eng_scene_config config;
+    command *commands;
+    int command_count, command_cap;
+    obj *objs;
+    uint32_t obj_count, obj_cap;
+    eng_script_host host;
+    pbf_params pending_params;   // the parameters after the queued set_param calls
+    bool have_pending_params;
+    float pending_gravity[3];
+    bool have_pending_gravity;
+    bool capacity_warned;
+    eng_event *events;           // injected input, handed to the app's input next frame
+    int event_count, event_cap;
+    // The particle download shared by the queries of one frame (surface_height, ...).
+    float *cache;
+    uint32_t cache_count, cache_cap;
+    uint64_t cache_frame;
+    bool cache_valid;
+};
+
+// ---- registration (script.c) -----------------------------------------------------------
+
+/// The most API areas (wrap_*.c files).
+#define SCR_MAX_AREAS 8
+
+/// What the API areas bind, as their scr_open_* functions declare it: the core registers it
+/// in the Lua state and lists its names for the docs test (eng_script_api_names).
+typedef struct scr_api {
+    const luaL_Reg *functions[SCR_MAX_AREAS]; ///< each area's seiche.* functions, in registration order
+    int area_count;
+    const luaL_Reg *methods[OBJ_KIND_COUNT];  ///< each handle kind's methods, from the area that owns it
+} scr_api;
+
+void scr_api_functions(scr_api *api, const luaL_Reg *functions);
+void scr_api_methods(scr_api *api, obj_kind kind, const luaL_Reg *methods);
+
+void scr_open_scene(scr_api *api);    // wrap_scene.c
+void scr_open_fluid(scr_api *api);    // wrap_fluid.c
+void scr_open_emitter(scr_api *api);  // wrap_emitter.c
+void scr_open_body(scr_api *api);     // wrap_body.c
+void scr_open_interact(scr_api *api); // wrap_interact.c
+void scr_open_query(scr_api *api);    // wrap_query.c
+
+// ---- arguments (script_args.c) -----------------------------------------------------------
+
+enum { OPEN_LO = 1, OPEN_HI = 2, WHOLE = 4 };
+
+eng_script *scr_get_script(lua_State *L);
+// Raises a Lua error with the caller's file:line, formatted by printf rules (luaL_error's
+// own formatter knows no %g).
+int scr_raise(lua_State *L, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+const char *scr_describe(lua_State *L, int idx, char *buf, size_t size);
+double scr_check_number_at(lua_State *L, int idx, const char *fn, const char *what, double lo, double hi, int flags,
+                           const char *unit);
+bool scr_field_present(lua_State *L, int t, const char *field);
+bool scr_opt_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi, int flags,
+                    const char *unit, double *out);
+double scr_req_number(lua_State *L, int t, const char *fn, const char *field, double lo, double hi, int flags,
+                      const char *unit);
+double scr_arg_number(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, int flags,
+                      const char *unit);
+void scr_check_vec_at(lua_State *L, int idx, const char *fn, const char *what, int n, double lo, double hi, int flags,
+                      const char *unit, float *out);
+bool scr_opt_vec(lua_State *L, int t, const char *fn, const char *field, int n, double lo, double hi, int flags,
+                 const char *unit, float *out);
+bool scr_opt_position(lua_State *L, int t, const char *fn, const char *field, float out[3]);
+void scr_req_position(lua_State *L, int t, const char *fn, const char *field, float out[3]);
+void scr_arg_vec(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, const char *unit,
+                 float out[3]);
+bool scr_opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *out);
+bool scr_opt_color(lua_State *L, int t, const char *fn, const char *field, float out[3]);
+int scr_opt_enum(lua_State *L, int t, const char *fn, const char *field, const char *const *names, int n);
+void scr_check_table_arg(lua_State *L, int idx, const char *fn, const char *fields);
+void scr_check_table_field(lua_State *L, int idx, const char *fn, const char *field, const char *fields);
+void scr_check_fields(lua_State *L, int t, const char *fn, const char *const *known);
+bool scr_opt_rotation(lua_State *L, int t, const char *fn, const char *field, float q[4]);
+void scr_read_box(lua_State *L, int t, const char *fn, float mn[3], float mx[3]);
+float *scr_read_point_list(lua_State *L, int t, const char *fn, const char *field, double lo, double hi,
+                           const char *unit, uint32_t *n_out, uint32_t min_n, uint32_t max_n);
+
+void scr_quat_mul(const float a[4], const float b[4], float out[4]);
+void scr_quat_rotate(const float q[4], const float v[3], float out[3]);
+static inline phys_vec3 scr_pv(const float v[3]) { return (phys_vec3){ v[0], v[1], v[2] }; }
+static inline phys_quat scr_pq(const float q[4]) { return (phys_quat){ q[0], q[1], q[2], q[3] }; }
+void scr_push_vec3(lua_State *L, double x, double y, double z);
+void scr_push_quat(lua_State *L, const float q[4]);
+void scr_set_num(lua_State *L, const char *k, double v);
+
+obj *scr_obj_at(eng_script *s, uint32_t slot, uint32_t gen);
+uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind);
+void scr_body_free_data(body_rec *b);
+void scr_obj_release(eng_script *s, uint32_t slot);
+void scr_push_handle(lua_State *L, eng_script *s, uint32_t slot);
+obj *scr_check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_out);
+int scr_is_valid(lua_State *L);
+/// Makes the metatable of a handle kind: its methods (upvalue s) and the shared metamethods.
+void scr_new_handle_type(lua_State *L, eng_script *s, obj_kind kind, const luaL_Reg *methods);
+
+const pbf_params *scr_current_params(eng_script *s);
+void scr_require_world(lua_State *L, eng_script *s, const char *fn);
+uint32_t scr_capacity_of(eng_script *s);
+
+// ---- commands and queues (script_apply.c) -----------------------------------------------------
+
+command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn);
+void scr_clear_commands(eng_script *s);
+
+// ---- bodies (wrap_body.c, script_mesh.c) --------------------------------------------------------
+
+void scr_body_state(eng_script *s, obj *o, float pos[3], float rot[4], float vel[3], float ang[3]);
+eng_mesh_id scr_body_mesh(eng_script *s, body_rec *b);
+void scr_body_transform(const body_rec *b, const float pos[3], const float rot[4], eng_transform *t);
+
+#endif

@@ -1,0 +1,173 @@
+// Binds the queries (seiche.stats, time, frame, dt, particle_count, capacity, surface_height,
+// particles_in, max_emitter_rate, renderer, headless) and test support (check, quit).
+#include "engine/script/script_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+// ---- queries --------------------------------------------------------------------------
+
+static int l_stats(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    const pbf_step_stats *st = s->host.stats;
+    lua_createtable(L, 0, 12);
+    scr_set_num(L, "particles", st ? st->particles : (s->host.world ? pbf_world_particle_count(s->host.world) : 0));
+    scr_set_num(L, "capacity", scr_capacity_of(s));
+    scr_set_num(L, "rho0", scr_current_params(s)->rest_density);
+    scr_set_num(L, "rho_avg", st ? st->density_avg : 0.0);
+    scr_set_num(L, "rho_max", st ? st->density_max : 0.0);
+    scr_set_num(L, "nan", st ? st->nan_count : 0);
+    scr_set_num(L, "outside", st ? st->outside_count : 0);
+    scr_set_num(L, "overflow", st ? st->overflow_count : 0);
+    scr_set_num(L, "step_ms", st ? st->step_ms : 0.0);
+    scr_set_num(L, "step", st ? (double)st->step : -1.0);
+    scr_set_num(L, "time", st ? st->time : 0.0);
+    lua_createtable(L, 0, PBF_STAGE_COUNT);
+    for (int k = 0; k < PBF_STAGE_COUNT; k++) scr_set_num(L, pbf_stage_name((pbf_stage)k), st ? st->stage_ms[k] : 0.0);
+    lua_setfield(L, -2, "stage_ms");
+    return 1;
+}
+
+static int l_time(lua_State *L)
+{
+    lua_pushnumber(L, scr_get_script(L)->host.time);
+    return 1;
+}
+
+static int l_frame(lua_State *L)
+{
+    lua_pushinteger(L, (lua_Integer)scr_get_script(L)->host.frame);
+    return 1;
+}
+
+static int l_dt(lua_State *L)
+{
+    lua_pushnumber(L, scr_get_script(L)->host.dt);
+    return 1;
+}
+
+static int l_renderer(lua_State *L)
+{
+    const char *r = scr_get_script(L)->host.renderer;
+    lua_pushstring(L, r ? r : "");
+    return 1;
+}
+
+static int l_headless(lua_State *L)
+{
+    lua_pushboolean(L, scr_get_script(L)->host.headless);
+    return 1;
+}
+
+static int l_particle_count(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    lua_pushinteger(L, s->host.world ? (lua_Integer)pbf_world_particle_count(s->host.world) : 0);
+    return 1;
+}
+
+static int l_capacity(lua_State *L)
+{
+    lua_pushinteger(L, scr_capacity_of(scr_get_script(L)));
+    return 1;
+}
+
+static int l_max_emitter_rate(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    const char *fn = "seiche.max_emitter_rate";
+    double speed = scr_arg_number(L, 1, fn, "speed", 0, 100, OPEN_LO, "m/s");
+    double radius = scr_arg_number(L, 2, fn, "radius", scr_current_params(s)->particle_radius, 10, 0, "m (the particle radius at least)");
+    scr_require_world(L, s, fn);
+    lua_pushnumber(L, pbf_emitter_max_rate(s->host.world, (float)speed, (float)radius));
+    return 1;
+}
+
+// Downloads the particle positions once per frame for the queries that need them.
+static const float *particle_positions(lua_State *L, eng_script *s, const char *fn, uint32_t *count)
+{
+    scr_require_world(L, s, fn);
+    if (!s->cache_valid || s->cache_frame != s->host.frame) {
+        uint32_t n = pbf_world_particle_count(s->host.world);
+        if (n > s->cache_cap) {
+            float *c = realloc(s->cache, (size_t)n * 4 * sizeof(float));
+            if (!c) scr_raise(L, "%s: out of memory for %u particles", fn, n);
+            s->cache = c;
+            s->cache_cap = n;
+        }
+        s->cache_count = n ? pbf_world_read_particles(s->host.world, s->cache, NULL, NULL, n) : 0;
+        s->cache_frame = s->host.frame;
+        s->cache_valid = true;
+    }
+    *count = s->cache_count;
+    return s->cache;
+}
+
+static int l_surface_height(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    const char *fn = "seiche.surface_height";
+    double x = scr_arg_number(L, 1, fn, "x", -MAX_COORD, MAX_COORD, 0, "m");
+    double z = scr_arg_number(L, 2, fn, "z", -MAX_COORD, MAX_COORD, 0, "m");
+    const pbf_params *p = scr_current_params(s);
+    double r = p->kernel_radius;
+    if (!lua_isnoneornil(L, 3)) r = scr_arg_number(L, 3, fn, "radius", 0, 100, OPEN_LO, "m");
+    uint32_t n;
+    const float *pos = particle_positions(L, s, fn, &n);
+    double best = -HUGE_VAL;
+    for (uint32_t i = 0; i < n; i++) {
+        double dx = pos[4 * i] - x, dz = pos[4 * i + 2] - z;
+        if (dx * dx + dz * dz <= r * r && pos[4 * i + 1] > best) best = pos[4 * i + 1];
+    }
+    if (best == -HUGE_VAL) lua_pushnil(L);
+    else lua_pushnumber(L, best + p->particle_radius);
+    return 1;
+}
+
+static int l_particles_in(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    const char *fn = "seiche.particles_in";
+    float mn[3], mx[3];
+    scr_arg_vec(L, 1, fn, "min", -MAX_COORD, MAX_COORD, "m", mn);
+    scr_arg_vec(L, 2, fn, "max", -MAX_COORD, MAX_COORD, "m", mx);
+    uint32_t n;
+    const float *pos = particle_positions(L, s, fn, &n);
+    lua_Integer count = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const float *q = pos + 4 * i;
+        if (q[0] >= mn[0] && q[0] <= mx[0] && q[1] >= mn[1] && q[1] <= mx[1] && q[2] >= mn[2] && q[2] <= mx[2]) count++;
+    }
+    lua_pushinteger(L, count);
+    return 1;
+}
+
+// ---- test support ----------------------------------------------------------------------
+
+static int l_check(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    luaL_checkany(L, 1);
+    if (lua_toboolean(L, 1)) return 0;
+    const char *msg = lua_isnoneornil(L, 2) ? "(no message)" : luaL_tolstring(L, 2, NULL);
+    s->check_failed = true;
+    luaL_where(L, 1);
+    lua_pushfstring(L, "%scheck failed: %s", lua_tostring(L, -1), msg);
+    return lua_error(L);
+}
+
+static int l_quit(lua_State *L)
+{
+    scr_get_script(L)->quit = true;
+    return 0;
+}
+
+static const luaL_Reg functions[] = {
+    { "particle_count", l_particle_count }, { "capacity", l_capacity }, { "stats", l_stats },
+    { "surface_height", l_surface_height }, { "particles_in", l_particles_in }, { "max_emitter_rate", l_max_emitter_rate },
+    { "time", l_time }, { "frame", l_frame }, { "dt", l_dt }, { "renderer", l_renderer }, { "headless", l_headless },
+    { "check", l_check }, { "quit", l_quit }, { NULL, NULL },
+};
+
+void scr_open_query(scr_api *api) { scr_api_functions(api, functions); }
