@@ -14,6 +14,11 @@
 //   runs exactly one internal step of dt with no accumulator. Kinematic bodies
 //   are moved by writing their world transform just before the step; Bullet's
 //   saveKinematicState then derives their velocity from the previous pose.
+//
+// The files: phys_world.cpp (world create/destroy, step, gravity, errors, input checks),
+// phys_shape.cpp (shapes, compounds, mass properties), phys_body.cpp (bodies) and
+// phys_query.cpp (ray casts, point constraints). Helpers two files share live in the
+// namespace phys_internal, declared here; file-local ones are static.
 
 #ifndef SEICHE_PHYS_INTERNAL_HPP
 #define SEICHE_PHYS_INTERNAL_HPP
@@ -161,7 +166,7 @@ struct phys_world {
 
 namespace phys_internal {
 
-// Record an error on the world, hand it to the log callback, return `result`.
+// Record an error on the world, hand it to the log callback, return `result` (phys_world.cpp).
 phys_result fail(phys_world* w, phys_result result, const char* fmt, ...) PRINTF_LIKE(3, 4);
 
 // Run an entry point's body, turning every exception into a result.
@@ -180,7 +185,7 @@ phys_result guarded(phys_world* w, const char* fn, F&& body) noexcept {
     }
 }
 
-// ---- input checks ---------------------------------------------------------
+// ---- input checks (phys_world.cpp) -------------------------------------------
 
 phys_result check_ptr(phys_world* w, const char* fn, const char* name, const void* p);
 phys_result check_finite(phys_world* w, const char* fn, const char* field, float v);
@@ -263,10 +268,11 @@ inline void claim_slot(std::vector<uint32_t>& free_list, uint32_t slot) {
 
 // ---- names for messages, and what one area asks of another ----------------------
 
-const char* shape_name(phys_shape_type t);
-const char* body_type_name(phys_body_type t);
+const char* shape_name(phys_shape_type t);         // phys_shape.cpp
+const char* body_type_name(phys_body_type t);      // phys_body.cpp
 
-// Take a constraint out of the world, free its slot and let its body sleep again.
+// Take a constraint out of the world, free its slot and let its body sleep again
+// (phys_query.cpp; phys_body_destroy calls it for the body's constraints).
 void destroy_constraint_slot(phys_world* w, uint32_t slot);
 
 } // namespace phys_internal

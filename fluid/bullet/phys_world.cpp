@@ -1,5 +1,5 @@
-// phys.cpp: the C API of phys.h over Bullet (C++17). What the parts share (the world, its
-// slots, id helpers, input checks, the exception guard) is in phys_internal.hpp.
+// phys_world.cpp: the world of the C API (phys.h): create, destroy, step, gravity, the last
+// error and result names, and fail() and the input checks that every part of the wrapper uses.
 
 #include "phys_internal.hpp"
 
