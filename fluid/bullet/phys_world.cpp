@@ -1,0 +1,243 @@
+// phys_world.cpp: the world of the C API (phys.h): create, destroy, step, gravity, the last
+// error and result names, and fail() and the input checks that every part of the wrapper uses.
+
+#include "phys_internal.hpp"
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+
+using namespace phys_internal;
+
+static void format_message(char* buf, size_t size, const char* fmt, va_list args) noexcept {
+    if (std::vsnprintf(buf, size, fmt, args) < 0) {
+        std::snprintf(buf, size, "(unformattable error message)");
+    }
+}
+
+namespace phys_internal {
+
+phys_result fail(phys_world* w, phys_result result, const char* fmt, ...) {
+    va_list args;
+    va_start(args, fmt);
+    format_message(w->last_error, sizeof w->last_error, fmt, args);
+    va_end(args);
+    if (w->log) w->log(w->log_user, PHYS_LOG_ERROR, w->last_error);
+    return result;
+}
+
+// ---- input checks ---------------------------------------------------------
+
+phys_result check_ptr(phys_world* w, const char* fn, const char* name, const void* p) {
+    if (p) return PHYS_OK;
+    return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s must not be NULL", fn, name);
+}
+
+phys_result check_finite(phys_world* w, const char* fn, const char* field, float v) {
+    if (std::isfinite(v)) return PHYS_OK;
+    return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s must be finite (got %g)", fn, field, (double)v);
+}
+
+phys_result check_vec3(phys_world* w, const char* fn, const char* field, phys_vec3 v) {
+    const float c[3] = {v.x, v.y, v.z};
+    const char* axis[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(c[i])) {
+            return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s.%s must be finite (got %g)", fn, field,
+                        axis[i], (double)c[i]);
+        }
+    }
+    return PHYS_OK;
+}
+
+phys_result check_positive(phys_world* w, const char* fn, const char* field, float v) {
+    CHECK(check_finite(w, fn, field, v));
+    if (v > 0) return PHYS_OK;
+    return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s must be > 0 (got %g)", fn, field, (double)v);
+}
+
+phys_result check_range(phys_world* w, const char* fn, const char* field, float v, float lo,
+                        float hi) {
+    if (std::isfinite(v) && v >= lo && v <= hi) return PHYS_OK;
+    return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s must be finite and in [%g, %g] (got %g)", fn,
+                field, (double)lo, (double)hi, (double)v);
+}
+
+phys_result check_quat(phys_world* w, const char* fn, const char* field, phys_quat q,
+                       btQuaternion* out) {
+    const float c[4] = {q.x, q.y, q.z, q.w};
+    const char* axis[4] = {"x", "y", "z", "w"};
+    for (int i = 0; i < 4; ++i) {
+        if (!std::isfinite(c[i])) {
+            return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s.%s must be finite (got %g)", fn, field,
+                        axis[i], (double)c[i]);
+        }
+    }
+    const double len = std::sqrt((double)q.x * q.x + (double)q.y * q.y + (double)q.z * q.z +
+                                 (double)q.w * q.w);
+    if (std::fabs(len - 1.0) > kUnitTolerance) {
+        return fail(w, PHYS_ERR_INVALID_ARG,
+                    "%s: %s must be a unit quaternion (x, y, z, w), length 1 within %g (got "
+                    "length %g)",
+                    fn, field, (double)kUnitTolerance, len);
+    }
+    *out = btQuaternion(q.x, q.y, q.z, q.w);
+    out->normalize();
+    return PHYS_OK;
+}
+
+} // namespace phys_internal
+
+// =============================================================================
+// extern "C" entry points
+// =============================================================================
+
+extern "C" {
+
+const char* phys_result_string(phys_result result) {
+    switch (result) {
+    case PHYS_OK: return "PHYS_OK";
+    case PHYS_ERR_INVALID_ARG: return "PHYS_ERR_INVALID_ARG";
+    case PHYS_ERR_STALE_ID: return "PHYS_ERR_STALE_ID";
+    case PHYS_ERR_OUT_OF_MEMORY: return "PHYS_ERR_OUT_OF_MEMORY";
+    case PHYS_ERR_INTERNAL: return "PHYS_ERR_INTERNAL";
+    }
+    return "PHYS_ERR_UNKNOWN";
+}
+
+phys_world_def phys_default_world_def(void) {
+    phys_world_def d;
+    d.gravity = phys_vec3{0.0f, -9.81f, 0.0f};
+    d.solver_iterations = 10;
+    d.collision_margin = 0.04f;
+    d.log = nullptr;
+    d.log_user = nullptr;
+    return d;
+}
+
+phys_result phys_world_create(const phys_world_def* def, phys_world** out_world) {
+    if (out_world) *out_world = nullptr;
+    if (!def) return PHYS_ERR_INVALID_ARG;
+    auto reject = [def](const char* msg) {
+        if (def->log) def->log(def->log_user, PHYS_LOG_ERROR, msg);
+        return PHYS_ERR_INVALID_ARG;
+    };
+    char msg[512];
+    if (!out_world) return reject("phys_world_create: out_world must not be NULL");
+    const float g[3] = {def->gravity.x, def->gravity.y, def->gravity.z};
+    const char* axis[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(g[i])) {
+            std::snprintf(msg, sizeof msg,
+                          "phys_world_create: phys_world_def.gravity.%s must be finite (got %g)",
+                          axis[i], (double)g[i]);
+            return reject(msg);
+        }
+    }
+    if (def->solver_iterations < 1 || def->solver_iterations > 1000) {
+        std::snprintf(msg, sizeof msg,
+                      "phys_world_create: phys_world_def.solver_iterations must be in [1, 1000] "
+                      "(got %d)",
+                      def->solver_iterations);
+        return reject(msg);
+    }
+    if (!std::isfinite(def->collision_margin) || def->collision_margin < 0 ||
+        def->collision_margin > kMaxMargin) {
+        std::snprintf(msg, sizeof msg,
+                      "phys_world_create: phys_world_def.collision_margin must be finite and in "
+                      "[0, %g] m (got %g)",
+                      (double)kMaxMargin, (double)def->collision_margin);
+        return reject(msg);
+    }
+    try {
+        auto w = std::make_unique<phys_world>();
+        w->log = def->log;
+        w->log_user = def->log_user;
+        w->margin = def->collision_margin;
+        // A tag for ids from this world: a hash of its address, never 0.
+        const uintptr_t a = reinterpret_cast<uintptr_t>(w.get());
+        uint16_t tag = (uint16_t)(((uint64_t)a * 0x9E3779B97F4A7C15ull) >> 48);
+        w->tag = tag == 0 ? 1 : tag;
+        w->config = std::make_unique<btDefaultCollisionConfiguration>();
+        w->dispatcher = std::make_unique<btCollisionDispatcher>(w->config.get());
+        w->broadphase = std::make_unique<btDbvtBroadphase>();
+        w->solver = std::make_unique<btSequentialImpulseConstraintSolver>();
+        w->dynamics = std::make_unique<btDiscreteDynamicsWorld>(
+            w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get());
+        w->dynamics->setGravity(to_bt(def->gravity));
+        w->dynamics->getSolverInfo().m_numIterations = def->solver_iterations;
+        *out_world = w.release();
+        return PHYS_OK;
+    } catch (const std::bad_alloc&) {
+        if (def->log) def->log(def->log_user, PHYS_LOG_ERROR, "phys_world_create: out of memory");
+        return PHYS_ERR_OUT_OF_MEMORY;
+    } catch (...) {
+        if (def->log) {
+            def->log(def->log_user, PHYS_LOG_ERROR, "phys_world_create: internal error");
+        }
+        return PHYS_ERR_INTERNAL;
+    }
+}
+
+void phys_world_destroy(phys_world* world) {
+    try {
+        delete world;
+    } catch (...) {
+        // Destructors do not throw; nothing may escape into C regardless.
+    }
+}
+
+phys_result phys_world_step(phys_world* world, float dt) {
+    return guarded(world, __func__, [&](const char* fn) -> phys_result {
+        phys_world* w = world;
+        if (!std::isfinite(dt) || dt < 1e-6f || dt > 10.0f) {
+            return fail(w, PHYS_ERR_INVALID_ARG,
+                        "%s: dt must be finite and in [1e-06, 10] s (got %g)", fn, (double)dt);
+        }
+        // Kinematic bodies: write where they must be at the end of the step;
+        // Bullet derives their velocity from the previous pose.
+        for (BodySlot& b : w->bodies) {
+            if (!b.alive || b.type != PHYS_BODY_KINEMATIC) continue;
+            btRigidBody* rb = b.body.get();
+            if (b.has_target) {
+                rb->setWorldTransform(b.target);
+            } else if (!b.kin_linear.fuzzyZero() || !b.kin_angular.fuzzyZero()) {
+                btTransform next;
+                btTransformUtil::integrateTransform(rb->getWorldTransform(), b.kin_linear,
+                                                    b.kin_angular, dt, next);
+                rb->setWorldTransform(next);
+            }
+        }
+        for (ConstraintSlot& c : w->constraints) {
+            if (c.alive) c.constraint->m_setting.m_impulseClamp = c.max_force * dt;
+        }
+        // maxSubSteps = 0: Bullet's variable-step path, exactly one step of dt.
+        w->dynamics->stepSimulation(dt, 0, dt);
+        for (BodySlot& b : w->bodies) b.has_target = false;
+        return PHYS_OK;
+    });
+}
+
+phys_result phys_world_set_gravity(phys_world* world, phys_vec3 gravity) {
+    return guarded(world, __func__, [&](const char* fn) -> phys_result {
+        CHECK(check_vec3(world, fn, "gravity", gravity));
+        world->dynamics->setGravity(to_bt(gravity));
+        return PHYS_OK;
+    });
+}
+
+phys_vec3 phys_world_get_gravity(const phys_world* world) {
+    if (!world) return phys_vec3{0, 0, 0};
+    return from_bt(world->dynamics->getGravity());
+}
+
+const char* phys_world_last_error(const phys_world* world) {
+    if (!world) return "phys_world is NULL";
+    return world->last_error;
+}
+
+uint32_t phys_world_get_body_count(const phys_world* world) {
+    return world ? world->body_count : 0;
+}
+
+} // extern "C"
