@@ -14,14 +14,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <signal.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-
-extern char **environ;
 
 #include "engine/render/camera.h"
 #include "engine/gl/context.h"
@@ -30,6 +25,7 @@ extern char **environ;
 #include "engine/render/renderer.h"
 #include "engine/render/scene.h"
 #include "engine/gl/screenshot.h"
+#include "engine/gl/video.h"
 #include "engine/script/script.h"
 #include "engine/app/ui.h"
 #include "fluid/bullet/coupling.h"
@@ -78,9 +74,7 @@ typedef struct app {
     struct timespec watch_mtime;
     off_t watch_size;
     FILE *metrics;
-    FILE *video;      // the pipe into ffmpeg
-    pid_t video_pid;  // ffmpeg, spawned without a shell
-    unsigned char *video_pixels;
+    eng_video *video; // --record
     pbf_step_stats last_stats;
     bool have_stats;
     uint64_t stats_rows;
@@ -669,104 +663,34 @@ static void draw_ui(app *a)
     if (f.reset || f.reload) load_scene(a, f.reload);
 }
 
-static int close_video(app *a, bool quiet);
-
 static int record_frame(app *a)
 {
-    int w, h;
-    eng_context_size(a->ctx, &w, &h);
-    char err[256];
-    if (!eng_read_pixels(a->ctx, a->video_pixels, w, h, err, sizeof err)) {
-        fprintf(stderr, "seiche: --record: %s\n", err);
-        return ENG_EXIT_USAGE;
-    }
-    if (fwrite(a->video_pixels, 4, (size_t)w * (size_t)h, a->video) != (size_t)w * (size_t)h) {
-        int e = errno;
-        close_video(a, true);
-        fprintf(stderr, "seiche: --record: ffmpeg stopped taking frames (%s) for '%s'\n", strerror(e),
-                a->opt->record_path);
-        return ENG_EXIT_USAGE;
-    }
-    return ENG_EXIT_OK;
+    char err[1200];
+    if (eng_video_frame(a->video, a->ctx, err, sizeof err)) return ENG_EXIT_OK;
+    a->video = NULL; // closed by the failure
+    fprintf(stderr, "seiche: %s\n", err);
+    return ENG_EXIT_USAGE;
 }
 
-// ffmpeg reads raw frames from a pipe; it is spawned with an argument vector (no shell
-// sees the path) and the path is given as file:PATH so that ffmpeg reads no protocol or
-// option into it. The output file is opened here first, so an unwritable path fails at once.
 static int open_video(app *a)
 {
-    const char *path = a->opt->record_path;
-    struct stat before;
-    bool existed = stat(path, &before) == 0;
-    FILE *probe = fopen(path, "ab"); // creates it if missing, keeps what is there
-    if (!probe) {
-        fprintf(stderr, "seiche: --record: cannot write '%s': %s\n", path, strerror(errno));
-        return ENG_EXIT_USAGE;
-    }
-    fclose(probe);
-    int w, h;
-    eng_context_size(a->ctx, &w, &h);
-    char size[32], rate[16], target[1100];
-    snprintf(size, sizeof size, "%dx%d", w, h);
-    snprintf(rate, sizeof rate, "%d", (int)lround(1.0 / a->opt->dt));
-    snprintf(target, sizeof target, "file:%s", path);
-    char *const argv[] = { "ffmpeg", "-nostdin", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba",
-                           "-s", size, "-r", rate, "-i", "pipe:0", "-vf", "vflip", "-pix_fmt", "yuv420p",
-                           target, NULL };
-    int fds[2];
-    if (pipe(fds) != 0) {
-        fprintf(stderr, "seiche: --record: cannot make a pipe for ffmpeg: %s\n", strerror(errno));
-        return ENG_EXIT_USAGE;
-    }
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, fds[0], 0);
-    posix_spawn_file_actions_addclose(&fa, fds[0]);
-    posix_spawn_file_actions_addclose(&fa, fds[1]);
-    // -nostdin is ignored for the input pipe "pipe:0"; it keeps ffmpeg off the terminal.
-    int e = posix_spawnp(&a->video_pid, "ffmpeg", &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    close(fds[0]);
-    if (e != 0) {
-        close(fds[1]);
-        a->video_pid = 0;
-        if (!existed) remove(path);
-        if (e == ENOENT) fprintf(stderr, "seiche: --record needs ffmpeg on the PATH (apt-get install ffmpeg)\n");
-        else fprintf(stderr, "seiche: --record: cannot start ffmpeg: %s\n", strerror(e));
-        return ENG_EXIT_USAGE;
-    }
-    a->video = fdopen(fds[1], "w");
-    a->video_pixels = malloc((size_t)w * (size_t)h * 4);
-    if (!a->video || !a->video_pixels) {
-        if (!a->video) close(fds[1]);
-        fprintf(stderr, "seiche: --record: out of memory\n");
+    char err[1200];
+    a->video = eng_video_open(a->ctx, a->opt->record_path, (int)lround(1.0 / a->opt->dt), err, sizeof err);
+    if (!a->video) {
+        fprintf(stderr, "seiche: %s\n", err);
         return ENG_EXIT_USAGE;
     }
     return ENG_EXIT_OK;
 }
 
-// Ends the video: closes the pipe and waits for ffmpeg. ENG_EXIT_USAGE with a message when
-// ffmpeg failed (quiet with `quiet`, on the error paths).
+// Ends the video; ENG_EXIT_USAGE with a message (unless `quiet`) when ffmpeg failed.
 static int close_video(app *a, bool quiet)
 {
-    if (!a->video_pid) return ENG_EXIT_OK;
-    int status = ENG_EXIT_OK;
-    if (a->video && fclose(a->video) != 0 && !quiet) {
-        fprintf(stderr, "seiche: --record: ffmpeg stopped taking frames: %s\n", strerror(errno));
-        status = ENG_EXIT_USAGE;
-    }
+    char err[1200];
+    bool ok = eng_video_close(a->video, err, sizeof err);
     a->video = NULL;
-    int ws = 0;
-    while (waitpid(a->video_pid, &ws, 0) < 0 && errno == EINTR) {}
-    a->video_pid = 0;
-    if (status == ENG_EXIT_OK && !(WIFEXITED(ws) && WEXITSTATUS(ws) == 0)) {
-        if (!quiet)
-            fprintf(stderr, "seiche: --record: ffmpeg failed (%s %d) writing '%s'\n",
-                    WIFEXITED(ws) ? "exit status" : "signal", WIFEXITED(ws) ? WEXITSTATUS(ws) : WTERMSIG(ws),
-                    a->opt->record_path);
-        status = ENG_EXIT_USAGE;
-    }
-    return status;
+    if (!ok && !quiet) fprintf(stderr, "seiche: %s\n", err);
+    return ok ? ENG_EXIT_OK : ENG_EXIT_USAGE;
 }
 
 // Closes the metrics file; ENG_EXIT_USAGE with a message if any row could not be written.
@@ -888,7 +812,6 @@ static void shutdown_app(app *a)
 {
     close_metrics(a, true);
     close_video(a, true);
-    free(a->video_pixels);
     destroy_instance(a, &a->inst);
     eng_ui_destroy(a->ui);
     eng_scene_destroy(a->scene);
