@@ -15,7 +15,11 @@
 //     each frame: pbf_world_step(w, 1.0f / 60.0f);
 //
 // Every function that takes input checks it and returns PBF_OK or an error whose message
-// (pbf_world_last_error) names the field, the value given and what is allowed.
+// (pbf_world_last_error) names the field, the value given and what is allowed. A NULL
+// world or a NULL pointer where one is needed gives PBF_ERR_INVALID_ARG (functions that
+// return a value give 0, NULL or false); sizes are computed in 64 bits and checked.
+// pbf_world_step and the calls that add particles or change parameters refuse to run from
+// inside a step's substep hook.
 //
 // GL state and synchronisation (the contract; docs/architecture.md has the reasons):
 // - Calls that issue GL commands (create, destroy, set_params, set_container, add_*,

@@ -50,6 +50,7 @@ static collider_slot *get_slot(pbf_world *w, pbf_collider_id id, const char *fn)
 
 bool pbf_collider_is_valid(const pbf_world *w, pbf_collider_id id)
 {
+    if (!w) return false;
     if (id.index1 == 0 || id.index1 > PBF_MAX_COLLIDERS) return false;
     const collider_slot *s = &w->slots[id.index1 - 1];
     return s->used && s->generation == id.generation;
@@ -122,6 +123,8 @@ static float force_scale(const pbf_world *w, float r)
 
 pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_collider_id *out)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!d) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_collider: def must not be NULL");
     if (out) *out = (pbf_collider_id){ 0, 0 };
     if (!d) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_collider: def must not be NULL");
     if ((unsigned)d->type > PBF_SHAPE_SDF)
@@ -206,6 +209,7 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
 
 pbf_result pbf_world_remove_collider(pbf_world *w, pbf_collider_id id)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
     collider_slot *s = get_slot(w, id, "pbf_world_remove_collider");
     if (!s) return PBF_ERR_STALE_ID;
     s->used = false;
@@ -221,6 +225,10 @@ pbf_result pbf_world_set_collider_pose(pbf_world *w, pbf_collider_id id, const f
                                        const float rotation[4], const float linear_velocity[3],
                                        const float angular_velocity[3], const float center_of_mass[3])
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!position || !rotation)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_collider_pose: %s must not be NULL",
+                        !position ? "position" : "rotation");
     collider_slot *s = get_slot(w, id, "pbf_world_set_collider_pose");
     if (!s) return PBF_ERR_STALE_ID;
     if (!position || !rotation)
@@ -430,6 +438,9 @@ static void refresh(pbf_world *w, int64_t wait_step)
 
 pbf_result pbf_world_collider_force(pbf_world *w, pbf_collider_id id, float force[3], float torque[3])
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!force && !torque)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_collider_force: force and torque must not both be NULL");
     collider_slot *s = get_slot(w, id, "pbf_world_collider_force");
     if (!s) return PBF_ERR_STALE_ID;
     refresh(w, -1);
@@ -444,6 +455,8 @@ pbf_result pbf_world_collider_force(pbf_world *w, pbf_collider_id id, float forc
 pbf_result pbf_world_collider_report(pbf_world *w, pbf_collider_id id, int steps_back, bool wait,
                                      pbf_collider_report *out)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_collider_report: out must not be NULL");
     if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_collider_report: out must not be NULL");
     memset(out, 0, sizeof *out);
     collider_slot *s = get_slot(w, id, "pbf_world_collider_report");

@@ -39,7 +39,12 @@ static int disc_points(float s, float radius, float *out)
 
 float pbf_emitter_max_rate(const pbf_world *w, float speed, float radius)
 {
+    if (!w || !(speed > 0.0f) || !(radius > 0.0f) || !isfinite(speed) || !isfinite(radius)) return 0.0f;
     float s = w->k.spacing;
+    // Count the lattice points where that is cheap; a disc of more than ~50M points (far
+    // beyond any emitter the checks accept) is estimated by its area instead.
+    double cells = (double)radius / (double)s;
+    if (cells > 4096.0) return (float)((double)speed * 3.14159265358979 * cells * cells / (double)s);
     return speed * (float)disc_points(s, radius, NULL) / s;
 }
 
@@ -112,12 +117,16 @@ static emitter_slot *get_emitter(pbf_world *w, pbf_emitter_id id, const char *fn
 
 bool pbf_emitter_is_valid(const pbf_world *w, pbf_emitter_id id)
 {
+    if (!w) return false;
     return id.index1 > 0 && id.index1 <= PBF_MAX_EMITTERS && w->emitters[id.index1 - 1].used &&
            w->emitters[id.index1 - 1].generation == id.generation;
 }
 
 pbf_result pbf_world_add_emitter(pbf_world *w, const pbf_emitter_def *d, pbf_emitter_id *out)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!d || !out)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_emitter: %s must not be NULL", !d ? "def" : "out");
     if (out) *out = (pbf_emitter_id){ 0, 0 };
     float dir[3];
     pbf_result r = check_emitter(w, d, dir);
@@ -142,6 +151,8 @@ pbf_result pbf_world_add_emitter(pbf_world *w, const pbf_emitter_def *d, pbf_emi
 
 pbf_result pbf_world_set_emitter(pbf_world *w, pbf_emitter_id id, const pbf_emitter_def *d)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!d) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_emitter: def must not be NULL");
     emitter_slot *e = get_emitter(w, id, "pbf_world_set_emitter");
     if (!e) return PBF_ERR_STALE_ID;
     float dir[3];
@@ -153,6 +164,7 @@ pbf_result pbf_world_set_emitter(pbf_world *w, pbf_emitter_id id, const pbf_emit
 
 pbf_result pbf_world_remove_emitter(pbf_world *w, pbf_emitter_id id)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
     emitter_slot *e = get_emitter(w, id, "pbf_world_remove_emitter");
     if (!e) return PBF_ERR_STALE_ID;
     free(e->disc);
@@ -248,6 +260,9 @@ pbf_result pbf_emitters_emit(pbf_world *w, float dt)
 
 pbf_result pbf_world_add_sink(pbf_world *w, const float min[3], const float max[3], pbf_sink_id *out)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!min || !max)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_sink: %s must not be NULL", !min ? "min" : "max");
     static const char *const axis = "xyz";
     if (out) *out = (pbf_sink_id){ 0, 0 };
     for (int k = 0; k < 3; k++)
@@ -269,12 +284,14 @@ pbf_result pbf_world_add_sink(pbf_world *w, const float min[3], const float max[
 
 bool pbf_sink_is_valid(const pbf_world *w, pbf_sink_id id)
 {
+    if (!w) return false;
     return id.index1 > 0 && id.index1 <= PBF_MAX_SINKS && w->sinks[id.index1 - 1].used &&
            w->sinks[id.index1 - 1].generation == id.generation;
 }
 
 pbf_result pbf_world_remove_sink(pbf_world *w, pbf_sink_id id)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
     if (!pbf_sink_is_valid(w, id))
         return pbf_fail(w, PBF_ERR_STALE_ID, "pbf_world_remove_sink: sink id is null or stale (index1 %u, generation %u)",
                         id.index1, id.generation);

@@ -118,6 +118,7 @@ struct pbf_world {
     collider_slot slots[PBF_MAX_COLLIDERS];
     uint32_t gpu_colliders;
     bool colliders_dirty;
+    bool in_step;         // inside pbf_world_step_with's substep hook: no nested step or edit
     bool collider_data_dirty;   // hull planes / grids changed: collider_data is rebuilt
     GLuint collider_data;       // float[]: PBF_B_COLLIDER_DATA (made on first use)
     GLsizeiptr collider_data_size;

@@ -106,6 +106,10 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
 
 pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
 {
+    if (!p) {
+        if (err && err_size) snprintf(err, err_size, "pbf_params_validate: params must not be NULL");
+        return PBF_ERR_INVALID_ARG;
+    }
     float r = p->particle_radius;
     CHECK(isfinite(r) && r > 0.0005f && r <= 1.0f, "particle_radius", "%g", (double)r,
           "in (0.0005, 1] m");
@@ -172,6 +176,7 @@ const pbf_param_info *pbf_param_table(int *count)
 
 const pbf_param_info *pbf_param_find(const char *name)
 {
+    if (!name) return NULL;
     for (size_t i = 0; i < sizeof param_table / sizeof param_table[0]; i++)
         if (strcmp(param_table[i].name, name) == 0) return &param_table[i];
     return NULL;
@@ -179,6 +184,7 @@ const pbf_param_info *pbf_param_find(const char *name)
 
 double pbf_params_get(const pbf_params *p, const pbf_param_info *info)
 {
+    if (!p || !info) return NAN;
     const char *base = (const char *)p + info->offset;
     if (info->is_int) {
         int v;
@@ -192,6 +198,10 @@ double pbf_params_get(const pbf_params *p, const pbf_param_info *info)
 
 pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *err, size_t err_size)
 {
+    if (!p || !name) {
+        if (err && err_size) snprintf(err, err_size, "pbf_params_set: %s must not be NULL", !p ? "params" : "name");
+        return PBF_ERR_INVALID_ARG;
+    }
     const pbf_param_info *info = pbf_param_find(name);
     if (!info) {
         if (err && err_size) {
@@ -253,14 +263,15 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3])
 {
     double cs = (double)h / (double)cells_per_kernel;
-    uint64_t total = 1;
+    double total = 1.0; // in double: three 32-bit dimensions overflow 64 bits
     for (int k = 0; k < 3; k++) {
         origin[k] = domain_min[k] - h;
         double n = ceil(((double)domain_max[k] - (double)domain_min[k] + 2.0 * h) / cs - 1e-9);
-        dims[k] = n < 1.0 ? 1u : n > 4e9 ? 4000000000u : (uint32_t)n;
-        total *= dims[k];
+        if (!(n >= 1.0)) n = 1.0; // NaN too
+        dims[k] = n > 4e9 ? 4000000000u : (uint32_t)n;
+        total *= n;
     }
-    return total;
+    return total >= 1.8e19 ? UINT64_MAX : (uint64_t)total;
 }
 
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],

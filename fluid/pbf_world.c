@@ -50,10 +50,14 @@ const char *pbf_stage_name(pbf_stage stage)
 }
 
 
-const char *pbf_world_last_error(const pbf_world *world) { return world->error; }
+const char *pbf_world_last_error(const pbf_world *world)
+{
+    return world ? world->error : "pbf_world_last_error: world is NULL";
+}
 
 uint32_t pbf_suggest_max_neighbours(const pbf_params *p)
 {
+    if (!p) return 0;
     // Twice the neighbours of a rest lattice (compression headroom), a multiple of 8.
     double q = p->kernel_radius / (2.0 * p->particle_radius);
     double n = 2.0 * 4.18879 * q * q * q + 16.0;
@@ -173,6 +177,7 @@ static void stats_alloc(pbf_world *w)
 
 uint64_t pbf_world_def_memory(const pbf_world_def *def)
 {
+    if (!def) return 0;
     uint64_t cap = def->capacity;
     // pos, vel, pred (two vec4 each), ids (two), cell_of, sorted, order, lambda (vec2),
     // omega (vec4), neighbour count and list, and the metrics partials.
@@ -335,13 +340,16 @@ void pbf_world_destroy(pbf_world *w)
     free(w);
 }
 
-const pbf_params *pbf_world_params(const pbf_world *world) { return &world->params; }
-uint32_t pbf_world_particle_count(const pbf_world *world) { return world->count; }
-uint32_t pbf_world_capacity(const pbf_world *world) { return world->capacity; }
-float pbf_world_particle_mass(const pbf_world *world) { return world->k.mass; }
+const pbf_params *pbf_world_params(const pbf_world *world) { return world ? &world->params : NULL; }
+uint32_t pbf_world_particle_count(const pbf_world *world) { return world ? world->count : 0; }
+uint32_t pbf_world_capacity(const pbf_world *world) { return world ? world->capacity : 0; }
+float pbf_world_particle_mass(const pbf_world *world) { return world ? world->k.mass : 0.0f; }
 
 pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!p) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_params: params must not be NULL");
+    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_set_params");
     char err[256];
     if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     bool regrid = p->kernel_radius != w->params.kernel_radius;
@@ -384,6 +392,9 @@ pbf_block_def pbf_default_block_def(void)
 
 pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (w->in_step)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_particles");
     if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
     if (n > w->capacity - w->count)
         return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
@@ -413,6 +424,9 @@ pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const f
 
 pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *added)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!b) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_block: block must not be NULL");
+    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_block");
     if (added) *added = 0;
     float s = w->k.spacing;
     uint32_t n[3];
@@ -449,6 +463,7 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
 
 void pbf_world_clear(pbf_world *w)
 {
+    if (!w || w->in_step) return; // inside a step: documented as ignored
     // Wait for the steps in flight: their stats would describe particles now gone.
     pbf_world_poll_stats(w, NULL, 0, true);
     w->count = w->known_count = 0;
@@ -464,6 +479,9 @@ void pbf_world_clear(pbf_world *w)
 
 pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float max[3], bool closed_top)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!min || !max)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_container: %s must not be NULL", !min ? "min" : "max");
     char err[256];
     float planes[PBF_MAX_PLANES][4];
     int n = pbf_container_planes(min, max, closed_top, w->domain_min, w->domain_max, planes, err, sizeof err);
@@ -473,7 +491,10 @@ pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float
     return PBF_OK;
 }
 
-void pbf_world_remove_container(pbf_world *w) { w->plane_count = 0; }
+void pbf_world_remove_container(pbf_world *w)
+{
+    if (w) w->plane_count = 0;
+}
 
 // ---- the step -----------------------------------------------------------------------------
 
@@ -645,6 +666,7 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
 
 int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
 {
+    if (!w) return 0;
     int n = 0;
     // Records read early (ring full) come first: they are older than any pending one.
     int taken = 0;
@@ -679,6 +701,10 @@ pbf_result pbf_world_step(pbf_world *w, float dt) { return pbf_world_step_with(w
 
 pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, void *user)
 {
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (w->in_step)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: called from inside a step (the substep hook); "
+                        "set poses or forces there, step after it returns");
     if (!(dt > 0.0f && dt <= 1.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
     const pbf_params *p = &w->params;
@@ -711,7 +737,9 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     float sub_dt = dt / (float)p->substeps;
     for (int k = 0; k < p->substeps; k++) {
         if (hook) {
+            w->in_step = true;
             hook(user, w, k, sub_dt);
+            w->in_step = false;
             if (w->colliders_dirty) pbf_colliders_upload(w);
         }
         substep(&s, sub_dt, k, slot_index);
@@ -735,6 +763,10 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
 
 pbf_gpu_buffers pbf_world_gpu_buffers(const pbf_world *w)
 {
+    if (!w) {
+        pbf_gpu_buffers none = { 0, 0, 0, 0 };
+        return none;
+    }
     pbf_gpu_buffers b = { w->pos[w->cur_pos], w->vel[w->cur_vel], w->draw, w->count };
     return b;
 }
@@ -762,6 +794,7 @@ static uint32_t gpu_count(pbf_world *w)
 
 uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
 {
+    if (!w) return 0;
     uint32_t n = gpu_count(w);
     if (n == 0) return 0;
     float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
@@ -802,6 +835,7 @@ uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocit
 
 uint64_t pbf_world_state_hash(pbf_world *w)
 {
+    if (!w) return 0;
     uint32_t n = gpu_count(w);
     float *p = malloc((size_t)n * 16 + 16), *v = malloc((size_t)n * 16 + 16);
     uint64_t h = 1469598103934665603ull;

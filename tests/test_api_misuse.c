@@ -1,0 +1,170 @@
+// fluid/pbf.h refuses misuse instead of crashing: every function given a NULL world or a
+// NULL pointer where it needs one returns an error (or 0 / NULL / false where it returns a
+// value), and the world's message names the argument. Also sizes that would overflow, and
+// a step started from inside a step.
+#include "tests/support.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fluid/pbf.h"
+
+typedef struct fixture {
+    eng_context *ctx;
+    pbf_world *world;
+} fixture;
+
+static int setup(void **state)
+{
+    fixture *f = calloc(1, sizeof *f);
+    if (!f) return -1;
+    f->ctx = support_headless_context(32, 32);
+    pbf_world_def d = pbf_default_world_def();
+    d.params.particle_radius = 0.02f;
+    d.params.kernel_radius = 0.08f;
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.capacity = 2048;
+    char err[512];
+    f->world = pbf_world_create(&d, err, sizeof err);
+    if (!f->world) return -1;
+    *state = f;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    fixture *f = *state;
+    pbf_world_destroy(f->world);
+    eng_context_destroy(f->ctx);
+    free(f);
+    return 0;
+}
+
+static void null_world_is_refused_by_every_function(void **state)
+{
+    (void)state;
+    const float v3[3] = { 0.1f, 0.1f, 0.1f }, q[4] = { 0, 0, 0, 1 };
+    float out3[3], out3b[3];
+    pbf_block_def b = pbf_default_block_def();
+    pbf_emitter_def e = pbf_default_emitter_def();
+    pbf_collider_def c = pbf_default_collider_def();
+    pbf_params p = pbf_default_params();
+    pbf_emitter_id eid = { 0 };
+    pbf_sink_id sid = { 0 };
+    pbf_collider_id cid = { 0 };
+    pbf_collider_report rep;
+    pbf_step_stats st[2];
+    float buf[8];
+    assert_int_equal(pbf_world_set_params(NULL, &p), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_set_container(NULL, v3, v3, false), PBF_ERR_INVALID_ARG);
+    pbf_world_remove_container(NULL);
+    assert_int_equal(pbf_world_add_block(NULL, &b, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_add_particles(NULL, buf, NULL, 1), PBF_ERR_INVALID_ARG);
+    pbf_world_clear(NULL);
+    assert_true(pbf_emitter_max_rate(NULL, 1.0f, 0.05f) == 0.0f);
+    assert_int_equal(pbf_world_add_emitter(NULL, &e, &eid), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_set_emitter(NULL, eid, &e), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_remove_emitter(NULL, eid), PBF_ERR_INVALID_ARG);
+    assert_false(pbf_emitter_is_valid(NULL, eid));
+    assert_int_equal(pbf_world_add_sink(NULL, v3, v3, &sid), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_remove_sink(NULL, sid), PBF_ERR_INVALID_ARG);
+    assert_false(pbf_sink_is_valid(NULL, sid));
+    assert_int_equal(pbf_world_particle_count(NULL), 0);
+    assert_int_equal(pbf_world_capacity(NULL), 0);
+    assert_true(pbf_world_particle_mass(NULL) == 0.0f);
+    assert_int_equal(pbf_world_step(NULL, 0.01f), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_step_with(NULL, 0.01f, NULL, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_add_collider(NULL, &c, &cid), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_remove_collider(NULL, cid), PBF_ERR_INVALID_ARG);
+    assert_false(pbf_collider_is_valid(NULL, cid));
+    assert_int_equal(pbf_world_set_collider_pose(NULL, cid, v3, q, NULL, NULL, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_collider_force(NULL, cid, out3, out3b), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_collider_report(NULL, cid, 1, false, &rep), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_poll_stats(NULL, st, 2, false), 0);
+    pbf_gpu_buffers g = pbf_world_gpu_buffers(NULL);
+    assert_int_equal(g.positions, 0);
+    assert_int_equal(pbf_world_read_particles(NULL, buf, NULL, NULL, 2), 0);
+    assert_true(pbf_world_state_hash(NULL) == 0);
+    assert_null(pbf_world_params(NULL));
+    assert_non_null(pbf_world_last_error(NULL));
+    pbf_world_destroy(NULL);
+    assert_null(pbf_world_create(NULL, NULL, 0));
+    char err[128];
+    assert_null(pbf_world_create(NULL, err, sizeof err));
+    assert_non_null(strstr(err, "def"));
+}
+
+static void null_pointers_are_refused_naming_the_argument(void **state)
+{
+    fixture *f = *state;
+    pbf_world *w = f->world;
+    const float v3[3] = { 0.1f, 0.1f, 0.1f };
+    float out3[3];
+    pbf_emitter_def e = pbf_default_emitter_def();
+    pbf_emitter_id eid = { 0 };
+    pbf_collider_id cid = { 0 };
+    char err[256];
+    assert_int_equal(pbf_world_set_params(w, NULL), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "params"));
+    assert_int_equal(pbf_world_set_container(w, NULL, v3, false), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "min"));
+    assert_int_equal(pbf_world_set_container(w, v3, NULL, false), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "max"));
+    assert_int_equal(pbf_world_add_block(w, NULL, NULL), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "block"));
+    assert_int_equal(pbf_world_add_emitter(w, NULL, &eid), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_add_emitter(w, &e, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_set_emitter(w, eid, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_add_sink(w, NULL, v3, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_add_sink(w, v3, NULL, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_add_collider(w, NULL, &cid), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_set_collider_pose(w, cid, NULL, NULL, NULL, NULL, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_collider_force(w, cid, NULL, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_collider_report(w, cid, 1, false, NULL), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_poll_stats(w, NULL, 4, false), 0);
+    (void)out3;
+    // The parameter helpers.
+    assert_int_equal(pbf_params_validate(NULL, err, sizeof err), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_params_validate(NULL, NULL, 0), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_params_set(NULL, "iterations", 3, err, sizeof err), PBF_ERR_INVALID_ARG);
+    pbf_params p = pbf_default_params();
+    assert_int_equal(pbf_params_set(&p, NULL, 3, err, sizeof err), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_params_set(&p, "iterations", 3, NULL, 0), PBF_OK);
+    assert_null(pbf_param_find(NULL));
+    assert_int_equal(pbf_suggest_max_neighbours(NULL), 0);
+    assert_true(pbf_world_def_memory(NULL) == 0);
+    assert_non_null(pbf_param_table(NULL));
+    // Values that do not fit.
+    assert_true(pbf_emitter_max_rate(w, 1e30f, 1e30f) >= 0.0f);
+    assert_true(pbf_emitter_max_rate(w, NAN, 0.05f) == 0.0f);
+}
+
+static void again_from_hook(void *user, pbf_world *w, int substep, float dt)
+{
+    (void)substep;
+    (void)dt;
+    pbf_result *r = user;
+    *r = pbf_world_step(w, 0.01f);
+}
+
+static void step_from_inside_a_step_is_refused(void **state)
+{
+    fixture *f = *state;
+    pbf_result inner = PBF_OK;
+    assert_int_equal(pbf_world_step_with(f->world, 0.01f, again_from_hook, &inner), PBF_OK);
+    assert_int_equal(inner, PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(f->world), "inside"));
+    // And the world still steps afterwards.
+    assert_int_equal(pbf_world_step(f->world, 0.01f), PBF_OK);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(null_world_is_refused_by_every_function),
+        cmocka_unit_test(null_pointers_are_refused_naming_the_argument),
+        cmocka_unit_test(step_from_inside_a_step_is_refused),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
