@@ -145,6 +145,13 @@ const pbf_param_info *pbf_param_find(const char *name);
 /// Sets one parameter by name (the whole set is validated); on error nothing changes and
 /// err says which name or value was wrong.
 pbf_result pbf_params_set(pbf_params *params, const char *name, double value, char *err, size_t err_size);
+/// Sets `count` parameters by name at once, then validates the set as a whole, so any
+/// consistent combination is accepted whatever each field's old value (a scene table or
+/// several --set options). Given particle_radius without kernel_radius, the kernel keeps
+/// its size in particle radii (4 r with the defaults). On error nothing changes and err
+/// names the field and value that break the set.
+pbf_result pbf_params_apply(pbf_params *params, const char *const *names, const double *values, int count,
+                            char *err, size_t err_size);
 double pbf_params_get(const pbf_params *params, const pbf_param_info *info);
 
 /// Constants derived from the parameters (shared by the GPU step and the CPU reference).

@@ -196,12 +196,10 @@ double pbf_params_get(const pbf_params *p, const pbf_param_info *info)
     return v;
 }
 
-pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *err, size_t err_size)
+// Writes one field by name, checking only that the name exists and that an integer field
+// gets a whole number; the set is checked by the caller.
+static pbf_result set_field(pbf_params *p, const char *name, double value, char *err, size_t err_size)
 {
-    if (!p || !name) {
-        if (err && err_size) snprintf(err, err_size, "pbf_params_set: %s must not be NULL", !p ? "params" : "name");
-        return PBF_ERR_INVALID_ARG;
-    }
     const pbf_param_info *info = pbf_param_find(name);
     if (!info) {
         if (err && err_size) {
@@ -212,8 +210,7 @@ pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *e
         }
         return PBF_ERR_INVALID_ARG;
     }
-    pbf_params tmp = *p;
-    char *base = (char *)&tmp + info->offset;
+    char *base = (char *)p + info->offset;
     if (info->is_int) {
         if (!(value == floor(value)) || value < -2e9 || value > 2e9) {
             if (err && err_size)
@@ -227,6 +224,44 @@ pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *e
         float v = (float)value;
         memcpy(base, &v, sizeof v);
     }
+    return PBF_OK;
+}
+
+pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *err, size_t err_size)
+{
+    if (!p || !name) {
+        if (err && err_size) snprintf(err, err_size, "pbf_params_set: %s must not be NULL", !p ? "params" : "name");
+        return PBF_ERR_INVALID_ARG;
+    }
+    pbf_params tmp = *p;
+    pbf_result r = set_field(&tmp, name, value, err, err_size);
+    if (r == PBF_OK) r = pbf_params_validate(&tmp, err, err_size);
+    if (r == PBF_OK) *p = tmp;
+    return r;
+}
+
+pbf_result pbf_params_apply(pbf_params *p, const char *const *names, const double *values, int count, char *err,
+                            size_t err_size)
+{
+    if (!p || (count > 0 && (!names || !values)) || count < 0) {
+        if (err && err_size) snprintf(err, err_size, "pbf_params_apply: params, names and values must not be NULL");
+        return PBF_ERR_INVALID_ARG;
+    }
+    pbf_params tmp = *p;
+    bool radius = false, kernel = false;
+    for (int i = 0; i < count; i++) {
+        if (!names[i]) {
+            if (err && err_size) snprintf(err, err_size, "pbf_params_apply: names[%d] is NULL", i);
+            return PBF_ERR_INVALID_ARG;
+        }
+        pbf_result r = set_field(&tmp, names[i], values[i], err, err_size);
+        if (r != PBF_OK) return r;
+        radius |= strcmp(names[i], "particle_radius") == 0;
+        kernel |= strcmp(names[i], "kernel_radius") == 0;
+    }
+    // A new particle size alone keeps the kernel's size in particle radii.
+    if (radius && !kernel && p->particle_radius > 0.0f)
+        tmp.kernel_radius = tmp.particle_radius * (p->kernel_radius / p->particle_radius);
     pbf_result r = pbf_params_validate(&tmp, err, err_size);
     if (r == PBF_OK) *p = tmp;
     return r;

@@ -154,6 +154,12 @@ static int script_failed(app *a, eng_script_status st, const char *msg)
 
 static int apply_sets(app *a, eng_scene_config *c, char *err, size_t err_size)
 {
+    // The fluid.* options apply together, checked as a set (pbf_params_apply), so that any
+    // consistent particle_radius / kernel_radius pair is accepted in any order.
+    char fluid_keys[ENG_APP_MAX_SETS][128];
+    const char *fluid_names[ENG_APP_MAX_SETS];
+    double fluid_values[ENG_APP_MAX_SETS];
+    int fluid_count = 0;
     for (int i = 0; i < a->opt->set_count; i++) {
         const char *kv = a->opt->sets[i];
         const char *eq = strchr(kv, '=');
@@ -170,12 +176,10 @@ static int apply_sets(app *a, eng_scene_config *c, char *err, size_t err_size)
             snprintf(err, err_size, "seiche: --set %s: value must be a finite number (got '%s')", key, eq + 1);
             return ENG_EXIT_USAGE;
         }
-        char perr[512];
         if (strncmp(key, "fluid.", 6) == 0) {
-            if (pbf_params_set(&c->params, key + 6, v, perr, sizeof perr) != PBF_OK) {
-                snprintf(err, err_size, "seiche: --set %s: %s", key, perr);
-                return ENG_EXIT_USAGE;
-            }
+            snprintf(fluid_keys[fluid_count], sizeof fluid_keys[0], "%s", key + 6);
+            fluid_names[fluid_count] = fluid_keys[fluid_count];
+            fluid_values[fluid_count++] = v;
         } else if (strcmp(key, "capacity") == 0) {
             if (v < 1 || v > 67108864 || v != floor(v)) {
                 snprintf(err, err_size, "seiche: --set capacity must be a whole number in [1, 67108864] (got %s)", eq + 1);
@@ -192,6 +196,11 @@ static int apply_sets(app *a, eng_scene_config *c, char *err, size_t err_size)
             snprintf(err, err_size, "seiche: --set: unknown key '%s' (known: %s)", key, eng_app_set_keys());
             return ENG_EXIT_USAGE;
         }
+    }
+    char perr[512];
+    if (pbf_params_apply(&c->params, fluid_names, fluid_values, fluid_count, perr, sizeof perr) != PBF_OK) {
+        snprintf(err, err_size, "seiche: --set fluid: %s", perr);
+        return ENG_EXIT_USAGE;
     }
     return ENG_EXIT_OK;
 }

@@ -17,11 +17,25 @@ static void read_fluid(lua_State *L, int t, pbf_params *p)
     for (int i = 0; i < n && k < 38; i++) known[k++] = tab[i].name;
     known[k] = NULL;
     scr_check_fields(L, t, "seiche.scene: fluid", known);
-    for (int i = 0; i < n; i++) {
+    // Every given field first, then the set checked as a whole (pbf_params_apply).
+    const char *names[64];
+    double values[64];
+    int given = 0;
+    for (int i = 0; i < n && given < 64; i++) {
         double v;
         if (!scr_opt_number(L, t, "seiche.scene: fluid", tab[i].name, -1e30, 1e30, 0, tab[i].unit, &v)) continue;
-        char err[512];
-        if (pbf_params_set(p, tab[i].name, v, err, sizeof err) != PBF_OK) scr_raise(L, "seiche.scene: fluid.%s: %s", tab[i].name, err);
+        names[given] = tab[i].name;
+        values[given++] = v;
+    }
+    char err[512];
+    if (pbf_params_apply(p, names, values, given, err, sizeof err) != PBF_OK) {
+        // "pbf_params.NAME must be ...": name the field the way the table spells it.
+        const char *f = strstr(err, "pbf_params.");
+        int len = 0;
+        if (f)
+            while (f[11 + len] == '_' || (f[11 + len] >= 'a' && f[11 + len] <= 'z')) len++;
+        if (len > 0) scr_raise(L, "seiche.scene: fluid.%.*s: %s", len, f + 11, err);
+        scr_raise(L, "seiche.scene: fluid: %s", err);
     }
 }
 
