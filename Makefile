@@ -32,13 +32,7 @@ build: setup build/Makefile
 	$(MAKE) --no-print-directory -C build config=$(CONFIG) -j$(JOBS)
 
 demo: build
-	@if [ -n "$${DISPLAY:-}$${WAYLAND_DISPLAY:-}" ]; then \
-		$(SEICHE) scripts/scenes/dam_break.lua; \
-	else \
-		echo "demo: no display; running headless for 3 simulated seconds"; \
-		$(SEICHE) --headless --frames 180 --screenshot build/dam_break.png scripts/scenes/dam_break.lua && \
-		echo "demo: screenshot written to build/dam_break.png"; \
-	fi
+	@tools/demo.sh
 
 test: build
 	@tests/run.sh

@@ -16,6 +16,7 @@
 
 #include <epoxy/gl.h>
 
+#include "engine/core/progress.h"
 #include "engine/gl/context.h"
 #include "fluid/pbf.h"
 
@@ -94,7 +95,7 @@ static int parse_list(const char *s, long *out, int *count, const char *name, lo
     return *count > 0;
 }
 
-static int run_one(const options *o, long n, int iterations, int substeps, result *r)
+static int run_one(const options *o, long n, int iterations, int substeps, result *r, eng_progress *pr, long base)
 {
     memset(r, 0, sizeof *r);
     r->particles_asked = n;
@@ -126,7 +127,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
         pbf_world_destroy(w);
         return 0;
     }
-    for (int i = 0; i < o->warmup; i++)
+    for (int i = 0; i < o->warmup; i++, eng_progress_update(pr, base + i, -1.0))
         if (pbf_world_step(w, (float)o->dt) != PBF_OK) {
             fprintf(stderr, "seiche-bench: %ld particles: %s\n", n, pbf_world_last_error(w));
             pbf_world_destroy(w);
@@ -149,6 +150,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
             failed = true;
             break;
         }
+        eng_progress_update(pr, base + o->warmup + i + 1, -1.0);
         int k;
         while ((k = pbf_world_poll_stats(w, st, 16, i == o->steps - 1)) > 0) {
             for (int j = 0; j < k && got < cap; j++, got++) {
@@ -275,11 +277,17 @@ int main(int argc, char **argv)
     for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %s", pbf_stage_name((pbf_stage)s));
     printf("\n");
     int ok = 1, first = 1, diverged = 0;
+    long runs = (long)o.particle_count * o.substep_count * o.iteration_count, run_index = 0;
+    eng_progress pr;
+    eng_progress_begin(&pr, "bench step", runs * (o.warmup + o.steps));
     for (int pi = 0; pi < o.particle_count && ok; pi++)
         for (int si = 0; si < o.substep_count && ok; si++)
         for (int ii = 0; ii < o.iteration_count && ok; ii++) {
             result r;
-            if (!run_one(&o, o.particles[pi], (int)o.iterations[ii], (int)o.substeps[si], &r)) {
+            long base = run_index++ * (o.warmup + o.steps);
+            int done = run_one(&o, o.particles[pi], (int)o.iterations[ii], (int)o.substeps[si], &r, &pr, base);
+            eng_progress_end(&pr);
+            if (!done) {
                 ok = 0;
                 break;
             }

@@ -28,6 +28,7 @@
 #include "engine/gl/video.h"
 #include "engine/script/script.h"
 #include "engine/app/ui.h"
+#include "engine/core/progress.h"
 #include "fluid/bullet/coupling.h"
 #include "fluid/bullet/phys.h"
 #include "fluid/pbf.h"
@@ -75,6 +76,7 @@ typedef struct app {
     off_t watch_size;
     FILE *metrics;
     eng_video *video; // --record
+    eng_progress progress; // headless runs on a terminal
     pbf_step_stats last_stats;
     bool have_stats;
     uint64_t stats_rows;
@@ -130,6 +132,7 @@ static void find_shader_dir(app *a)
 // Reports a message: always on stderr; in a window also on screen.
 static void report(app *a, const char *msg)
 {
+    eng_progress_end(&a->progress);
     fprintf(stderr, "%s\n", msg);
     if (a->opt->headless) return;
     size_t n = strlen(msg);
@@ -907,6 +910,8 @@ int eng_app_run(const eng_app_options *o)
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
     long idle_frames = 0;
+    eng_progress_begin(&a->progress, "frame", frames);
+    a->progress.on &= o->headless;
     while (status == ENG_EXIT_OK && !done) {
         eng_input_begin_frame(a->input);
         eng_context_poll(a->ctx);
@@ -949,7 +954,9 @@ int eng_app_run(const eng_app_options *o)
         if (shot && write_screenshot(a) != ENG_EXIT_OK) status = ENG_EXIT_USAGE;
         if (a->video && status == ENG_EXIT_OK) status = record_frame(a);
         eng_context_present(a->ctx);
+        eng_progress_update(&a->progress, (long)a->frame, a->time);
     }
+    eng_progress_end(&a->progress);
     if (a->inst.world) take_stats(a, true);
     if (status == ENG_EXIT_OK && !o->headless) status = a->window_status;
     if (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED) {
