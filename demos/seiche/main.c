@@ -22,7 +22,7 @@ static void usage(FILE *f)
             "  --dt SECONDS          fixed frame step, [0.00001, 1] (default 1/60)\n"
             "  --set KEY=VALUE       override a scene parameter, e.g. fluid.iterations=4 (repeatable)\n"
             "  --metrics FILE.csv    one row per frame: frame, time, particles, rho0, rho_max, rho_avg,\n"
-            "                        step_ms, <stage>_ms ..., nan, outside, overflow\n"
+            "                        step_ms, <stage>_ms ..., nan, outside, overflow, rho_err_avg\n"
             "  --screenshot FILE.png the last frame\n"
             "  --record FILE.mp4     frames to video through ffmpeg\n"
             "  --hash                print a hash of the final simulation state\n"
