@@ -40,7 +40,8 @@ static void usage(FILE *f)
             "mode, F1 panel, Esc quit; orbit with the left mouse button, zoom with the wheel.\n"
             "Saving the script reloads it. The Lua API: docs/lua-api.md; this command: docs/runner.md.\n"
             "exit status: 0 ok, 1 a check in the script failed, 2 usage or script error,\n"
-            "             3 no OpenGL 4.3 compute context\n");
+            "             3 no OpenGL 4.3 compute context, 4 the solver diverged,\n"
+            "             5 a GL error or synchronisation hazard (a bug in Seiche)\n");
 }
 
 // True when the two paths name one file: the same text, or both exist as one inode.

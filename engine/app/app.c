@@ -77,6 +77,8 @@ typedef struct app {
     FILE *metrics;
     eng_video *video; // --record
     eng_progress progress; // headless runs on a terminal
+    bool diverged, diverged_reported;
+    char diverged_text[400];
     pbf_step_stats last_stats;
     bool have_stats;
     uint64_t stats_rows;
@@ -514,6 +516,7 @@ static int load_scene(app *a, bool reload)
         a->frame = 0;
         a->time = 0.0;
         a->have_stats = false;
+        a->diverged = a->diverged_reported = false;
         update_host(a);
         // The edits of the main chunk, then on_start (and on_reload) and theirs.
         for (int k = 0; k < 3 && st == ENG_EXIT_OK; k++) {
@@ -548,6 +551,7 @@ static int load_scene(app *a, bool reload)
     a->frame = 0;
     a->time = 0.0;
     a->have_stats = false;
+    a->diverged = a->diverged_reported = false;
     a->halted = false;
     a->error_text[0] = 0;
     a->window_status = ENG_EXIT_OK;
@@ -589,9 +593,33 @@ static void take_stats(app *a, bool wait)
             a->stats_rows++;
             a->last_stats = *s;
             a->have_stats = true;
+            // A diverged solver: non-finite particles, a density no incompressible solver
+            // reaches, or particles through the domain's walls. Reported once.
+            if (!a->diverged && (s->nan_count > 0 || s->outside_count > 0 ||
+                                 (s->rest_density > 0 && s->density_max > 3.0f * s->rest_density))) {
+                a->diverged = true;
+                snprintf(a->diverged_text, sizeof a->diverged_text,
+                         "seiche: the solver diverged at step %llu (t = %.3f s): rho_max %.2f rho0, %u NaN, %u outside "
+                         "the domain (allowed: rho_max up to 3 rho0, none NaN or outside); a smaller --dt or more "
+                         "fluid.substeps or fluid.iterations keep it stable",
+                         (unsigned long long)s->step, s->time, (double)(s->density_max / s->rest_density),
+                         s->nan_count, s->outside_count);
+            }
         }
         if (!wait && n < 16) break;
     }
+}
+
+// Headless a diverged solver ends the run (ENG_EXIT_DIVERGED); in a window the message is
+// shown once and the run goes on, ending with that status when the window closes.
+static int check_diverged(app *a)
+{
+    if (!a->diverged || a->diverged_reported) return ENG_EXIT_OK;
+    a->diverged_reported = true;
+    report(a, a->diverged_text);
+    if (a->opt->headless) return ENG_EXIT_DIVERGED;
+    if (a->window_status < ENG_EXIT_DIVERGED) a->window_status = ENG_EXIT_DIVERGED;
+    return ENG_EXIT_OK;
 }
 
 // Hides the container walls that stand between the camera and the inside.
@@ -935,6 +963,8 @@ int eng_app_run(const eng_app_options *o)
                 a->frame++;
                 a->time = (double)a->frame * o->dt; // exact multiples, no running sum
                 take_stats(a, false);
+                status = check_diverged(a);
+                if (status != ENG_EXIT_OK) break;
                 update_host(a);
                 if (!a->halted) status = script_result(a, eng_script_on_step(in->script, o->dt, a->time));
             }
@@ -958,6 +988,7 @@ int eng_app_run(const eng_app_options *o)
     }
     eng_progress_end(&a->progress);
     if (a->inst.world) take_stats(a, true);
+    if (status == ENG_EXIT_OK) status = check_diverged(a);
     if (status == ENG_EXIT_OK && !o->headless) status = a->window_status;
     if (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED) {
         if (o->screenshot_path && !a->screenshot_taken) {

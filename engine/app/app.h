@@ -16,6 +16,7 @@ enum {
     ENG_EXIT_CHECK_FAILED = 1,
     ENG_EXIT_USAGE = 2,       ///< usage or script error
     ENG_EXIT_NO_COMPUTE = 3,  ///< no OpenGL 4.3 compute context
+    ENG_EXIT_DIVERGED = 4,    ///< the solver diverged: NaN, rho_max over 3 rho0, or particles left the domain
 };
 
 typedef struct eng_app_options {
