@@ -1,0 +1,140 @@
+// What a run writes and reports: statistics and the metrics CSV, divergence, the video,
+// the screenshot and the summary line.
+#include "engine/app/app_internal.h"
+
+#include <epoxy/gl.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "engine/gl/screenshot.h"
+
+void app_write_metrics_header(app *a)
+{
+    fprintf(a->metrics, "frame,time,particles,rho0,rho_max,rho_avg,step_ms");
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) fprintf(a->metrics, ",%s_ms", pbf_stage_name((pbf_stage)s));
+    fprintf(a->metrics, ",nan,outside,overflow,rho_err_avg\n");
+}
+
+void app_take_stats(app *a, bool wait)
+{
+    pbf_step_stats st[16];
+    int n;
+    while ((n = pbf_world_poll_stats(a->inst.world, st, 16, wait)) > 0) {
+        for (int i = 0; i < n; i++) {
+            const pbf_step_stats *s = &st[i];
+            if (a->metrics) {
+                fprintf(a->metrics, "%llu,%.6f,%u,%.3f,%.3f,%.3f,%.4f", (unsigned long long)s->step, s->time,
+                        s->particles, (double)s->rest_density, (double)s->density_max, (double)s->density_avg,
+                        s->step_ms);
+                for (int k = 0; k < PBF_STAGE_COUNT; k++) fprintf(a->metrics, ",%.4f", s->stage_ms[k]);
+                fprintf(a->metrics, ",%u,%u,%u,%.6f\n", s->nan_count, s->outside_count, s->overflow_count,
+                        (double)s->density_error_avg);
+            }
+            double e = s->rest_density > 0 ? s->density_max / s->rest_density - 1.0 : 0.0;
+            if (e > a->rho_err_max) a->rho_err_max = e;
+            a->step_ms_sum += s->step_ms;
+            a->step_ms_n++;
+            a->stats_rows++;
+            a->last_stats = *s;
+            a->have_stats = true;
+            // A diverged solver: non-finite particles, a density no incompressible solver
+            // reaches, or particles through the domain's walls. Reported once.
+            if (!a->diverged && (s->nan_count > 0 || s->outside_count > 0 ||
+                                 (s->rest_density > 0 && s->density_max > 3.0f * s->rest_density))) {
+                a->diverged = true;
+                snprintf(a->diverged_text, sizeof a->diverged_text,
+                         "seiche: the solver diverged at step %llu (t = %.3f s): rho_max %.2f rho0, %u NaN, %u outside "
+                         "the domain (allowed: rho_max up to 3 rho0, none NaN or outside); a smaller --dt or more "
+                         "fluid.substeps or fluid.iterations keep it stable",
+                         (unsigned long long)s->step, s->time, (double)(s->density_max / s->rest_density),
+                         s->nan_count, s->outside_count);
+            }
+        }
+        if (!wait && n < 16) break;
+    }
+}
+
+// Headless a diverged solver ends the run (ENG_EXIT_DIVERGED); in a window the message is
+// shown once and the run goes on, ending with that status when the window closes.
+int app_check_diverged(app *a)
+{
+    if (!a->diverged || a->diverged_reported) return ENG_EXIT_OK;
+    a->diverged_reported = true;
+    app_report(a, a->diverged_text);
+    if (a->opt->headless) return ENG_EXIT_DIVERGED;
+    if (a->window_status < ENG_EXIT_DIVERGED) a->window_status = ENG_EXIT_DIVERGED;
+    return ENG_EXIT_OK;
+}
+
+int app_record_frame(app *a)
+{
+    char err[1200];
+    if (eng_video_frame(a->video, a->ctx, err, sizeof err)) return ENG_EXIT_OK;
+    a->video = NULL; // closed by the failure
+    fprintf(stderr, "seiche: %s\n", err);
+    return ENG_EXIT_USAGE;
+}
+
+int app_open_video(app *a)
+{
+    char err[1200];
+    a->video = eng_video_open(a->ctx, a->opt->record_path, (int)lround(1.0 / a->opt->dt), err, sizeof err);
+    if (!a->video) {
+        fprintf(stderr, "seiche: %s\n", err);
+        return ENG_EXIT_USAGE;
+    }
+    return ENG_EXIT_OK;
+}
+
+// Ends the video; ENG_EXIT_USAGE with a message (unless `quiet`) when ffmpeg failed.
+int app_close_video(app *a, bool quiet)
+{
+    char err[1200];
+    bool ok = eng_video_close(a->video, err, sizeof err);
+    a->video = NULL;
+    if (!ok && !quiet) fprintf(stderr, "seiche: %s\n", err);
+    return ok ? ENG_EXIT_OK : ENG_EXIT_USAGE;
+}
+
+// Closes the metrics file; ENG_EXIT_USAGE with a message if any row could not be written.
+int app_close_metrics(app *a, bool quiet)
+{
+    if (!a->metrics) return ENG_EXIT_OK;
+    bool failed = ferror(a->metrics) != 0;
+    int e = errno;
+    if (fclose(a->metrics) != 0 && !failed) {
+        failed = true;
+        e = errno;
+    }
+    a->metrics = NULL;
+    if (failed && !quiet) fprintf(stderr, "seiche: --metrics: writing '%s' failed: %s\n", a->opt->metrics_path, strerror(e));
+    return failed ? ENG_EXIT_USAGE : ENG_EXIT_OK;
+}
+
+void app_print_summary(app *a)
+{
+    if (a->opt->quiet || !a->inst.script) return;
+    const pbf_step_stats *s = &a->last_stats;
+    printf("seiche: %s: %llu frames, %.2f s simulated, %u particles, %u bodies, rho_avg %.1f rho_max %.1f (rho0 %.0f, "
+           "worst %.1f%% over), %.2f ms GPU per step, %s\n",
+           eng_script_config(a->inst.script)->name, (unsigned long long)a->frame, a->time,
+           a->inst.world ? pbf_world_particle_count(a->inst.world) : 0, a->inst.coupling ? cpl_body_count(a->inst.coupling) : 0,
+           a->have_stats ? (double)s->density_avg : 0.0, a->have_stats ? (double)s->density_max : 0.0,
+           (double)pbf_world_params(a->inst.world)->rest_density, 100.0 * a->rho_err_max,
+           a->step_ms_n ? a->step_ms_sum / (double)a->step_ms_n : 0.0, eng_context_renderer(a->ctx));
+}
+
+int app_write_screenshot(app *a)
+{
+    char err[1024];
+    a->screenshot_taken = true;
+    if (!eng_screenshot_write_png(a->ctx, a->opt->screenshot_path, err, sizeof err)) {
+        fprintf(stderr, "seiche: --screenshot: %s\n", err);
+        return ENG_EXIT_USAGE;
+    }
+    return ENG_EXIT_OK;
+}
