@@ -8,7 +8,7 @@ CONFIG ?= release
 JOBS ?= $(shell nproc)
 SEICHE = build/bin/seiche
 
-.PHONY: all setup build demo test bench plots clean
+.PHONY: all setup build demo test bench plots clean gpu-check
 
 all: build
 
@@ -40,6 +40,11 @@ bench: build
 
 plots: build
 	tools/plots.sh
+
+# The suite, every scene and the benchmark on the GL at hand, one report in build/gpu-check/
+# (docs/performance.md; options: make gpu-check GPU_CHECK_ARGS="--frames 30").
+gpu-check: build
+	tools/gpu_check.sh $(GPU_CHECK_ARGS)
 
 clean:
 	rm -rf build
