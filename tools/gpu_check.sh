@@ -287,7 +287,7 @@ write_report() {
         case "$bench_status" in
         "not run"*) echo "$bench_status." | sed 's/^not run/Not run/' ;;
         *)
-            echo "seiche-bench: dam break of a 1 m³ block, $bench_iterations iterations, 1 substep, dt 4 ms; median of $bench_steps steps after $bench_warmup warm-up. times in ms per step (per stage: GPU, all iterations). Raw: bench/N.json."
+            echo "seiche-bench: dam break of a 1 m³ block, $bench_iterations iterations, 1 substep, dt 4 ms; median of $bench_steps steps after $bench_warmup warm-up. Times in ms per step (per stage: GPU, all iterations). Raw: bench/N.json."
             echo
             if [ -s "$bench_table" ]; then
                 # Stage names from the first run's stage_ms object, in order.
