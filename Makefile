@@ -12,7 +12,7 @@ SEICHE = build/bin/seiche
 
 PREFIX ?= /usr/local
 
-.PHONY: all setup build demo test bench plots clean install
+.PHONY: all setup build demo test bench plots clean install gpu-check
 
 all: build
 
@@ -45,6 +45,11 @@ plots: build
 
 install: build
 	tools/install.sh "$(PREFIX)"
+
+# The suite, every scene and the benchmark on the GL at hand, one report in build/gpu-check/
+# (docs/performance.md; options: make gpu-check GPU_CHECK_ARGS="--frames 30").
+gpu-check: build
+	tools/gpu_check.sh $(GPU_CHECK_ARGS)
 
 clean:
 	rm -rf build

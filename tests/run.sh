@@ -4,7 +4,10 @@
 # runner's exit status matches the one its first lines declare (`-- expect-exit: N`,
 # default 0) and, if declared, stderr contains `-- expect-stderr: TEXT` (repeatable).
 # `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner.
-# Prints one line per test program / script and ends with "N passed, N failed".
+# `-- needs: PROGRAM` (repeatable) skips the script when PROGRAM is not on the PATH.
+# A cmocka test may skip itself (cmocka's skip(), with the reason printed first as a line
+# "SKIPPED: ..."), e.g. one that needs Mesa on another driver: it counts as skipped.
+# Prints one line per test program / script and ends with "N passed, N failed, N skipped".
 cd "$(dirname "$0")/.." || exit 2
 # The strict GL mode (docs/runner.md) is on unless the caller sets SEICHE_GL_STRICT=0: a
 # missing barrier or a clear-then-upload stops the test that hit it with exit status 5.
@@ -13,6 +16,7 @@ export SEICHE_GL_STRICT
 echo "SEICHE_GL_STRICT=$SEICHE_GL_STRICT"
 passed=0
 failed=0
+skipped=0
 failures=""
 log_dir=build/test-logs
 mkdir -p "$log_dir"
@@ -25,10 +29,16 @@ for t in build/bin/test_*; do
     secs=$(( $(date +%s) - start ))
     n_pass=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
     n_fail=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
+    n_skip=$(sed -n 's/^\[  SKIPPED \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
+    skipped=$((skipped + n_skip))
     if [ "$status" = ok ]; then
         passed=$((passed + n_pass))
-        [ "$n_pass" -gt 0 ] || passed=$((passed + 1))
-        echo "ok      $name ($n_pass tests, ${secs}s)"
+        [ $((n_pass + n_skip)) -gt 0 ] || passed=$((passed + 1))
+        if [ "$n_skip" -gt 0 ]; then
+            echo "ok      $name ($n_pass tests, $n_skip skipped, ${secs}s)"
+        else
+            echo "ok      $name ($n_pass tests, ${secs}s)"
+        fi
     else
         failed=$((failed + (n_fail > 0 ? n_fail : 1)))
         passed=$((passed + n_pass))
@@ -36,6 +46,9 @@ for t in build/bin/test_*; do
         echo "FAILED  $name ($n_pass passed, $n_fail failed, ${secs}s): see $log_dir/$name.log"
         sed 's/^/    /' "$log_dir/$name.log" | grep -E 'FAIL|ERROR|error|Assert|assert' | head -20
     fi
+    # Each skipped test with the reason it printed just before skipping.
+    [ "$n_skip" = 0 ] || awk '/^SKIPPED: / { why = substr($0, 10) }
+        /^\[  SKIPPED \] / && !/ test\(s\)/ && why != "" { print "    skipped " $4 ": " why; why = "" }' "$log_dir/$name.log"
 done
 
 for s in tests/scripts/*.lua; do
@@ -48,6 +61,15 @@ for s in tests/scripts/*.lua; do
     budget=$(sed -n 's/^-- budget: *\([0-9.]*\).*/\1/p' "$s" | head -n 1)
     budget_opt=""
     [ -z "$budget" ] || budget_opt="--budget $budget"
+    missing=""
+    for prog in $(sed -n 's/^-- needs: *//p' "$s"); do
+        command -v "$prog" >/dev/null 2>&1 || missing="$missing $prog"
+    done
+    if [ -n "$missing" ]; then
+        skipped=$((skipped + 1))
+        echo "skipped script $name: needs$missing on the PATH"
+        continue
+    fi
     start=$(date +%s)
     # shellcheck disable=SC2086
     build/bin/seiche --headless --quiet --frames "$frames" $budget_opt "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"
@@ -94,5 +116,5 @@ done
 
 echo
 [ -z "$failures" ] || echo "failed:$failures"
-echo "$passed passed, $failed failed"
+echo "$passed passed, $failed failed, $skipped skipped"
 [ "$failed" = 0 ]

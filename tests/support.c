@@ -102,6 +102,59 @@ eng_context *support_headless_context(int width, int height)
     return ctx;
 }
 
+const char *support_gl_renderer(void)
+{
+    static char renderer[512];
+    static bool known = false;
+    if (known) return renderer;
+    eng_context_def def = eng_default_context_def();
+    def.mode = ENG_CONTEXT_HEADLESS;
+    def.width = def.height = 16;
+    def.logger.min_level = ENG_LOG_ERROR + 1; // quiet: a failure is the test's to report
+    char err[512];
+    eng_context_status st;
+    eng_context *ctx = eng_context_create(&def, &st, err, (int)sizeof err);
+    if (ctx) {
+        snprintf(renderer, sizeof renderer, "%s", eng_context_renderer(ctx));
+        eng_context_destroy(ctx);
+    }
+    known = true;
+    return renderer;
+}
+
+bool support_gl_is_mesa(void)
+{
+    const char *r = support_gl_renderer();
+    return strstr(r, "Mesa") || strstr(r, "llvmpipe");
+}
+
+void support_skip_unless_mesa(const char *what)
+{
+    if (support_gl_is_mesa()) return;
+    const char *r = support_gl_renderer();
+    print_message("SKIPPED: %s needs Mesa (MESA_GL_VERSION_OVERRIDE); this GL is %s\n", what,
+                  *r ? r : "(none: no headless context)");
+    skip();
+}
+
+void support_skip_unless_on_path(const char *program)
+{
+    const char *path = getenv("PATH");
+    const char *p = path ? path : "";
+    while (*p) {
+        const char *end = strchr(p, ':');
+        size_t len = end ? (size_t)(end - p) : strlen(p);
+        char file[1024];
+        // An empty entry is the current directory, as for the shell.
+        snprintf(file, sizeof file, "%.*s/%s", len ? (int)len : 1, len ? p : ".", program);
+        struct stat st;
+        if (stat(file, &st) == 0 && S_ISREG(st.st_mode) && access(file, X_OK) == 0) return;
+        p = end ? end + 1 : p + len;
+    }
+    print_message("SKIPPED: needs %s on the PATH, which has none (PATH=%s)\n", program, path ? path : "");
+    skip();
+}
+
 void support_pixel(const eng_context *ctx, int x, int y, int rgb[3])
 {
     int w, h;

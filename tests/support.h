@@ -52,6 +52,20 @@ typedef struct support_gpu {
 int support_gpu_setup(void **state);
 int support_gpu_teardown(void **state);
 
+/// The GL of this machine, "GL_RENDERER (GL_VERSION)", read once from a headless context
+/// made and destroyed for it (so call it while no context of the test is current), then
+/// cached. "" when no context can be made.
+const char *support_gl_renderer(void);
+/// True when that GL is Mesa's: its renderer or version string names Mesa or llvmpipe.
+/// Only Mesa honours MESA_GL_VERSION_OVERRIDE.
+bool support_gl_is_mesa(void);
+/// Skips the running test (cmocka skip(), counted as skipped) with the reason printed,
+/// unless the GL is Mesa's. `what` says what the test needs Mesa for.
+void support_skip_unless_mesa(const char *what);
+/// Skips the running test with the reason printed unless `program` is an executable file
+/// in a directory of $PATH (as `command -v` finds it).
+void support_skip_unless_on_path(const char *program);
+
 /// Reads back the pixel at (x, y), counted from the top-left corner, of the current
 /// framebuffer of `ctx` into rgb[0..2] (0..255).
 void support_pixel(const eng_context *ctx, int x, int y, int rgb[3]);

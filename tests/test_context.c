@@ -1,7 +1,8 @@
 // The GL context: a headless context gives GL 4.3+ with a renderer string, sizes outside
 // 16..16384 are refused naming the field, and a machine without GL 4.3 (emulated with
 // MESA_GL_VERSION_OVERRIDE=3.3 in a child process) gets ENG_CONTEXT_NO_COMPUTE with a
-// message that says what is needed and what was found.
+// message that says what is needed and what was found. Only Mesa honours that override:
+// on another driver that test is skipped, saying why.
 #include "tests/support.h"
 
 #include <epoxy/gl.h>
@@ -78,7 +79,7 @@ static int run_no_compute_child(void)
     char err[512] = "";
     eng_context_status st = ENG_CONTEXT_OK;
     eng_context *ctx = eng_context_create(&def, &st, err, (int)sizeof err);
-    printf("status=%d\n%s\n", (int)st, err);
+    printf("status=%d\n%s\n", (int)st, ctx ? eng_context_renderer(ctx) : err);
     fflush(stdout);
     if (ctx) eng_context_destroy(ctx);
     return 0;
@@ -87,6 +88,7 @@ static int run_no_compute_child(void)
 static void context_without_gl43_fails_with_no_compute_naming_the_found_version(void **state)
 {
     (void)state;
+    support_skip_unless_mesa("emulating a GL 3.3 machine");
     int fds[2];
     assert_int_equal(pipe(fds), 0);
     pid_t pid = fork();
@@ -118,6 +120,11 @@ static void context_without_gl43_fails_with_no_compute_naming_the_found_version(
     assert_int_equal(WEXITSTATUS(wst), 0);
     int status = -1;
     assert_int_equal(sscanf(out, "status=%d", &status), 1);
+    if (status == ENG_CONTEXT_OK) {
+        // A GL that ignored the override (the child got its usual context): nothing to test.
+        print_message("SKIPPED: MESA_GL_VERSION_OVERRIDE=3.3 had no effect on this GL: %s", strchr(out, '\n') + 1);
+        skip();
+    }
     assert_int_equal(status, ENG_CONTEXT_NO_COMPUTE);
     const char *msg = strchr(out, '\n');
     assert_non_null(msg);
