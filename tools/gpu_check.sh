@@ -26,9 +26,9 @@ what it had), with the logs, metrics CSVs, screenshots and benchmark JSON beside
   --bench-steps M      measured steps per size (default: 60)
   --bench-warmup W     warm-up steps per size (default: 10)
   --bench-iterations K solver iterations in the benchmark (default: 3)
-  --shaders DIR        shader directory for the runner and the benchmark (default:
-                       $SEICHE_SHADER_DIR, else the tree's shaders/ if present; "none":
-                       pass nothing, the binaries use their own default)
+  --shaders DIR        read shaders from DIR in the runner and the benchmark (default:
+                       $SEICHE_SHADER_DIR if set, else none: the shaders built into the
+                       binaries, which is what a user runs)
   --parts LIST         which parts to run, comma-separated: suite, scenes, bench
                        (default: suite,scenes,bench)
   --reference FILE     a report.json from another machine (e.g. llvmpipe): each scene's
@@ -117,8 +117,7 @@ bin=$(cd "$bin" && pwd)
 case "$shaders" in
 none) shaders="" ;;
 "")
-    if [ -n "${SEICHE_SHADER_DIR:-}" ]; then shaders=$SEICHE_SHADER_DIR
-    elif [ -d "$root/shaders/fluid" ]; then shaders="$root/shaders"; fi ;;
+    if [ -n "${SEICHE_SHADER_DIR:-}" ]; then shaders=$SEICHE_SHADER_DIR; fi ;;
 *) [ -d "$shaders" ] || die "--shaders: no directory '$shaders'"; shaders=$(cd "$shaders" && pwd) ;;
 esac
 mkdir -p "$out" || die "cannot create '$out'"
