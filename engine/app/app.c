@@ -167,6 +167,16 @@ static void draw_ui(app *a)
     f.rho_avg = a->have_stats ? a->last_stats.density_avg : 0;
     f.rho_max = a->have_stats ? a->last_stats.density_max : 0;
     f.step_ms = a->have_stats ? a->last_stats.step_ms : 0;
+    f.fps = a->fps;
+    f.iterations = p ? p->iterations : 0;
+    f.substeps = p ? p->substeps : 0;
+    f.compression = a->have_stats ? a->last_stats.density_error_avg : 0;
+    f.worst_over = a->rho_err_max;
+    const char *stage_names[PBF_STAGE_COUNT];
+    for (int i = 0; i < PBF_STAGE_COUNT; i++) stage_names[i] = pbf_stage_name((pbf_stage)i);
+    f.stage_names = stage_names;
+    f.stage_ms = a->have_stats ? a->last_stats.stage_ms : NULL;
+    f.stage_count = a->have_stats ? PBF_STAGE_COUNT : 0;
     f.paused = a->paused;
     f.show_panel = a->show_panel;
     f.error = a->error_text;
@@ -398,6 +408,14 @@ int eng_app_run(const eng_app_options *o)
         if (a->video && status == ENG_EXIT_OK) status = app_record_frame(a);
         eng_context_present(a->ctx);
         eng_progress_update(&a->progress, (long)a->frame, a->time);
+        a->fps_frames++;
+        double t = now_s();
+        if (a->fps_since == 0.0) a->fps_since = t;
+        else if (t - a->fps_since >= 0.5) {
+            a->fps = (double)a->fps_frames / (t - a->fps_since);
+            a->fps_since = t;
+            a->fps_frames = 0;
+        }
     }
     eng_progress_end(&a->progress);
     if (a->inst.world) app_take_stats(a, true);

@@ -45,6 +45,13 @@ typedef struct eng_ui_frame {
     uint32_t bodies;
     double rho0, rho_avg, rho_max; ///< kg/m^3
     double step_ms;          ///< GPU ms per step
+    double fps;              ///< frames drawn per wall-clock second (0: not measured yet)
+    int iterations, substeps;
+    double compression;      ///< mean compression error of the last step, fraction
+    double worst_over;       ///< highest rho_max / rho0 - 1 so far in this run, fraction
+    const double *stage_ms;  ///< GPU ms of each stage in the last step (stage_count of them)
+    const char *const *stage_names;
+    int stage_count;
     bool paused;
     bool show_panel;         ///< in/out: the panel is shown (F1 toggles it in the app)
     const char *error;       ///< NULL or "": none; else shown in red until dismissed

@@ -63,6 +63,13 @@ void panel(eng_ui_frame *f)
     if (f->rho0 > 0) ImGui::Text("(%+.2f %%)", 100.0 * (f->rho_max / f->rho0 - 1.0));
     stat_row("rho0", "%.1f kg/m^3", f->rho0);
     stat_row("GPU step", "%.2f ms", f->step_ms);
+    stat_row("frames/s", "%.1f", f->fps);
+    ImGui::Text("solver %d iterations x %d substeps", f->iterations, f->substeps);
+    ImGui::Text("compression %.3f %% (mean)   worst %+.2f %% over rho0", 100.0 * f->compression, 100.0 * f->worst_over);
+    if (f->stage_count > 0 && ImGui::CollapsingHeader("GPU ms per stage", ImGuiTreeNodeFlags_DefaultOpen)) {
+        for (int i = 0; i < f->stage_count; i++)
+            if (f->stage_ms[i] > 0.0) stat_row(f->stage_names[i], "%.3f", f->stage_ms[i]);
+    }
 
     if (f->param_count > 0 && ImGui::CollapsingHeader("Fluid parameters")) {
         ImGui::PushItemWidth(120.0f);
