@@ -29,6 +29,7 @@ enum program_id {
     PROG_METRICS_FINAL,
     PROG_LIVE_COUNT,
     PROG_APPEND,
+    PROG_GRID_CLEAR,
     PROG_COUNT
 };
 

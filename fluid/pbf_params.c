@@ -309,6 +309,13 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
     return total >= 1.8e19 ? UINT64_MAX : (uint64_t)total;
 }
 
+uint32_t pbf_hash_buckets(uint32_t capacity)
+{
+    uint64_t want = 4ull * capacity, t = 4096;
+    while (t < want && t < (1ull << 28)) t <<= 1;
+    return (uint32_t)t;
+}
+
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],
                         uint32_t cells, float cell_size, const float domain_min[3], const float domain_max[3],
                         const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours)

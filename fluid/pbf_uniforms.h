@@ -18,9 +18,20 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
                         const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours);
 
 /// The neighbour grid over [domain_min - h, domain_max + h] in cells of h / cells_per_kernel:
-/// origin (m) and cells per axis; returns the total number of cells.
+/// origin (m) and cells per axis; returns the total number of cells. The grid is virtual:
+/// cells are hashed into pbf_hash_buckets buckets, so nothing is stored per cell.
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
+
+/// The most cells the virtual grid may have along one axis (rows, y + dims_y * z, must fit
+/// 32 bits).
+#define PBF_GRID_MAX_AXIS_CELLS 65536u
+
+/// Buckets of the hashed grid for a world of `capacity` particles: a power of two, at
+/// least 4 per particle (few rows share a bucket) and at least 4096. Cell (x, y, z) goes to
+/// bucket (hash(y + dims_y z) + x) mod buckets, so a row's consecutive cells are consecutive
+/// buckets (common.glsl bucket_of).
+uint32_t pbf_hash_buckets(uint32_t capacity);
 
 /// The container's planes (inward normal xyz, offset w: floor, -x, +x, -z, +z walls, lid)
 /// for the box [min, max], which must lie in [domain_min, domain_max]. Returns the number of

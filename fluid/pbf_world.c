@@ -37,6 +37,7 @@ static const char *const program_files[PROG_COUNT] = {
     "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp", "fluid/collide.comp",
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
     "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
+    "fluid/grid_clear.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
@@ -92,15 +93,20 @@ static void derive(pbf_world *w)
 static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
 {
     float h = w->params.kernel_radius;
-    uint64_t total = pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, w->grid_origin, w->grid_dims);
-    if (total > (1u << 27)) {
-        snprintf(err, err_size,
-                 "pbf_world_def.domain needs %llu grid cells of size kernel_radius / grid_cells_per_kernel = %g m; "
-                 "at most %u allowed (shrink the domain, enlarge the kernel or lower grid_cells_per_kernel)",
-                 (unsigned long long)total, (double)h / w->cells_per_kernel, 1u << 27);
-        return PBF_ERR_INVALID_ARG;
-    }
-    w->cells = (uint32_t)total;
+    pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, w->grid_origin, w->grid_dims);
+    static const char axis[] = "xyz";
+    for (int k = 0; k < 3; k++)
+        if (w->grid_dims[k] > PBF_GRID_MAX_AXIS_CELLS) {
+            snprintf(err, err_size,
+                     "pbf_world_def.domain is %g m along %c: %u cells of kernel_radius / grid_cells_per_kernel = %g m; "
+                     "at most %u cells per axis (shrink the domain, enlarge the kernel or lower grid_cells_per_kernel)",
+                     (double)(w->domain_max[k] - w->domain_min[k]), axis[k], w->grid_dims[k],
+                     (double)h / w->cells_per_kernel, PBF_GRID_MAX_AXIS_CELLS);
+            return PBF_ERR_INVALID_ARG;
+        }
+    // The grid itself is virtual: its cells hash into buckets in proportion to the
+    // particles, so memory and time follow the water, not the domain.
+    w->cells = pbf_hash_buckets(w->capacity);
     return PBF_OK;
 }
 
@@ -117,7 +123,7 @@ static void free_grid(pbf_world *w)
 
 static pbf_result alloc_grid(pbf_world *w)
 {
-    // Cells 0..cells-1, the removed cell `cells` (sinks), and one more entry so that the
+    // Buckets 0..cells-1, the removed bucket `cells` (sinks), and one more entry so that the
     // exclusive scan leaves the total at cell_start[cells + 1].
     w->cell_start = pbf_gpu_buffer((GLsizeiptr)(w->cells + 2) * 4, "pbf.cell_start");
     w->cell_fill = pbf_gpu_buffer((GLsizeiptr)(w->cells + 1) * 4, "pbf.cell_fill");
@@ -160,7 +166,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
 static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
-    int per_substep = 6 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3;
+    int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3;
     int need = 1 + per_substep * p->substeps + 4;
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
@@ -183,13 +189,8 @@ uint64_t pbf_world_def_memory(const pbf_world_def *def)
     // omega (vec4), neighbour count and list, and the metrics partials.
     uint64_t per_particle = 6 * 16 + 2 * 4 + 3 * 4 + 8 + 16 + 4 + 4ull * def->max_neighbours;
     uint64_t bytes = cap * per_particle + (cap / PBF_WG + 1) * sizeof(pbf_gpu_reduce);
-    float origin[3];
-    uint32_t dims[3];
-    uint32_t cpk = def->grid_cells_per_kernel >= 1 && def->grid_cells_per_kernel <= 4 ? def->grid_cells_per_kernel : 1u;
-    uint64_t cells = def->params.kernel_radius > 0.0f
-                         ? pbf_grid_geometry(def->domain_min, def->domain_max, def->params.kernel_radius, cpk, origin, dims)
-                         : 1u;
-    bytes += (2 * cells + 3) * 4 + cells / PBF_SCAN_BLOCK * 4 + 4096; // cell starts, fills, scan
+    uint64_t cells = pbf_hash_buckets(def->capacity);
+    bytes += (2 * cells + 3) * 4 + cells / PBF_SCAN_BLOCK * 4 + 4096; // bucket starts, fills, scan
     return bytes;
 }
 
@@ -584,11 +585,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     bind_step(w);
     dispatch_particles(s, PROG_PREDICT, PBF_STAGE_PREDICT);
 
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_start);
-    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_fill);
-    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    dispatch(s, PROG_GRID_CLEAR, groups_for(w->cells + 2, PBF_WG), PBF_STAGE_GRID_COUNT);
     dispatch_particles(s, PROG_GRID_COUNT, PBF_STAGE_GRID_COUNT);
     run_scan(s);
     bind_step(w);

@@ -33,6 +33,9 @@ typedef struct options {
     double dt;
     const char *json;
     const char *shader_dir;
+    float tank[3];      // m, the container (and domain) from the origin
+    float block;        // m, side of the block of water at the origin
+    bool tank_test;     // also run each case in a tank 20x wider and deeper
 } options;
 
 typedef struct result {
@@ -47,6 +50,7 @@ typedef struct result {
     double rho_err_avg;   // mean over measured steps of (rho_avg / rho0 - 1)
     double err_avg;       // mean over measured steps of mean max(rho / rho0 - 1, 0)
     double rho_err_max;   // max over measured steps of (rho_max / rho0 - 1)
+    double memory_mib;    // GPU memory of the world (pbf_world_def_memory)
     uint32_t nan_count, outside_count, overflow_count;
 } result;
 
@@ -95,13 +99,14 @@ static int parse_list(const char *s, long *out, int *count, const char *name, lo
     return *count > 0;
 }
 
-static int run_one(const options *o, long n, int iterations, int substeps, result *r, eng_progress *pr, long base)
+static int run_one(const options *o, long n, int iterations, int substeps, float tank_scale, result *r, eng_progress *pr,
+                   long base)
 {
     memset(r, 0, sizeof *r);
     r->particles_asked = n;
     r->iterations = iterations;
     r->substeps = substeps;
-    double spacing = cbrt(1.0 / (double)n);
+    double spacing = (double)o->block / cbrt((double)n);
     pbf_world_def d = pbf_default_world_def();
     d.params.particle_radius = (float)(0.5 * spacing);
     d.params.kernel_radius = (float)(2.0 * spacing);
@@ -110,10 +115,11 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
     d.params.vorticity = 0.0f; // the reference solver runs PBF with XSPH viscosity only
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
     d.capacity = (uint32_t)(n + n / 4 + 1024);
-    const float lo[3] = { 0, 0, 0 }, hi[3] = { 4.0f, 3.0f, 1.5f };
+    const float lo[3] = { 0, 0, 0 }, hi[3] = { o->tank[0] * tank_scale, o->tank[1], o->tank[2] * tank_scale };
     memcpy(d.domain_min, lo, sizeof lo);
     memcpy(d.domain_max, hi, sizeof hi);
     if (o->shader_dir) d.shader_dir = o->shader_dir;
+    r->memory_mib = (double)pbf_world_def_memory(&d) / (1024.0 * 1024.0);
     char err[1024];
     pbf_world *w = pbf_world_create(&d, err, sizeof err);
     if (!w) {
@@ -121,7 +127,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
         return 0;
     }
     pbf_block_def b = pbf_default_block_def();
-    b.max[0] = b.max[1] = b.max[2] = 1.0f;
+    b.max[0] = b.max[1] = b.max[2] = o->block;
     if (pbf_world_set_container(w, lo, hi, false) != PBF_OK || pbf_world_add_block(w, &b, &r->particles) != PBF_OK) {
         fprintf(stderr, "seiche-bench: %s\n", pbf_world_last_error(w));
         pbf_world_destroy(w);
@@ -184,11 +190,37 @@ static int run_one(const options *o, long n, int iterations, int substeps, resul
     return !failed;
 }
 
+// One line of the table (and one JSON object); `scale` is the tank's x and z scale.
+static void print_row(const result *r, float scale, FILE *js, int *first)
+{
+    printf("%9u %5d %4d %4.0fx %8.1f %9.2f %9.2f %9.2f %9.3f %9.3f %9.3f", r->particles, r->iterations, r->substeps,
+           (double)scale, r->memory_mib, r->step_ms, r->wall_ms, r->cpu_ms, 100.0 * r->rho_err_avg, 100.0 * r->err_avg,
+           100.0 * r->rho_err_max);
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %.2f", r->stage_ms[s]);
+    printf("%s\n", r->nan_count || r->outside_count ? "  (NaN or lost particles!)" : "");
+    fflush(stdout);
+    if (!js) return;
+    fprintf(js, "%s\n    {\"particles\": %u, \"iterations\": %d, \"substeps\": %d, \"tank_scale\": %g, "
+                "\"memory_mib\": %.3f, \"step_ms\": %.4f, \"wall_ms\": %.4f, \"cpu_ms\": %.4f, \"rho_err_avg\": %.6f, "
+                "\"err_avg\": %.6f, \"rho_err_max\": %.6f, \"nan\": %u, \"outside\": %u, \"overflow\": %u, \"stage_ms\": {",
+            *first ? "" : ",", r->particles, r->iterations, r->substeps, (double)scale, r->memory_mib, r->step_ms,
+            r->wall_ms, r->cpu_ms, r->rho_err_avg, r->err_avg, r->rho_err_max, r->nan_count, r->outside_count,
+            r->overflow_count);
+    for (int s = 0; s < PBF_STAGE_COUNT; s++)
+        fprintf(js, "%s\"%s\": %.4f", s ? ", " : "", pbf_stage_name((pbf_stage)s), r->stage_ms[s]);
+    fprintf(js, "}}");
+    *first = 0;
+}
+
 static void usage(FILE *f)
 {
     fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--json FILE] [--shaders DIR]\n"
+               "                    [--tank X,Y,Z] [--block S] [--tank-test]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
+               "          --tank 4,3,1.5 (m) --block 1 (m: a block S x S x S at the tank's corner)\n"
+               "--tank-test runs each case again in a tank 20x wider and deeper (x, z) and prints the\n"
+               "ratios of GPU time per step and of memory: cost should follow the water, not the tank\n"
                "lists (comma-separated) of particles, iterations and substeps run every combination\n"
                "exit status: 0 ok, 1 a run lost particles or produced NaN, 2 a usage, world or write error,\n"
                "             3 no OpenGL 4.3 compute context\n");
@@ -208,11 +240,19 @@ int main(int argc, char **argv)
     o.steps = 60;
     o.warmup = 10;
     o.dt = 0.004;
+    o.tank[0] = 4.0f;
+    o.tank[1] = 3.0f;
+    o.tank[2] = 1.5f;
+    o.block = 1.0f;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--help") == 0) {
             usage(stdout);
             return 0;
+        }
+        if (strcmp(a, "--tank-test") == 0) {
+            o.tank_test = true;
+            continue;
         }
         if (!v) {
             fprintf(stderr, "seiche-bench: unknown option or missing value: '%s'\n", a);
@@ -240,6 +280,23 @@ int main(int argc, char **argv)
                 fprintf(stderr, "seiche-bench: --dt must be in (0, 1] s (got '%s')\n", v);
                 return 2;
             }
+        } else if (strcmp(a, "--tank") == 0) {
+            float t[3];
+            char tail;
+            if (sscanf(v, "%f,%f,%f%c", &t[0], &t[1], &t[2], &tail) != 3 || !(t[0] > 0.0f && t[1] > 0.0f && t[2] > 0.0f) ||
+                t[0] > 1e4f || t[1] > 1e4f || t[2] > 1e4f) {
+                fprintf(stderr, "seiche-bench: --tank must be X,Y,Z in (0, 10000] m (got '%s')\n", v);
+                return 2;
+            }
+            memcpy(o.tank, t, sizeof t);
+        } else if (strcmp(a, "--block") == 0) {
+            char *end;
+            double b = strtod(v, &end);
+            if (*end || !(b > 0.0 && b <= 1e3)) {
+                fprintf(stderr, "seiche-bench: --block must be a side in (0, 1000] m (got '%s')\n", v);
+                return 2;
+            }
+            o.block = (float)b;
         } else if (strcmp(a, "--json") == 0) {
             o.json = v;
         } else if (strcmp(a, "--shaders") == 0) {
@@ -259,9 +316,9 @@ int main(int argc, char **argv)
     eng_context *ctx = eng_context_create(&cd, &cst, err, sizeof err);
     if (!ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? 3 : 2;
     printf("renderer: %s\n", eng_context_renderer(ctx));
-    printf("scene: dam break, 1 m^3 block in a 4 x 3 x 1.5 m tank, h = 2 spacings, dt %.4g s, "
+    printf("scene: dam break, a %g m cube of water in a %g x %g x %g m tank, h = 2 spacings, dt %.4g s, "
            "XSPH on, vorticity off; median of %d steps after %d warm-up\n",
-           o.dt, o.steps, o.warmup);
+           (double)o.block, (double)o.tank[0], (double)o.tank[1], (double)o.tank[2], o.dt, o.steps, o.warmup);
     FILE *js = NULL;
     if (o.json) {
         js = fopen(o.json, "w");
@@ -273,40 +330,39 @@ int main(int argc, char **argv)
         fprintf(js, "{\n  \"renderer\": \"%s\",\n  \"dt\": %g,\n  \"steps\": %d,\n  \"warmup\": %d,\n  \"runs\": [",
                 eng_context_renderer(ctx), o.dt, o.steps, o.warmup);
     }
-    printf("%9s %5s %4s %9s %9s %9s %9s %9s %9s", "particles", "iter", "sub", "step_ms", "wall_ms", "cpu_ms", "rho_avg%", "err_avg%", "rho_max%");
+    printf("%9s %5s %4s %5s %8s %9s %9s %9s %9s %9s %9s", "particles", "iter", "sub", "tank", "mem_MiB", "step_ms",
+           "wall_ms", "cpu_ms", "rho_avg%", "err_avg%", "rho_max%");
     for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %s", pbf_stage_name((pbf_stage)s));
     printf("\n");
     int ok = 1, first = 1, diverged = 0;
-    long runs = (long)o.particle_count * o.substep_count * o.iteration_count, run_index = 0;
+    long runs = (long)o.particle_count * o.substep_count * o.iteration_count * (o.tank_test ? 2 : 1), run_index = 0;
     eng_progress pr;
     eng_progress_begin(&pr, "bench step", runs * (o.warmup + o.steps));
     for (int pi = 0; pi < o.particle_count && ok; pi++)
         for (int si = 0; si < o.substep_count && ok; si++)
         for (int ii = 0; ii < o.iteration_count && ok; ii++) {
-            result r;
-            long base = run_index++ * (o.warmup + o.steps);
-            int done = run_one(&o, o.particles[pi], (int)o.iterations[ii], (int)o.substeps[si], &r, &pr, base);
-            eng_progress_end(&pr);
-            if (!done) {
-                ok = 0;
-                break;
+            result r[2];
+            int scales = o.tank_test ? 2 : 1;
+            for (int t = 0; t < scales && ok; t++) {
+                long base = run_index++ * (o.warmup + o.steps);
+                float scale = t == 0 ? 1.0f : 20.0f;
+                int done = run_one(&o, o.particles[pi], (int)o.iterations[ii], (int)o.substeps[si], scale, &r[t], &pr,
+                                   base);
+                eng_progress_end(&pr);
+                if (!done) {
+                    ok = 0;
+                    break;
+                }
+                print_row(&r[t], scale, js, &first);
+                if (r[t].nan_count || r[t].outside_count) diverged = 1;
             }
-            printf("%9u %5d %4d %9.2f %9.2f %9.2f %9.3f %9.3f %9.3f", r.particles, r.iterations, r.substeps, r.step_ms,
-                   r.wall_ms, r.cpu_ms, 100.0 * r.rho_err_avg, 100.0 * r.err_avg, 100.0 * r.rho_err_max);
-            for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %.2f", r.stage_ms[s]);
-            printf("%s\n", r.nan_count || r.outside_count ? "  (NaN or lost particles!)" : "");
-            if (r.nan_count || r.outside_count) diverged = 1;
-            fflush(stdout);
-            if (js) {
-                fprintf(js, "%s\n    {\"particles\": %u, \"iterations\": %d, \"substeps\": %d, \"step_ms\": %.4f, "
-                            "\"wall_ms\": %.4f, \"cpu_ms\": %.4f, \"rho_err_avg\": %.6f, \"err_avg\": %.6f, \"rho_err_max\": %.6f, \"nan\": %u, \"outside\": %u, "
-                            "\"overflow\": %u, \"stage_ms\": {",
-                        first ? "" : ",", r.particles, r.iterations, r.substeps, r.step_ms, r.wall_ms, r.cpu_ms, r.rho_err_avg, r.err_avg,
-                        r.rho_err_max, r.nan_count, r.outside_count, r.overflow_count);
-                for (int s = 0; s < PBF_STAGE_COUNT; s++)
-                    fprintf(js, "%s\"%s\": %.4f", s ? ", " : "", pbf_stage_name((pbf_stage)s), r.stage_ms[s]);
-                fprintf(js, "}}");
-                first = 0;
+            if (ok && scales == 2) {
+                double tr = r[0].step_ms > 0 ? r[1].step_ms / r[0].step_ms : 0.0;
+                double mr = r[0].memory_mib > 0 ? r[1].memory_mib / r[0].memory_mib : 0.0;
+                printf("tank x20 wider and deeper at %u particles: GPU time per step x%.3f, memory x%.3f "
+                       "(the same block; both should stay under x1.25)\n", r[0].particles, tr, mr);
+                if (js) fprintf(js, ",\n    {\"tank_test\": true, \"particles\": %u, \"time_ratio\": %.4f, "
+                                    "\"memory_ratio\": %.4f}", r[0].particles, tr, mr);
             }
         }
     if (js) {

@@ -175,40 +175,18 @@ ivec3 cell_coord(vec3 x)
     return clamp(c, ivec3(0), ivec3(P.grid_dims.xyz) - 1);
 }
 
-uint cell_index(ivec3 c)
-{
-    return uint(c.x) + P.grid_dims.x * (uint(c.y) + P.grid_dims.y * uint(c.z));
-}
+// The grid is virtual (cells of 1 / P.inv_cell over the domain, P.grid_dims.xyz of them);
+// cells hash into P.grid_dims.w buckets (a power of two, a few per particle). A row of cells
+// (fixed y, z) has one hash and its cells take consecutive buckets, so the cells a kernel
+// reaches in a row are one run of buckets (two where it wraps) and, particles being stored
+// in bucket order, one or two contiguous ranges of slots. Rows that share buckets are told
+// apart by row_of (pbf_uniforms.h pbf_hash_buckets; fluid/pbf_cpu_passes.c mirrors this).
+uint row_of(ivec3 c) { return uint(c.y) + P.grid_dims.y * uint(c.z); }
 
-#ifdef USE_CELL_START
-// Neighbour loop helper: the 3x3x3 cells around c are 9 runs of 3 consecutive cells
-// (x is the fastest index), and particles are stored in cell order, so each run is one
-// contiguous range of slots. FOR_NEIGHBOURS(c, j) { ... } visits every slot j in them.
-#define FOR_NEIGHBOURS(c, j)                                                          \
-    for (int dz_ = -1; dz_ <= 1; dz_++)                                               \
-    for (int dy_ = -1; dy_ <= 1; dy_++)                                               \
-    for (uint j = nb_begin(c, dy_, dz_), e_ = nb_end(c, dy_, dz_); j < e_; j++)
-
-bool nb_row_ok(ivec3 c, int dy, int dz)
+uint bucket_of(ivec3 c)
 {
-    int y = c.y + dy, z = c.z + dz;
-    return y >= 0 && z >= 0 && y < int(P.grid_dims.y) && z < int(P.grid_dims.z);
+    return (row_of(c) * 2654435761u + uint(c.x)) & (P.grid_dims.w - 1u);
 }
-
-uint nb_begin(ivec3 c, int dy, int dz)
-{
-    if (!nb_row_ok(c, dy, dz)) return 0u;
-    int x0 = max(c.x - 1, 0);
-    return cell_start[cell_index(ivec3(x0, c.y + dy, c.z + dz))];
-}
-
-uint nb_end(ivec3 c, int dy, int dz)
-{
-    if (!nb_row_ok(c, dy, dz)) return 0u;
-    int x1 = min(c.x + 1, int(P.grid_dims.x) - 1);
-    return cell_start[cell_index(ivec3(x1, c.y + dy, c.z + dz)) + 1u];
-}
-#endif
 
 // ---- rigid frames ---------------------------------------------------------------------
 vec3 quat_rotate(vec4 q, vec3 v)

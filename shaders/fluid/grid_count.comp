@@ -1,8 +1,8 @@
 #version 430
-// Stage grid count: the cell of each predicted position, and particles per cell.
-// cell_start was cleared to zero before this pass. A particle inside a sink goes to the
-// extra cell P.grid_dims.w ("removed"), which sorts after every real cell; the count pass
-// then drops it from the live range.
+// Stage grid count: the bucket of each predicted position's cell, and particles per bucket
+// (common.glsl bucket_of). grid_clear zeroed cell_start before this pass. A particle inside
+// a sink goes to the extra bucket P.grid_dims.w ("removed"), which sorts after every real
+// bucket; the count pass then drops it from the live range.
 #define USE_PRED
 #define USE_CELL
 #define WRITE_CELL
@@ -16,7 +16,7 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
     vec3 x = pred[i].xyz;
-    uint c = cell_index(cell_coord(x));
+    uint c = bucket_of(cell_coord(x));
     for (uint k = 0u; k < P.sink_count; k++)
         if (all(greaterThanEqual(x, P.sink_min[k].xyz)) && all(lessThanEqual(x, P.sink_max[k].xyz)))
             c = P.grid_dims.w;

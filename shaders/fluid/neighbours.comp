@@ -2,9 +2,11 @@
 // Stage neighbours: once per substep, after the reorder, each particle lists the slots of
 // the particles within h of its predicted position (the paper's "find neighbours"); the
 // solver iterations and the velocity passes then walk the list instead of the grid.
-// Particles are stored in cell order with x the fastest cell index, so each row of cells
-// (fixed y, z) is one contiguous range of slots. Rows whose y-z slab lies farther than h
-// are skipped, and each row is trimmed to the x cells the kernel sphere reaches.
+// Particles are stored in bucket order and a row of cells (fixed y, z) takes consecutive
+// buckets (common.glsl bucket_of), so the x cells the kernel sphere reaches in a row are
+// one contiguous range of slots, or two where the buckets wrap. Rows whose y-z slab lies
+// farther than h are skipped. Other rows hashed into the same buckets are skipped by their
+// row number, so each neighbour is found once.
 // A particle with more neighbours than the list holds keeps the first max_neighbours found
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
 // The first iteration's density and lambda are computed here too, from the listed
@@ -53,16 +55,23 @@ void main()
             float rx = sqrt(h2 - ryz);
             int x0 = max(int(floor((xi.x - rx - P.grid_origin.x) * P.inv_cell)), 0);
             int x1 = min(int(floor((xi.x + rx - P.grid_origin.x) * P.inv_cell)), dims.x - 1);
-            uint b = cell_start[cell_index(ivec3(x0, y, z))];
-            uint e = cell_start[cell_index(ivec3(x1, y, z)) + 1u];
-            for (uint j = b; j < e; j++) {
-                vec3 r = xi - pred[j].xyz;
-                if (dot(r, r) < h2 && j != i) {
-                    if (n < P.max_neighbours) {
-                        nb_list[base + n] = j;
-                        density_add(r, sum_w, grad_i, sum_grad2);
+            uint row = row_of(ivec3(x0, y, z));
+            uint b0 = bucket_of(ivec3(x0, y, z)), b1 = bucket_of(ivec3(x1, y, z));
+            // Buckets b0..b1 in order, wrapping past the last bucket into the first.
+            uint ranges = b0 <= b1 ? 1u : 2u;
+            for (uint part = 0u; part < ranges; part++) {
+                uint b = cell_start[part == 0u ? b0 : 0u];
+                uint e = cell_start[(part == 0u && ranges == 1u) || part == 1u ? b1 + 1u : P.grid_dims.w];
+                for (uint j = b; j < e; j++) {
+                    vec3 pj = pred[j].xyz;
+                    vec3 r = xi - pj;
+                    if (dot(r, r) < h2 && j != i && row_of(cell_coord(pj)) == row) {
+                        if (n < P.max_neighbours) {
+                            nb_list[base + n] = j;
+                            density_add(r, sum_w, grad_i, sum_grad2);
+                        }
+                        n++;
                     }
-                    n++;
                 }
             }
         }
