@@ -86,7 +86,9 @@ struct BodySlot {
     bool allow_sleep = true;
     bool has_target = false;
     uint32_t shape_slot = 0;
-    uint32_t constraint_count = 0;
+    // Point constraints holding the body awake: while > 0 a dynamic body
+    // does not sleep.
+    uint32_t awake_holds = 0;
     void* user_data = nullptr;
     btTransform target;         // kinematic target for the next step
     btVector3 kin_linear{0, 0, 0};  // kinematic velocity set by the caller
@@ -274,6 +276,11 @@ const char* body_type_name(phys_body_type t);      // phys_body.cpp
 // Take a constraint out of the world, free its slot and let its body sleep again
 // (phys_query.cpp; phys_body_destroy calls it for the body's constraints).
 void destroy_constraint_slot(phys_world* w, uint32_t slot);
+
+// Hold a dynamic body awake, or let go of a hold; the last one to let go lets it sleep
+// again if its def allows (phys_body.cpp). Both do nothing for other body types.
+void hold_awake(BodySlot& b);
+void release_awake(BodySlot& b);
 
 } // namespace phys_internal
 
