@@ -244,6 +244,7 @@ phys_result phys_body_destroy(phys_world* world, phys_body_id body) {
                 destroy_constraint_slot(w, c);
             }
         }
+        destroy_body_joints(w, slot);
         BodySlot& b = w->bodies[slot];
         w->dynamics->removeRigidBody(b.body.get());
         b.body.reset();
