@@ -739,6 +739,41 @@ phys_result phys_joint_get_position(phys_world *world, phys_joint_id joint, floa
 phys_result phys_joint_get_applied_impulse(phys_world *world, phys_joint_id joint,
                                            phys_vec3 *out_impulse, phys_vec3 *out_angular_impulse);
 
+// ---------------------------------------------------------------------------
+// Contact reports
+// ---------------------------------------------------------------------------
+
+/// One touching pair of bodies after a step (all contact points of the pair
+/// merged).
+typedef struct phys_contact {
+    phys_body_id a, b;   ///< the two bodies, a.index1 < b.index1; either may be static
+    /// World, m: the mean of the contact points (each midway between the two
+    /// surfaces) weighted by their impulses.
+    phys_vec3 point;
+    /// World, unit: from a towards b, the direction of the impulse on b
+    /// (impulse-weighted mean of the points' normals).
+    phys_vec3 normal;
+    /// N·s: the normal impulse of the last step, summed over the pair's
+    /// contact points; > 0. Friction is not included.
+    float impulse;
+} phys_contact;
+
+/// The body pairs whose contact impulse in the last phys_world_step exceeded
+/// `min_impulse` (N·s, finite, >= 0), sorted by a.index1 then b.index1.
+///
+/// The threshold is an impulse per step, not a force: a body of mass m
+/// resting on another pushes m·g·dt every step (0.16 N·s for 1 kg at
+/// dt = 1/60 s), while one that stops from speed v in a hit gives about m·v
+/// (a restitution e gives (1 + e)·m·v), spread over the first step or two.
+/// So a threshold a few times m·g·dt reports hits and not resting contact,
+/// and one of 0 reports every pair that pushed at all. Pairs whose bodies
+/// all sleep were not solved and are not reported.
+///
+/// *count receives the number of pairs found, which may exceed `max`; the
+/// first min(max, *count) go to out. max >= 0; out may be NULL when max is 0.
+phys_result phys_world_get_contacts(phys_world *world, float min_impulse, phys_contact *out,
+                                    int max, int *count);
+
 #ifdef __cplusplus
 }
 #endif

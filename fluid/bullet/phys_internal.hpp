@@ -21,9 +21,9 @@
 //
 // The files: phys_world.cpp (world create/destroy, step, gravity, errors, input checks),
 // phys_shape.cpp (shapes, compounds, mass properties), phys_body.cpp (bodies),
-// phys_query.cpp (ray casts, point constraints) and phys_joint.cpp (joints).
-// Helpers two files share live in the namespace phys_internal, declared here;
-// file-local ones are static.
+// phys_query.cpp (ray casts, point constraints), phys_joint.cpp (joints) and
+// phys_contact.cpp (contact reports). Helpers two files share live in the
+// namespace phys_internal, declared here; file-local ones are static.
 
 #ifndef SEICHE_PHYS_INTERNAL_HPP
 #define SEICHE_PHYS_INTERNAL_HPP
