@@ -165,8 +165,8 @@ phys_world_def phys_default_world_def(void);
 /// message goes to def->log (there is no world to keep it).
 phys_result phys_world_create(const phys_world_def *def, phys_world **out_world);
 
-/// Destroy a world and everything in it (bodies, shapes, constraints); every
-/// id from it becomes meaningless. NULL is allowed and does nothing.
+/// Destroy a world and everything in it (bodies, shapes, constraints,
+/// joints); every id from it becomes meaningless. NULL is allowed and does nothing.
 void phys_world_destroy(phys_world *world);
 
 /// Advance the world by exactly one Bullet step of `dt` seconds.
@@ -461,8 +461,9 @@ phys_body_def phys_default_body_def(void);
 /// Create a body. On success *out is its id.
 phys_result phys_body_create(phys_world *world, const phys_body_def *def, phys_body_id *out);
 
-/// Destroy a body. Constraints attached to it are destroyed with it (their ids
-/// become stale). The shape is not destroyed.
+/// Destroy a body. Constraints and joints attached to it are destroyed with it
+/// (their ids become stale; the other body of a joint is woken). The shape is
+/// not destroyed.
 phys_result phys_body_destroy(phys_world *world, phys_body_id body);
 
 /// True when `body` names a live body of this world. Never sets an error.
@@ -601,17 +602,18 @@ bool phys_constraint_is_valid(const phys_world *world, phys_constraint_id constr
 // Bullet reduces the motor's push near a limit and the limit wins.
 //
 // Limits are inelastic: a hinge stops a door at its limit (Bullet's hinge
-// bounces off by default; the wrapper turns that off).
+// limit has a restitution by default; the wrapper sets it to 0).
 //
 // Joints are soft, like contacts: Bullet's sequential-impulse solver removes
 // a fraction of the error each step, so under load a pivot stretches by
 // millimetres and a body driven into a limit overshoots it briefly. The
 // solver runs phys_world_def.solver_iterations over all rows; it converges
 // slowly when a pivot is far from the centre of a body with little inertia
-// about its own centre: a 1 kg ball on a point joint 1 m away swings slower
-// than it should (radius 5 cm: period +1.7% at dt 1/240 s, +8% at 1/60 s;
-// radius 10 cm at 1/120 s: +0.2%). More iterations, a shorter dt, or the
-// arm as a body of its own fix that.
+// about its own centre: a ball on a point joint 1 m away swings slower than
+// it should (radius 5 cm: period +1.7% at dt 1/240 s, +8% at 1/60 s; radius
+// 10 cm at 1/120 s: +0.2%). More iterations, a shorter dt, or the arm as a
+// body of its own fix that.
+//
 // The two bodies of a joint do not collide with each other unless the def's
 // collide_connected is true. Destroying either body destroys its joints (their
 // ids become stale); destroying the world frees them all. Creating, changing
@@ -764,10 +766,17 @@ typedef struct phys_contact {
 /// The threshold is an impulse per step, not a force: a body of mass m
 /// resting on another pushes m·g·dt every step (0.16 N·s for 1 kg at
 /// dt = 1/60 s), while one that stops from speed v in a hit gives about m·v
-/// (a restitution e gives (1 + e)·m·v), spread over the first step or two.
-/// So a threshold a few times m·g·dt reports hits and not resting contact,
-/// and one of 0 reports every pair that pushed at all. Pairs whose bodies
-/// all sleep were not solved and are not reported.
+/// (a restitution e gives (1 + e)·m·v). So a threshold a few times m·g·dt
+/// reports hits and not resting contact, and one of 0 reports every pair
+/// that pushed at all. Pairs whose bodies all sleep were not solved and are
+/// not reported.
+///
+/// How Bullet shapes a hit: a box landing flat on a box gets its whole face
+/// in the first step and stops there; the report is a little over m·v, as
+/// it also carries that step's gravity and the push out of the penetration
+/// (+12% for a 0.4 m box falling 0.5 m at dt = 1/60 s). On a plane Bullet
+/// adds one contact point per step, so the box lands on one corner, tips,
+/// and its hit is spread over several steps at moving points.
 ///
 /// *count receives the number of pairs found, which may exceed `max`; the
 /// first min(max, *count) go to out. max >= 0; out may be NULL when max is 0.
