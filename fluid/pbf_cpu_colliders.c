@@ -1,0 +1,565 @@
+// CPU reference, colliders: the host side of pbf_colliders.c (checks, poses, force scales,
+// reports) and the shapes, boundary share, swept collisions and forces of colliders.glsl.
+#include "fluid/pbf_cpu_internal.h"
+#include "fluid/pbf_uniforms.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// ---- colliders (colliders.glsl) ---------------------------------------------------------
+
+static float dot4(pbf_float4 a, pbf_float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w; }
+static float distance3(v3 a, v3 b) { return length(sub(a, b)); }
+static v3 normalize3(v3 a) { return divide(a, length(a)); }
+/// GLSL mix as the specification writes it: x (1 - a) + y a.
+static float mixf(float x, float y, float a) { return x * (1.0f - a) + y * a; }
+static v3 mix3(v3 x, v3 y, float a) { return (v3){ mixf(x.x, y.x, a), mixf(x.y, y.y, a), mixf(x.z, y.z, a) }; }
+static int clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
+
+static v3 quat_rotate(pbf_float4 q, v3 v)
+{
+    v3 u = { q.x, q.y, q.z };
+    v3 t = scale(2.0f, cross(u, v));
+    return add(add(v, scale(q.w, t)), cross(u, t));
+}
+
+static v3 quat_rotate_inv(pbf_float4 q, v3 v) { return quat_rotate((pbf_float4){ -q.x, -q.y, -q.z, q.w }, v); }
+
+static float grid_sample(const float *data, uint32_t base, const uint32_t dims[3], int x, int y, int z)
+{
+    return data[base + (uint32_t)x + dims[0] * ((uint32_t)y + dims[1] * (uint32_t)z)];
+}
+
+/// grid_distance: trilinear distance and its gradient; outside the grid's box the distance
+/// to the box is added.
+static float grid_distance(const float *data, uint32_t base, uint32_t packed, pbf_float4 frame, v3 l, v3 *ln)
+{
+    const uint32_t dims[3] = { packed & 1023u, (packed >> 10) & 1023u, (packed >> 20) & 1023u };
+    v3 lo = xyz(frame);
+    v3 hi = add(lo, scale(frame.w, (v3){ (float)(dims[0] - 1u), (float)(dims[1] - 1u), (float)(dims[2] - 1u) }));
+    v3 lc = { clampf(l.x, lo.x, hi.x), clampf(l.y, lo.y, hi.y), clampf(l.z, lo.z, hi.z) };
+    v3 g = divide(sub(lc, lo), frame.w);
+    int i0[3] = { clampi((int)floorf(g.x), 0, (int)dims[0] - 2), clampi((int)floorf(g.y), 0, (int)dims[1] - 2),
+                  clampi((int)floorf(g.z), 0, (int)dims[2] - 2) };
+    v3 f = { g.x - (float)i0[0], g.y - (float)i0[1], g.z - (float)i0[2] };
+    float c000 = grid_sample(data, base, dims, i0[0], i0[1], i0[2]);
+    float c100 = grid_sample(data, base, dims, i0[0] + 1, i0[1], i0[2]);
+    float c010 = grid_sample(data, base, dims, i0[0], i0[1] + 1, i0[2]);
+    float c110 = grid_sample(data, base, dims, i0[0] + 1, i0[1] + 1, i0[2]);
+    float c001 = grid_sample(data, base, dims, i0[0], i0[1], i0[2] + 1);
+    float c101 = grid_sample(data, base, dims, i0[0] + 1, i0[1], i0[2] + 1);
+    float c011 = grid_sample(data, base, dims, i0[0], i0[1] + 1, i0[2] + 1);
+    float c111 = grid_sample(data, base, dims, i0[0] + 1, i0[1] + 1, i0[2] + 1);
+    float x00 = mixf(c000, c100, f.x), x10 = mixf(c010, c110, f.x);
+    float x01 = mixf(c001, c101, f.x), x11 = mixf(c011, c111, f.x);
+    float y0 = mixf(x00, x10, f.y), y1 = mixf(x01, x11, f.y);
+    float d = mixf(y0, y1, f.z);
+    v3 grad;
+    grad.x = mixf(mixf(c100 - c000, c110 - c010, f.y), mixf(c101 - c001, c111 - c011, f.y), f.z);
+    grad.y = mixf(x10 - x00, x11 - x01, f.z);
+    grad.z = y1 - y0;
+    float gl = length(grad);
+    *ln = gl > 1e-12f ? divide(grad, gl) : (v3){ 0.0f, 1.0f, 0.0f };
+    v3 out_of_box = sub(l, lc);
+    float ob = length(out_of_box);
+    if (ob > 0.0f) {
+        d += ob;
+        *ln = normalize3(add(out_of_box, scale(fmaxf(d - ob, 0.0f), *ln)));
+    }
+    return d;
+}
+
+/// hull_distance: the largest face-plane distance.
+static float hull_distance(const float *data, uint32_t base, uint32_t count, v3 l, v3 *ln)
+{
+    float best = -1e30f;
+    *ln = (v3){ 0.0f, 1.0f, 0.0f };
+    for (uint32_t k = 0; k < count; k++) {
+        const float *o = data + base + 4u * k;
+        v3 n = { o[0], o[1], o[2] };
+        float d = dot(n, l) - o[3];
+        if (d > best) {
+            best = d;
+            *ln = n;
+        }
+    }
+    return best;
+}
+
+/// shape_distance: signed distance (m, positive outside the solid) from local point l to
+/// the surface of collider c's shape, and the outward unit normal, both in its frame.
+static float shape_distance(const pbf_cpu_world *w, const pbf_gpu_collider *c, v3 l, v3 *ln)
+{
+    uint32_t type = c->info.x;
+    pbf_float4 s = c->params;
+    float d;
+    if (type == PBF_COLLIDER_PLANE) {
+        *ln = xyz(s);
+        d = dot(l, *ln) - s.w;
+    } else if (type == PBF_COLLIDER_SPHERE) {
+        float len = length(l);
+        *ln = len > 1e-9f ? divide(l, len) : (v3){ 0.0f, 1.0f, 0.0f };
+        d = len - s.x;
+    } else if (type == PBF_COLLIDER_BOX) {
+        v3 q3 = { fabsf(l.x) - s.x, fabsf(l.y) - s.y, fabsf(l.z) - s.z };
+        if (fmaxf(q3.x, fmaxf(q3.y, q3.z)) > 0.0f) {
+            v3 o = { fmaxf(q3.x, 0.0f), fmaxf(q3.y, 0.0f), fmaxf(q3.z, 0.0f) };
+            d = length(o);
+            *ln = divide((v3){ signf(l.x) * o.x, signf(l.y) * o.y, signf(l.z) * o.z }, fmaxf(d, 1e-12f));
+        } else {
+            // inside: nearest face
+            if (q3.x > q3.y && q3.x > q3.z) *ln = (v3){ l.x < 0.0f ? -1.0f : 1.0f, 0.0f, 0.0f };
+            else if (q3.y > q3.z) *ln = (v3){ 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
+            else *ln = (v3){ 0.0f, 0.0f, l.z < 0.0f ? -1.0f : 1.0f };
+            d = fmaxf(q3.x, fmaxf(q3.y, q3.z));
+        }
+    } else if (type == PBF_COLLIDER_CAPSULE) {
+        v3 r = { l.x - 0.0f, l.y - clampf(l.y, -s.y, s.y), l.z - 0.0f };
+        float len = length(r);
+        *ln = len > 1e-9f ? divide(r, len) : (v3){ 1.0f, 0.0f, 0.0f };
+        d = len - s.x;
+    } else if (type == PBF_COLLIDER_CYLINDER) {
+        float rl = sqrtf(l.x * l.x + l.z * l.z);
+        float qx = rl - s.x, qy = fabsf(l.y) - s.y;
+        v3 radial = rl > 1e-9f ? divide((v3){ l.x, 0.0f, l.z }, rl) : (v3){ 1.0f, 0.0f, 0.0f };
+        v3 axial = { 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
+        if (qx > 0.0f && qy > 0.0f) {
+            d = sqrtf(qx * qx + qy * qy);
+            *ln = normalize3(add(scale(qx, radial), scale(qy, axial)));
+        } else if (qx > qy) {
+            d = qx;
+            *ln = radial;
+        } else {
+            d = qy;
+            *ln = axial;
+        }
+    } else if (type == PBF_COLLIDER_HULL) {
+        d = hull_distance(w->collider_data, c->info.z, c->info.w, l, ln);
+    } else {
+        d = grid_distance(w->collider_data, c->info.z, c->info.w, s, l, ln);
+    }
+    return d;
+}
+
+static pbf_float4 quat_nlerp(pbf_float4 a, pbf_float4 b, float t)
+{
+    if (dot4(a, b) < 0.0f) b = (pbf_float4){ -b.x, -b.y, -b.z, -b.w };
+    pbf_float4 m = { mixf(a.x, b.x, t), mixf(a.y, b.y, t), mixf(a.z, b.z, t), mixf(a.w, b.w, t) };
+    float len = sqrtf(dot4(m, m));
+    return (pbf_float4){ m.x / len, m.y / len, m.z / len, m.w / len };
+}
+
+/// collider_poses: the pose at the start (p0, q0) and at the end (p1, q1) of substep
+/// P->substep; a pose that spans several substeps (linear_velocity.w > 1) is interpolated.
+static void collider_poses(const pbf_gpu_params *P, const pbf_gpu_collider *c, v3 *p0, pbf_float4 *q0, v3 *p1,
+                           pbf_float4 *q1)
+{
+    v3 pa = xyz(c->prev_position), pb = xyz(c->position);
+    pbf_float4 qa = c->prev_rotation, qb = c->rotation;
+    float span = c->linear_velocity.w;
+    if (span > 1.5f) {
+        float t0 = (float)P->substep / span, t1 = fminf((float)(P->substep + 1u) / span, 1.0f);
+        *p0 = mix3(pa, pb, t0);
+        *q0 = quat_nlerp(qa, qb, t0);
+        *p1 = mix3(pa, pb, t1);
+        *q1 = quat_nlerp(qa, qb, t1);
+    } else {
+        *p0 = pa;
+        *q0 = qa;
+        *p1 = pb;
+        *q1 = qb;
+    }
+}
+
+static void collider_end_pose(const pbf_gpu_params *P, const pbf_gpu_collider *c, v3 *p1, pbf_float4 *q1)
+{
+    v3 p0;
+    pbf_float4 q0;
+    collider_poses(P, c, &p0, &q0, p1, q1);
+}
+
+static bool collider_near(v3 p1, const pbf_gpu_collider *c, v3 x, float reach)
+{
+    if (c->info.x == PBF_COLLIDER_PLANE) return true;
+    return distance3(x, p1) <= c->position.w + reach;
+}
+
+/// Share of the kernel beyond a plane at signed distance d, and its slope in d, for the
+/// continuous kernel (the lattice factor divided out): colliders.glsl's beyond().
+static float boundary_factor(const pbf_gpu_params *P) { return 2.0f * pbf_cpu_wall_volume(P, 0.0f); }
+static float beyond(const pbf_gpu_params *P, float d, float inv_factor)
+{
+    return d >= 0.0f ? pbf_cpu_wall_volume(P, d) * inv_factor : 1.0f - pbf_cpu_wall_volume(P, -d) * inv_factor;
+}
+static float beyond_slope(const pbf_gpu_params *P, float d, float inv_factor)
+{
+    return -pbf_cpu_wall_gradient(P, fabsf(d)) * inv_factor;
+}
+
+/// collider_boundary: the share V of a filled neighbourhood that collider c takes at x and
+/// its gradient (1/m), at the end pose; boxes as a product of three slabs, other shapes as
+/// the half-space at the signed distance; false when out of reach or inside.
+static bool collider_boundary(const pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_gpu_collider *c, v3 x,
+                              float *V, v3 *gradV)
+{
+    *V = 0.0f;
+    *gradV = (v3){ 0.0f, 0.0f, 0.0f };
+    v3 p1;
+    pbf_float4 q1;
+    collider_end_pose(P, c, &p1, &q1);
+    if (!collider_near(p1, c, x, P->h)) return false;
+    v3 l = quat_rotate_inv(q1, sub(x, p1));
+    v3 ln;
+    float d = shape_distance(w, c, l, &ln);
+    if (d >= P->h || d < 0.0f) return false;
+    if (c->info.x == PBF_COLLIDER_BOX) {
+        v3 e = xyz(c->params);
+        v3 a = sub(e, l), b = add(e, l); // distances to the + and - faces of each slab
+        float k = boundary_factor(P), ik = 1.0f / k;
+        v3 F = { 1.0f - beyond(P, a.x, ik) - beyond(P, b.x, ik), 1.0f - beyond(P, a.y, ik) - beyond(P, b.y, ik),
+                 1.0f - beyond(P, a.z, ik) - beyond(P, b.z, ik) };
+        F = (v3){ fmaxf(F.x, 0.0f), fmaxf(F.y, 0.0f), fmaxf(F.z, 0.0f) };
+        v3 dF = { beyond_slope(P, a.x, ik) - beyond_slope(P, b.x, ik), beyond_slope(P, a.y, ik) - beyond_slope(P, b.y, ik),
+                  beyond_slope(P, a.z, ik) - beyond_slope(P, b.z, ik) };
+        *V = k * F.x * F.y * F.z;
+        *gradV = scale(k, quat_rotate(q1, (v3){ dF.x * F.y * F.z, F.x * dF.y * F.z, F.x * F.y * dF.z }));
+    } else {
+        *V = pbf_cpu_wall_volume(P, d);
+        *gradV = scale(-pbf_cpu_wall_gradient(P, d), quat_rotate(q1, ln));
+    }
+    return true;
+}
+
+/// colliders_density: adds the colliders' share of the density at x and of grad_i C_i.
+void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, v3 x, float *rho, v3 *grad_i)
+{
+    for (uint32_t b = 0; b < P->collider_count; b++) {
+        float V;
+        v3 gradV;
+        if (!collider_boundary(w, P, &w->gpu[b], x, &V, &gradV)) continue;
+        *rho += P->rest_density * V;
+        *grad_i = add(*grad_i, gradV);
+    }
+}
+
+/// Adds v to a fixed-point accumulator as atomicAdd does (two's complement, wrapping).
+static void accumulate(int32_t *acc, int32_t v) { *acc = (int32_t)((uint32_t)*acc + (uint32_t)v); }
+
+/// add_force: force f (N) at point `at` on two-way collider b, in its fixed-point scale
+/// (GLSL round() is round-half-even on Mesa: rintf in the default rounding mode).
+static void add_force(pbf_cpu_world *w, uint32_t b, v3 f, v3 at)
+{
+    const pbf_gpu_collider *c = &w->gpu[b];
+    if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) return;
+    float s = c->center_of_mass.w;
+    v3 t = cross(sub(at, xyz(c->center_of_mass)), f);
+    const float fs[3] = { f.x * s, f.y * s, f.z * s }, ts[3] = { t.x * s, t.y * s, t.z * s };
+    for (int k = 0; k < 3; k++) {
+        accumulate(&w->forces[b][k], (int32_t)rintf(fs[k]));
+        accumulate(&w->forces[b][4 + k], (int32_t)rintf(ts[k]));
+    }
+}
+
+/// colliders_delta: the colliders' part of the position correction of a particle at x with
+/// multiplier lambda, and the reaction on two-way colliders (f = -m omega bdp / dt^2).
+void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, v3 x, float lambda, v3 *dp)
+{
+    float to_force = -P->mass * P->inv_dt * P->inv_dt * P->omega;
+    for (uint32_t b = 0; b < P->collider_count; b++) {
+        const pbf_gpu_collider *c = &w->gpu[b];
+        float V;
+        v3 gradV;
+        if (!collider_boundary(w, P, c, x, &V, &gradV)) continue;
+        v3 bdp = scale(lambda, gradV);
+        *dp = add(*dp, bdp);
+        if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
+        accumulate(&w->forces[b][3], 1);
+        if (lambda != 0.0f) {
+            // Acting at the particle's nearest surface point.
+            v3 p1, ln;
+            pbf_float4 q1;
+            collider_end_pose(P, c, &p1, &q1);
+            float d = shape_distance(w, c, quat_rotate_inv(q1, sub(x, p1)), &ln);
+            v3 n = quat_rotate(q1, ln);
+            add_force(w, b, scale(to_force, bdp), sub(x, scale(d, n)));
+        }
+    }
+}
+
+/// sweep_hit: the first point of the local path a -> e that comes within r of the surface,
+/// by sphere tracing on the distance; false when none.
+static bool sweep_hit(const pbf_cpu_world *w, const pbf_gpu_collider *c, v3 a, v3 e, float da, float r, v3 *hit)
+{
+    v3 seg = sub(e, a);
+    float len = length(seg);
+    *hit = e;
+    if (len < 1e-9f) return false;
+    float t = 0.0f, d = da;
+    for (int k = 0; k < 24; k++) {
+        if (d <= r * 1.001f) {
+            *hit = add(a, scale(t, seg));
+            return true;
+        }
+        t += (d - r) / len;
+        if (t >= 1.0f) return false;
+        v3 unused;
+        d = shape_distance(w, c, add(a, scale(t, seg)), &unused);
+    }
+    *hit = add(a, scale(t, seg));
+    return true;
+}
+
+/// colliders_collide: moves a particle now at x, which started the substep at xs, out of
+/// every collider to a particle radius from its surface, sweeping its path in each
+/// collider's frame from the previous pose to the current one; particles that started
+/// inside (or within r/2) are moved out at PBF_PUSH_OUT_SPEED at most, with no reaction.
+v3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, v3 xs, v3 x)
+{
+    float to_force = -P->mass * P->inv_dt * P->inv_dt;
+    float r = P->radius;
+    for (uint32_t b = 0; b < P->collider_count; b++) {
+        const pbf_gpu_collider *c = &w->gpu[b];
+        v3 p0, p1;
+        pbf_float4 q0, q1;
+        collider_poses(P, c, &p0, &q0, &p1, &q1);
+        float turn = 2.0f * acosf(fminf(fabsf(dot4(q0, q1)), 1.0f)); // rad turned in this substep
+        float reach = r + distance3(p0, p1) + distance3(xs, x) + c->position.w * turn;
+        if (!collider_near(p1, c, x, reach)) continue;
+        v3 l0 = quat_rotate_inv(q0, sub(xs, p0)); // where it started, in the collider's frame
+        v3 l1 = quat_rotate_inv(q1, sub(x, p1));  // where it is now
+        v3 n0, n1;
+        float d0 = shape_distance(w, c, l0, &n0);
+        float d1 = shape_distance(w, c, l1, &n1);
+        v3 lnew = l1;
+        if (d0 < 0.5f * r) {
+            float target = fminf(r, d0 + (float)PBF_PUSH_OUT_SPEED * P->dt);
+            if (d1 < target) {
+                lnew = add(l1, scale(target - d1, n1));
+                if ((c->info.y & PBF_COLLIDER_TWO_WAY) != 0u) accumulate(&w->forces[b][7], 1);
+            }
+            x = add(p1, quat_rotate(q1, lnew));
+            continue;
+        }
+        float len = distance3(l0, l1);
+        if (d1 >= r && 0.5f * (d0 + d1 - len) > r) continue;
+        v3 hit;
+        if (!sweep_hit(w, c, l0, l1, d0, r, &hit)) continue;
+        v3 nh;
+        shape_distance(w, c, hit, &nh);
+        // Keep the motion along the surface, remove the part into it.
+        float into = dot(sub(l1, hit), nh);
+        lnew = into < 0.0f ? sub(l1, scale(into, nh)) : l1;
+        float dn = shape_distance(w, c, lnew, &n1);
+        if (dn < r) lnew = add(lnew, scale(r - dn, n1));
+        v3 xn = add(p1, quat_rotate(q1, lnew));
+        add_force(w, b, scale(to_force, sub(xn, x)), sub(xn, scale(r, quat_rotate(q1, nh))));
+        x = xn;
+    }
+    return x;
+}
+
+static bool finite_n(const float *v, int n)
+{
+    for (int k = 0; k < n; k++)
+        if (!isfinite(v[k])) return false;
+    return true;
+}
+
+static float len3f(const float *v) { return sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+
+/// Fixed-point units per newton for a collider of bounding radius r (pbf_colliders.c): the
+/// accumulators hold about 1000 times the weight of the fluid its bounding sphere displaces.
+static float force_scale(const pbf_cpu_world *w, float r)
+{
+    if (!(r < 1e29f)) return (float)PBF_FORCE_SCALE;
+    float gm = len3f(w->params.gravity);
+    if (gm < 9.81f) gm = 9.81f;
+    double weight = (double)w->params.rest_density * (4.0 / 3.0) * 3.14159265f * (double)r * r * r * gm;
+    double range = 1000.0 * weight * (double)w->params.substeps;
+    double s = 2147483647.0 / range;
+    if (s > 1048576.0) s = 1048576.0;
+    if (s < 1e-3) s = 1e-3;
+    return (float)s;
+}
+
+static pbf_result check_collider(pbf_cpu_world *w, const pbf_collider_def *d)
+{
+    if ((unsigned)d->type > PBF_SHAPE_SDF)
+        return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.type must be a pbf_collider_type 0..6 (got %d)",
+                    (int)d->type);
+    if (!finite_n(d->size, 4)) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size must be finite");
+    if (!finite_n(d->position, 3)) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.position must be finite");
+    if (!finite_n(d->rotation, 4)) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.rotation must be finite");
+    int need = d->type == PBF_SHAPE_BOX ? 3 : d->type == PBF_SHAPE_SPHERE ? 1
+             : (d->type == PBF_SHAPE_CAPSULE || d->type == PBF_SHAPE_CYLINDER) ? 2 : 0;
+    for (int k = 0; k < need; k++)
+        if (!(d->size[k] > 0.0f))
+            return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size[%d] must be > 0 m (got %g)", k,
+                        (double)d->size[k]);
+    float qn = sqrtf(d->rotation[0] * d->rotation[0] + d->rotation[1] * d->rotation[1] +
+                     d->rotation[2] * d->rotation[2] + d->rotation[3] * d->rotation[3]);
+    if (fabsf(qn - 1.0f) > 1e-3f)
+        return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.rotation must be a unit quaternion (got length %g)",
+                    (double)qn);
+    if (d->type == PBF_SHAPE_PLANE && !(len3f(d->size) > 0.0f))
+        return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size xyz (plane normal) must be non-zero");
+    if (d->type == PBF_SHAPE_CONVEX_HULL) {
+        if (!d->planes) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.planes must not be NULL for a convex hull");
+        if (d->plane_count < 4 || d->plane_count > PBF_MAX_HULL_PLANES)
+            return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.plane_count must be in [4, %d] (got %u)",
+                        PBF_MAX_HULL_PLANES, d->plane_count);
+        for (uint32_t k = 0; k < d->plane_count; k++) {
+            const float *p = d->planes + 4 * k;
+            if (!finite_n(p, 4) || fabsf(len3f(p) - 1.0f) > 1e-3f)
+                return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.planes[%u] must be finite with a unit normal "
+                            "(got normal length %g)", k, (double)len3f(p));
+        }
+        if (!(d->size[0] > 0.0f))
+            return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size[0] (the hull's bounding radius about its "
+                        "origin) must be > 0 m (got %g)", (double)d->size[0]);
+    }
+    if (d->type == PBF_SHAPE_SDF) {
+        const pbf_sdf_grid *g = &d->grid;
+        if (!g->values) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.grid.values must not be NULL");
+        for (int k = 0; k < 3; k++)
+            if (g->dims[k] < 2 || g->dims[k] > 1023)
+                return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.grid.dims[%d] must be in [2, 1023] (got %u)", k,
+                            g->dims[k]);
+        if (!isfinite(g->cell) || !(g->cell > 0.0f))
+            return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.grid.cell must be > 0 m and finite (got %g)",
+                        (double)g->cell);
+        if (!finite_n(g->origin, 3)) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.grid.origin must be finite");
+        size_t n = (size_t)g->dims[0] * g->dims[1] * g->dims[2];
+        for (size_t i = 0; i < n; i++)
+            if (!isfinite(g->values[i]))
+                return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.grid.values[%zu] must be finite", i);
+    }
+    return PBF_OK;
+}
+
+pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *w, const pbf_collider_def *d, uint32_t *index)
+{
+    if (index) *index = UINT32_MAX;
+    if (!d) return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_add_collider: def must not be NULL");
+    pbf_result r = check_collider(w, d);
+    if (r != PBF_OK) return r;
+    if (w->collider_count >= PBF_MAX_COLLIDERS)
+        return pbf_cpu_fail(w, PBF_ERR_CAPACITY, "pbf_cpu_world_add_collider: all %d colliders in use", PBF_MAX_COLLIDERS);
+    // Hull planes or grid samples, appended to the data in the order of addition (the
+    // GPU packs them in slot order: the same offsets while nothing is removed).
+    uint32_t count = d->type == PBF_SHAPE_CONVEX_HULL ? 4 * d->plane_count
+                   : d->type == PBF_SHAPE_SDF ? d->grid.dims[0] * d->grid.dims[1] * d->grid.dims[2] : 0;
+    uint32_t offset = w->collider_data_count;
+    if (count) {
+        float *data = realloc(w->collider_data, ((size_t)offset + count) * sizeof *data);
+        if (!data) return pbf_cpu_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_cpu_world_add_collider: out of memory");
+        memcpy(data + offset, d->type == PBF_SHAPE_SDF ? d->grid.values : d->planes, (size_t)count * sizeof *data);
+        w->collider_data = data;
+        w->collider_data_count += count;
+    }
+    const float *q = d->rotation;
+    float qn = sqrtf(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    pbf_gpu_collider c;
+    memset(&c, 0, sizeof c);
+    c.position = (pbf_float4){ d->position[0], d->position[1], d->position[2], pbf_collider_bounding_radius(d) };
+    c.rotation = (pbf_float4){ q[0] / qn, q[1] / qn, q[2] / qn, q[3] / qn };
+    if (d->type == PBF_SHAPE_PLANE) {
+        float nl = len3f(d->size);
+        c.params = (pbf_float4){ d->size[0] / nl, d->size[1] / nl, d->size[2] / nl, d->size[3] };
+    } else if (d->type == PBF_SHAPE_SDF) {
+        c.params = (pbf_float4){ d->grid.origin[0], d->grid.origin[1], d->grid.origin[2], d->grid.cell };
+    } else {
+        c.params = (pbf_float4){ d->size[0], d->size[1], d->size[2], d->size[3] };
+    }
+    static const uint32_t gpu_type[] = { PBF_COLLIDER_PLANE, PBF_COLLIDER_BOX, PBF_COLLIDER_SPHERE,
+                                         PBF_COLLIDER_CAPSULE, PBF_COLLIDER_CYLINDER, PBF_COLLIDER_HULL,
+                                         PBF_COLLIDER_GRID };
+    uint32_t packed = d->type == PBF_SHAPE_CONVEX_HULL ? d->plane_count
+                    : d->type == PBF_SHAPE_SDF ? d->grid.dims[0] | d->grid.dims[1] << 10 | d->grid.dims[2] << 20 : 0u;
+    c.info = (pbf_uint4){ gpu_type[d->type], d->two_way ? PBF_COLLIDER_TWO_WAY : 0u, offset, packed };
+    c.prev_position = c.position;
+    c.prev_rotation = c.rotation;
+    c.center_of_mass = c.position;
+    c.center_of_mass.w = force_scale(w, c.position.w);
+    c.linear_velocity.w = 1.0f;
+    if (index) *index = w->collider_count;
+    w->colliders[w->collider_count++] = c;
+    return PBF_OK;
+}
+
+pbf_result pbf_cpu_world_set_collider_pose(pbf_cpu_world *w, uint32_t index, const float position[3],
+                                           const float rotation[4], const float center_of_mass[3])
+{
+    if (index >= w->collider_count)
+        return pbf_cpu_fail(w, PBF_ERR_STALE_ID, "pbf_cpu_world_set_collider_pose: index must be below the %u colliders "
+                    "added (got %u)", w->collider_count, index);
+    if (!position || !rotation)
+        return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_set_collider_pose: position and rotation must not be NULL");
+    if (!finite_n(position, 3) || !finite_n(rotation, 4) || (center_of_mass && !finite_n(center_of_mass, 3)))
+        return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_set_collider_pose: position, rotation and center_of_mass "
+                    "must be finite");
+    float qn = sqrtf(rotation[0] * rotation[0] + rotation[1] * rotation[1] + rotation[2] * rotation[2] +
+                     rotation[3] * rotation[3]);
+    if (fabsf(qn - 1.0f) > 1e-3f)
+        return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_set_collider_pose: rotation must be a unit quaternion "
+                    "(got length %g)", (double)qn);
+    pbf_gpu_collider *g = &w->colliders[index];
+    g->prev_position = g->position;
+    g->prev_rotation = g->rotation;
+    g->position = (pbf_float4){ position[0], position[1], position[2], g->position.w };
+    g->rotation = (pbf_float4){ rotation[0] / qn, rotation[1] / qn, rotation[2] / qn, rotation[3] / qn };
+    const float *c = center_of_mass ? center_of_mass : position;
+    g->center_of_mass = (pbf_float4){ c[0], c[1], c[2], g->center_of_mass.w };
+    return PBF_OK;
+}
+
+pbf_result pbf_cpu_world_collider_report(const pbf_cpu_world *w, uint32_t index, pbf_collider_report *out)
+{
+    if (!out) return PBF_ERR_INVALID_ARG;
+    memset(out, 0, sizeof *out);
+    if (index >= w->collider_count) return PBF_ERR_STALE_ID;
+    if (w->steps == 0) return PBF_OK;
+    // As pbf_colliders_read_forces: the sums over the step's substeps, averaged, unscaled.
+    const int32_t *f = w->forces[index];
+    double k = 1.0 / (double)w->report_substeps / (double)w->gpu[index].center_of_mass.w;
+    for (int c = 0; c < 3; c++) {
+        out->force[c] = (float)(f[c] * k);
+        out->torque[c] = (float)(f[4 + c] * k);
+    }
+    out->contacts = (uint32_t)f[3];
+    out->pushed_out = (uint32_t)f[7];
+    out->step = w->steps - 1;
+    out->ready = true;
+    return PBF_OK;
+}
+
+static bool moved(const pbf_gpu_collider *g)
+{
+    return memcmp(&g->prev_position, &g->position, sizeof g->position) != 0 ||
+           memcmp(&g->prev_rotation, &g->rotation, sizeof g->rotation) != 0;
+}
+
+/// pbf_colliders_begin_step: force scales follow the parameters; poses set since the last
+/// step span all of its substeps; the accumulators start from zero.
+void pbf_cpu_colliders_begin_step(pbf_cpu_world *w)
+{
+    for (uint32_t b = 0; b < w->collider_count; b++) {
+        pbf_gpu_collider *g = &w->colliders[b];
+        g->center_of_mass.w = force_scale(w, g->position.w);
+        g->linear_velocity.w = moved(g) ? (float)w->params.substeps : 1.0f;
+        w->gpu[b] = *g;
+    }
+    w->gpu_count = w->collider_count;
+    memset(w->forces, 0, sizeof w->forces);
+}
+
+/// pbf_colliders_end_step: the pose given for this step is the previous pose of the next.
+void pbf_cpu_colliders_end_step(pbf_cpu_world *w)
+{
+    for (uint32_t b = 0; b < w->collider_count; b++) {
+        w->colliders[b].prev_position = w->colliders[b].position;
+        w->colliders[b].prev_rotation = w->colliders[b].rotation;
+    }
+}
