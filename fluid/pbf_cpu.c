@@ -40,7 +40,8 @@ static pbf_result grid_layout(pbf_cpu_world *w, float h, char *err, size_t err_s
                  w->cells_per_kernel, MAX_CELLS);
         return PBF_ERR_INVALID_ARG;
     }
-    uint32_t *start = malloc(((size_t)total + 1) * 4), *fill = malloc((size_t)total * 4);
+    // As pbf_world.c: the cells, the removed cell (sinks; always empty here) and the total.
+    uint32_t *start = malloc(((size_t)total + 2) * 4), *fill = malloc(((size_t)total + 1) * 4);
     if (!start || !fill) {
         free(start);
         free(fill);
@@ -110,14 +111,14 @@ pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity,
     w->omega = calloc(n, sizeof(pbf_float4));
     w->id = malloc(n * 4);
     w->id_out = malloc(n * 4);
-    w->lambda = calloc(n, sizeof(float));
-    w->rho = calloc(n, sizeof(float));
+    w->lambda_rho = calloc(2 * n, sizeof(float));
     w->cell_of = malloc(n * 4);
     w->sorted = malloc(n * 4);
+    w->order = malloc(n * 4);
     w->nb_count = calloc(n, 4);
     w->nb_list = malloc(n * w->max_neighbours * 4);
     if (!w->pos || !w->pos_out || !w->vel || !w->vel_out || !w->pred || !w->pred_out || !w->omega || !w->id ||
-        !w->id_out || !w->lambda || !w->rho || !w->cell_of || !w->sorted || !w->nb_count || !w->nb_list) {
+        !w->id_out || !w->lambda_rho || !w->cell_of || !w->sorted || !w->order || !w->nb_count || !w->nb_list) {
         snprintf(err, err_size, "pbf_cpu_world_create: out of memory for %u particles", capacity);
         pbf_cpu_world_destroy(w);
         return NULL;
@@ -129,8 +130,8 @@ void pbf_cpu_world_destroy(pbf_cpu_world *w)
 {
     if (!w) return;
     void *blocks[] = { w->pos, w->pos_out, w->vel, w->vel_out, w->pred, w->pred_out, w->omega,
-                       w->id, w->id_out, w->lambda, w->rho, w->cell_of, w->cell_start, w->cell_fill,
-                       w->sorted, w->nb_list, w->nb_count, w->collider_data };
+                       w->id, w->id_out, w->lambda_rho, w->cell_of, w->cell_start, w->cell_fill,
+                       w->sorted, w->order, w->nb_list, w->nb_count, w->collider_data };
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; i++) free(blocks[i]);
     free(w);
 }
@@ -191,7 +192,7 @@ static void append(pbf_cpu_world *w, const float p[3], const float v[3])
 {
     uint32_t i = w->count++;
     w->pos[i] = (pbf_float4){ p[0], p[1], p[2], colour_of(w, p[1]) };
-    w->pred[i] = w->pos[i];
+    w->pred[i] = (pbf_float4){ p[0], p[1], p[2], 0.0f };
     w->vel[i] = (pbf_float4){ v[0], v[1], v[2], 0.0f };
     w->id[i] = i; // no removal: ids are 0 .. count - 1 in creation order
     w->nb_valid = false;
@@ -255,6 +256,75 @@ static pbf_gpu_params uniforms(const pbf_cpu_world *w, float dt)
 }
 
 
+static void swap4(pbf_float4 **a, pbf_float4 **b)
+{
+    pbf_float4 *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+static void swap_ids(uint32_t **a, uint32_t **b)
+{
+    uint32_t *t = *a;
+    *a = *b;
+    *b = t;
+}
+
+static void stage_done(pbf_cpu_world *w, pbf_stage stage, int substep, int iteration)
+{
+    if (w->hook) w->hook(w->hook_user, stage, substep, iteration);
+}
+
+/// pbf_world.c's substep, pass for pass: the same stages in the same order, the ping-pong
+/// pairs flipped where it flips them, the stage hook called where it calls its own.
+static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
+{
+    const pbf_params *p = &w->params;
+    pbf_cpu_predict(w, P);
+    stage_done(w, PBF_STAGE_PREDICT, s, -1);
+    pbf_cpu_grid_count(w, P, w->pred);
+    stage_done(w, PBF_STAGE_GRID_COUNT, s, -1);
+    pbf_cpu_grid_scan(w);
+    stage_done(w, PBF_STAGE_GRID_SCAN, s, -1);
+    pbf_cpu_grid_scatter(w);
+    stage_done(w, PBF_STAGE_GRID_SCATTER, s, -1);
+    pbf_cpu_grid_sort(w);
+    stage_done(w, PBF_STAGE_GRID_SORT, s, -1);
+    pbf_cpu_reorder(w);
+    stage_done(w, PBF_STAGE_REORDER, s, -1);
+    swap4(&w->pos, &w->pos_out);
+    swap4(&w->vel, &w->vel_out);
+    swap4(&w->pred, &w->pred_out);
+    swap_ids(&w->id, &w->id_out);
+    pbf_cpu_neighbours(w, P, w->pred, NULL, true);
+    stage_done(w, PBF_STAGE_NEIGHBOURS, s, -1);
+    for (int it = 0; it < p->iterations; it++) {
+        // The first iteration's density came with the neighbour lists.
+        if (it > 0) {
+            pbf_cpu_density(w, P);
+            stage_done(w, PBF_STAGE_DENSITY, s, it);
+        }
+        pbf_cpu_delta(w, P);
+        stage_done(w, PBF_STAGE_DELTA, s, it);
+        if (w->gpu_count > 0) {
+            pbf_cpu_collide(w, P);
+            stage_done(w, PBF_STAGE_COLLIDE, s, it);
+        }
+        swap4(&w->pred, &w->pred_out);
+    }
+    pbf_cpu_velocity(w, P);
+    stage_done(w, PBF_STAGE_VELOCITY, s, -1);
+    if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
+        if (p->vorticity > 0.0f) {
+            pbf_cpu_vorticity(w, P);
+            stage_done(w, PBF_STAGE_VORTICITY, s, -1);
+        }
+        pbf_cpu_viscosity(w, P);
+        stage_done(w, PBF_STAGE_VISCOSITY, s, -1);
+        swap4(&w->vel, &w->vel_out);
+    }
+}
+
 pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
 {
     if (!(dt > 0.0f && dt <= 1.0f))
@@ -265,21 +335,7 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
     P.collider_count = w->gpu_count;
     for (int s = 0; s < p->substeps; s++) {
         P.substep = (uint32_t)s;
-        pbf_cpu_predict(w, &P);
-        pbf_cpu_build_grid(w, w->pred, &P);
-        pbf_cpu_reorder(w);
-        pbf_cpu_find_neighbours(w, w->pred, &P);
-        for (int it = 0; it < p->iterations; it++) {
-            pbf_cpu_density(w, &P);
-            pbf_cpu_delta(w, &P);
-            if (w->gpu_count > 0) pbf_cpu_collide(w, &P);
-            pbf_cpu_swap4(&w->pred, &w->pred_out);
-        }
-        pbf_cpu_velocity(w, &P);
-        if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
-            if (p->vorticity > 0.0f) pbf_cpu_vorticity(w, &P);
-            pbf_cpu_viscosity(w, &P);
-        }
+        substep(w, &P, s);
     }
     pbf_cpu_colliders_end_step(w);
     w->last_substep = (uint32_t)(p->substeps - 1);
@@ -287,6 +343,42 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
     w->steps++;
     w->nb_valid = true;
     return PBF_OK;
+}
+
+void pbf_cpu_world_set_stage_hook(pbf_cpu_world *w, pbf_cpu_stage_hook_fn *fn, void *user)
+{
+    w->hook = fn;
+    w->hook_user = user;
+}
+
+void *pbf_cpu_world_binding(pbf_cpu_world *w, int binding, size_t *bytes)
+{
+    size_t n = w->count, v4 = n * sizeof(pbf_float4);
+    void *a = NULL;
+    size_t size = 0;
+    switch (binding) {
+    case PBF_B_POS: a = w->pos, size = v4; break;
+    case PBF_B_VEL: a = w->vel, size = v4; break;
+    case PBF_B_PRED: a = w->pred, size = v4; break;
+    case PBF_B_ID: a = w->id, size = n * 4; break;
+    case PBF_B_POS_OUT: a = w->pos_out, size = v4; break;
+    case PBF_B_VEL_OUT: a = w->vel_out, size = v4; break;
+    case PBF_B_PRED_OUT: a = w->pred_out, size = v4; break;
+    case PBF_B_ID_OUT: a = w->id_out, size = n * 4; break;
+    case PBF_B_CELL: a = w->cell_of, size = n * 4; break;
+    case PBF_B_CELL_START: a = w->cell_start, size = ((size_t)w->cells + 2) * 4; break;
+    case PBF_B_CELL_FILL: a = w->cell_fill, size = ((size_t)w->cells + 1) * 4; break;
+    case PBF_B_SORTED: a = w->sorted, size = n * 4; break;
+    case PBF_B_ORDER: a = w->order, size = n * 4; break;
+    case PBF_B_LAMBDA: a = w->lambda_rho, size = n * 8; break;
+    case PBF_B_OMEGA: a = w->omega, size = v4; break;
+    case PBF_B_NB_LIST: a = w->nb_list, size = n * w->max_neighbours * 4; break;
+    case PBF_B_NB_COUNT: a = w->nb_count, size = n * 4; break;
+    case PBF_B_FORCES: a = w->forces, size = (size_t)w->gpu_count * sizeof w->forces[0]; break;
+    default: break;
+    }
+    if (bytes) *bytes = a ? size : 0;
+    return a;
 }
 
 // ---- reading back ----------------------------------------------------------------------
@@ -299,7 +391,10 @@ uint32_t pbf_cpu_world_read_particles(const pbf_cpu_world *w, float *positions, 
         uint32_t k = w->id[i]; // ids are 0 .. count - 1: the id is the place in id order
         if (k >= m) continue;
         if (positions) memcpy(positions + 4 * (size_t)k, &w->pos[i], 16);
-        if (velocities) memcpy(velocities + 4 * (size_t)k, &w->vel[i], 16);
+        if (velocities) {
+            memcpy(velocities + 4 * (size_t)k, &w->vel[i], 12);
+            velocities[4 * (size_t)k + 3] = 0.0f; // w is the solver's scratch (particle volume)
+        }
         if (ids) ids[k] = k;
     }
     return m;
@@ -324,8 +419,11 @@ uint64_t pbf_cpu_world_state_hash(const pbf_cpu_world *w)
 /// Lists at the current positions, through the grid order without moving the slots.
 static void neighbours_at_positions(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
-    pbf_cpu_build_grid(w, w->pos, P);
-    pbf_cpu_find_neighbours(w, w->pos, P);
+    pbf_cpu_grid_count(w, P, w->pos);
+    pbf_cpu_grid_scan(w);
+    pbf_cpu_grid_scatter(w);
+    pbf_cpu_grid_sort(w);
+    pbf_cpu_neighbours(w, P, w->pos, w->order, false);
     w->nb_valid = true;
 }
 
@@ -375,7 +473,9 @@ uint32_t pbf_cpu_world_vorticity(pbf_cpu_world *w, float *omega, uint32_t max)
 {
     pbf_gpu_params P = stats_params(w);
     neighbours_at_positions(w, &P);
-    for (uint32_t i = 0; i < w->count; i++) w->rho[i] = pbf_cpu_density_at(w, &P, i);
+    // The volumes the velocity pass would leave in vel.w, from the densities at the positions.
+    for (uint32_t i = 0; i < w->count; i++)
+        w->vel[i].w = P.mass_density / fmaxf(pbf_cpu_density_at(w, &P, i), 1e-6f * P.rest_density);
     pbf_cpu_vorticity(w, &P);
     uint32_t m = w->count < max ? w->count : max;
     for (uint32_t i = 0; i < w->count; i++)

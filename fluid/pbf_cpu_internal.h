@@ -10,6 +10,20 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+/// Called by the step after each stage, at the point where pbf_world.c calls its stage hook
+/// (pbf_internal.h): `substep` counts from 0, `iteration` is the solver iteration of the
+/// density, delta and collide stages and -1 for the others.
+typedef void pbf_cpu_stage_hook_fn(void *user, pbf_stage stage, int substep, int iteration);
+
+/// Sets the stage hook (NULL: none, the default); for tests that compare stages.
+void pbf_cpu_world_set_stage_hook(pbf_cpu_world *world, pbf_cpu_stage_hook_fn *fn, void *user);
+
+/// The array that mirrors the GPU buffer at storage binding `binding` (PBF_B_POS ...), in
+/// slot order and the GPU's layout, as the passes see it now (the ping-pong pairs as the
+/// step has them flipped); *bytes receives its live size (count particles, cells + 2 cell
+/// starts, gpu colliders x 8 force accumulators). NULL for a binding with no twin here.
+void *pbf_cpu_world_binding(pbf_cpu_world *world, int binding, size_t *bytes);
+
 struct pbf_cpu_world {
     pbf_params params;
     pbf_constants k;
@@ -34,14 +48,19 @@ struct pbf_cpu_world {
     uint32_t report_substeps;// substeps of the latest step (forces are averaged over them)
     uint32_t last_substep;   // P.substep of the latest substep (the metrics pass sees it)
 
-    // Particle slots; the second of each pair is the ping-pong partner.
+    // Particle slots in the GPU's layout (each array is the twin of a storage buffer, see
+    // pbf_cpu_world_binding); the second of each pair is the ping-pong partner, flipped by
+    // the step where pbf_world.c flips its bindings. pred.w carries lambda after the density
+    // pass, vel.w the particle's volume m / rho after the velocity pass, as on the GPU.
     pbf_float4 *pos, *pos_out, *vel, *vel_out, *pred, *pred_out, *omega;
     uint32_t *id, *id_out;
-    float *lambda, *rho;
-    // Grid and neighbour lists.
-    uint32_t *cell_of, *cell_start, *cell_fill, *sorted;
+    float *lambda_rho; // (lambda, rho kg/m^3) pairs: PBF_B_LAMBDA
+    // Grid (cells + 2 starts: the cells, the removed cell of sinks, the total) and lists.
+    uint32_t *cell_of, *cell_start, *cell_fill, *sorted, *order;
     uint32_t *nb_list, *nb_count;
     bool nb_valid; // the lists belong to the current slots and positions
+    pbf_cpu_stage_hook_fn *hook; // called after each stage (tests); NULL: none
+    void *hook_user;
     char error[512];
 };
 
@@ -74,22 +93,32 @@ pbf_result pbf_cpu_fail(pbf_cpu_world *w, pbf_result r, const char *fmt, ...)
     ;
 
 // ---- pbf_cpu_passes.c: the passes, each named for the shader it mirrors ----------------
+// Each runs over the live particles (w->count) and reads and writes the arrays its shader
+// binds, ping-pong partners included; none flips a pair (the step does).
 float pbf_cpu_poly6(const pbf_gpu_params *P, float r2);
 v3 pbf_cpu_grad_spiky(const pbf_gpu_params *P, v3 r);
 float pbf_cpu_wall_volume(const pbf_gpu_params *P, float d);
 float pbf_cpu_wall_gradient(const pbf_gpu_params *P, float d);
 float pbf_cpu_container_boundary(const pbf_gpu_params *P, v3 x, v3 *grad);
-void pbf_cpu_swap4(pbf_float4 **a, pbf_float4 **b);
 void pbf_cpu_predict(pbf_cpu_world *w, const pbf_gpu_params *P);
-void pbf_cpu_build_grid(pbf_cpu_world *w, const pbf_float4 *x, const pbf_gpu_params *P);
+/// grid_count.comp at positions x (pred in the step), after the clear the step does first.
+void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x);
+void pbf_cpu_grid_scan(pbf_cpu_world *w);
+void pbf_cpu_grid_scatter(pbf_cpu_world *w);
+void pbf_cpu_grid_sort(pbf_cpu_world *w);
 void pbf_cpu_reorder(pbf_cpu_world *w);
-void pbf_cpu_find_neighbours(pbf_cpu_world *w, const pbf_float4 *x, const pbf_gpu_params *P);
+/// neighbours.comp at positions x. `place` maps a place in cell order to its slot (NULL:
+/// the slots are in cell order, as after reorder). With `solve`, the first iteration's
+/// density and lambda as well, as the shader computes them.
+void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x, const uint32_t *place,
+                        bool solve);
 void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P);
+/// metrics.comp's density of slot i at its position (kg/m^3).
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i);
 
 // ---- pbf_cpu_colliders.c: colliders.glsl and pbf_colliders.c's step bookkeeping ---------

@@ -86,6 +86,9 @@ float pbf_cpu_container_boundary(const pbf_gpu_params *P, v3 x, v3 *grad)
     return 1.0f - keep;
 }
 
+// ---- one function per pass, in the step's order ---------------------------------------
+
+/// predict.comp: gravity, damping, speed clamp; x* = x + dt v.
 void pbf_cpu_predict(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
@@ -120,93 +123,66 @@ static uint32_t cell_index(const pbf_gpu_params *P, int x, int y, int z)
     return (uint32_t)x + P->grid_dims.x * ((uint32_t)y + P->grid_dims.y * (uint32_t)z);
 }
 
-/// grid_count, scan, grid_scatter and grid_sort together: a stable counting sort of the
-/// slots by the cell of x. sorted[k] is the slot in place k of cell order.
-void pbf_cpu_build_grid(pbf_cpu_world *w, const pbf_float4 *x, const pbf_gpu_params *P)
+/// The clears pbf_world.c issues before grid_count (cell starts and fill cursors), then
+/// grid_count.comp: the cell of each position and the particles per cell. The CPU
+/// reference has no sinks, so the removed cell (w->cells) stays empty.
+void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x)
 {
-    memset(w->cell_start, 0, ((size_t)w->cells + 1) * 4);
-    memset(w->cell_fill, 0, (size_t)w->cells * 4);
+    memset(w->cell_start, 0, ((size_t)w->cells + 2) * 4);
+    memset(w->cell_fill, 0, ((size_t)w->cells + 1) * 4);
     for (uint32_t i = 0; i < w->count; i++) {
         int c[3];
         cell_coord(P, xyz(x[i]), c);
         w->cell_of[i] = cell_index(P, c[0], c[1], c[2]);
         w->cell_start[w->cell_of[i]]++;
     }
+}
+
+/// scan_block.comp and scan_add.comp: the exclusive prefix sum over all cells + 2 entries,
+/// so cell c's particles are places [cell_start[c], cell_start[c + 1]).
+void pbf_cpu_grid_scan(pbf_cpu_world *w)
+{
     uint32_t sum = 0;
-    for (uint32_t c = 0; c <= w->cells; c++) {
+    for (uint32_t c = 0; c < w->cells + 2; c++) {
         uint32_t n = w->cell_start[c];
         w->cell_start[c] = sum;
         sum += n;
     }
+}
+
+/// grid_scatter.comp: each slot takes a place in its cell's range (sorted: place -> slot).
+/// The GPU's order inside a cell depends on thread timing; here it is slot order.
+void pbf_cpu_grid_scatter(pbf_cpu_world *w)
+{
     for (uint32_t i = 0; i < w->count; i++) {
         uint32_t c = w->cell_of[i];
         w->sorted[w->cell_start[c] + w->cell_fill[c]++] = i;
     }
 }
 
-void pbf_cpu_swap4(pbf_float4 **a, pbf_float4 **b)
+/// grid_sort.comp: each slot takes the rank of its slot among its cell's (a stable counting
+/// sort whatever order the scatter left): order, place -> slot.
+void pbf_cpu_grid_sort(pbf_cpu_world *w)
 {
-    pbf_float4 *t = *a;
-    *a = *b;
-    *b = t;
+    for (uint32_t k = 0; k < w->count; k++) {
+        uint32_t me = w->sorted[k];
+        uint32_t c = w->cell_of[me];
+        uint32_t b = w->cell_start[c], e = w->cell_start[c + 1];
+        uint32_t rank = 0;
+        for (uint32_t m = b; m < e; m++) rank += w->sorted[m] < me ? 1u : 0u;
+        w->order[b + rank] = me;
+    }
 }
 
-static void swap_ids(uint32_t **a, uint32_t **b)
-{
-    uint32_t *t = *a;
-    *a = *b;
-    *b = t;
-}
-
-/// reorder.comp: gathers the particle data into cell order; afterwards slot k is place k.
+/// reorder.comp: gathers the particle data into cell order, into the *_out partners.
 void pbf_cpu_reorder(pbf_cpu_world *w)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        uint32_t j = w->sorted[i];
+        uint32_t j = w->order[i];
         w->pos_out[i] = w->pos[j];
         w->vel_out[i] = w->vel[j];
         w->pred_out[i] = w->pred[j];
         w->id_out[i] = w->id[j];
-    }
-    pbf_cpu_swap4(&w->pos, &w->pos_out);
-    pbf_cpu_swap4(&w->vel, &w->vel_out);
-    pbf_cpu_swap4(&w->pred, &w->pred_out);
-    swap_ids(&w->id, &w->id_out);
-    for (uint32_t i = 0; i < w->count; i++) w->sorted[i] = i;
-}
-
-/// neighbours.comp: for each slot, the slots within h of x, walked as FOR_NEIGHBOURS walks
-/// them (9 runs of 3 cells); a list keeps the first max_neighbours, the count all of them.
-void pbf_cpu_find_neighbours(pbf_cpu_world *w, const pbf_float4 *x, const pbf_gpu_params *P)
-{
-    int dims[3] = { (int)P->grid_dims.x, (int)P->grid_dims.y, (int)P->grid_dims.z };
-    float h2 = P->h * P->h;
-    for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(x[i]);
-        int c[3];
-        cell_coord(P, xi, c);
-        uint32_t n = 0, *list = w->nb_list + (size_t)i * w->max_neighbours;
-        // The cells within `reach` of the particle's, rows in z then y order, x ascending
-        // (neighbours.comp skips rows and trims x ranges that hold nothing within h: the
-        // same neighbours in the same order).
-        int reach = (int)ceilf(P->h * P->inv_cell - 1e-4f);
-        for (int dz = -reach; dz <= reach; dz++)
-            for (int dy = -reach; dy <= reach; dy++) {
-                int y = c[1] + dy, z = c[2] + dz;
-                if (y < 0 || z < 0 || y >= dims[1] || z >= dims[2]) continue;
-                int x0 = c[0] - reach > 0 ? c[0] - reach : 0;
-                int x1 = c[0] + reach < dims[0] ? c[0] + reach : dims[0] - 1;
-                uint32_t b = w->cell_start[cell_index(P, x0, y, z)], e = w->cell_start[cell_index(P, x1, y, z) + 1];
-                for (uint32_t k = b; k < e; k++) {
-                    uint32_t j = w->sorted[k];
-                    v3 r = sub(xi, xyz(x[j]));
-                    if (dot(r, r) < h2 && j != i) {
-                        if (n < w->max_neighbours) list[n] = j;
-                        n++;
-                    }
-                }
-            }
-        w->nb_count[i] = n;
     }
 }
 
@@ -217,39 +193,109 @@ static uint32_t nb_len(const pbf_cpu_world *w, uint32_t i)
 
 static const uint32_t *nb_of(const pbf_cpu_world *w, uint32_t i) { return w->nb_list + (size_t)i * w->max_neighbours; }
 
-/// density.comp: rho_i (fluid + boundary share) and lambda_i.
-void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P)
+/// density.glsl density_add: neighbour at r = x_i - x_j into sum W, grad_i C_i (fluid part)
+/// and sum_j |grad_j C_i|^2.
+static void density_add(const pbf_gpu_params *P, v3 r, float *sum_w, v3 *grad_i, float *sum_grad2)
 {
     float k = P->mass_density * P->inv_rest_density;
+    *sum_w += pbf_cpu_poly6(P, dot(r, r));
+    v3 g = scale(k, pbf_cpu_grad_spiky(P, r));
+    *grad_i = add(*grad_i, g);
+    *sum_grad2 += dot(g, g);
+}
+
+/// density.glsl density_finish: rho_i with the boundaries' share, C_i and lambda_i, into
+/// lambda_rho[i] and pred[i].w.
+static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, v3 xi, float sum_w, v3 grad_i,
+                           float sum_grad2)
+{
+    float rho = P->mass_density * sum_w;
+    v3 wall_grad;
+    rho += P->rest_density * pbf_cpu_container_boundary(P, xi, &wall_grad);
+    grad_i = add(grad_i, wall_grad);
+    if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &grad_i);
+    float C = fmaxf(rho * P->inv_rest_density - 1.0f, 0.0f);
+    float lambda = -C / (dot(grad_i, grad_i) + sum_grad2 + P->epsilon);
+    w->lambda_rho[2 * (size_t)i] = lambda;
+    w->lambda_rho[2 * (size_t)i + 1] = rho;
+    w->pred[i].w = lambda;
+}
+
+/// neighbours.comp slab_distance: from coordinate x to the slab of cell k (origin o, size s).
+static float slab_distance(float x, float o, float s, int k)
+{
+    float lo = o + (float)k * s;
+    return fmaxf(fmaxf(lo - x, x - (lo + s)), 0.0f);
+}
+
+static int min_int(int a, int b) { return a < b ? a : b; }
+static int max_int(int a, int b) { return a > b ? a : b; }
+
+void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x, const uint32_t *place,
+                        bool solve)
+{
+    const int dims[3] = { (int)P->grid_dims.x, (int)P->grid_dims.y, (int)P->grid_dims.z };
+    float cs = 1.0f / P->inv_cell;
+    int reach = (int)ceilf(P->h * P->inv_cell - 1e-4f);
+    float h2 = P->h * P->h;
+    for (uint32_t i = 0; i < w->count; i++) {
+        v3 xi = xyz(x[i]);
+        int c[3];
+        cell_coord(P, xi, c);
+        uint32_t n = 0, *list = w->nb_list + (size_t)i * w->max_neighbours;
+        float sum_w = pbf_cpu_poly6(P, 0.0f);
+        v3 grad_i = { 0.0f, 0.0f, 0.0f };
+        float sum_grad2 = 0.0f;
+        // Rows of cells (fixed y, z) in z then y order, each trimmed to the x cells the
+        // kernel sphere reaches; rows whose y-z slab lies farther than h are skipped.
+        for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1); z++) {
+            float dz = slab_distance(xi.z, P->grid_origin.z, cs, z);
+            for (int y = max_int(c[1] - reach, 0); y <= min_int(c[1] + reach, dims[1] - 1); y++) {
+                float dy = slab_distance(xi.y, P->grid_origin.y, cs, y);
+                float ryz = dy * dy + dz * dz;
+                if (ryz >= h2) continue;
+                float rx = sqrtf(h2 - ryz);
+                int x0 = max_int((int)floorf((xi.x - rx - P->grid_origin.x) * P->inv_cell), 0);
+                int x1 = min_int((int)floorf((xi.x + rx - P->grid_origin.x) * P->inv_cell), dims[0] - 1);
+                uint32_t b = w->cell_start[cell_index(P, x0, y, z)];
+                uint32_t e = w->cell_start[cell_index(P, x1, y, z) + 1];
+                for (uint32_t k = b; k < e; k++) {
+                    uint32_t j = place ? place[k] : k;
+                    v3 r = sub(xi, xyz(x[j]));
+                    if (dot(r, r) < h2 && j != i) {
+                        if (n < w->max_neighbours) {
+                            list[n] = j;
+                            if (solve) density_add(P, r, &sum_w, &grad_i, &sum_grad2);
+                        }
+                        n++;
+                    }
+                }
+            }
+        }
+        w->nb_count[i] = n;
+        if (solve) density_finish(w, P, i, xi, sum_w, grad_i, sum_grad2);
+    }
+}
+
+/// density.comp (iterations after the first): rho_i and lambda_i over the neighbour list.
+void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P)
+{
     for (uint32_t i = 0; i < w->count; i++) {
         v3 xi = xyz(w->pred[i]);
         float sum_w = pbf_cpu_poly6(P, 0.0f);
         v3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
         const uint32_t *nb = nb_of(w, i);
-        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-            v3 r = sub(xi, xyz(w->pred[nb[q]]));
-            sum_w += pbf_cpu_poly6(P, dot(r, r));
-            v3 g = scale(k, pbf_cpu_grad_spiky(P, r));
-            grad_i = add(grad_i, g);
-            sum_grad2 += dot(g, g);
-        }
-        float rho = P->mass_density * sum_w;
-        v3 wall_grad;
-        rho += P->rest_density * pbf_cpu_container_boundary(P, xi, &wall_grad);
-        grad_i = add(grad_i, wall_grad);
-        if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &grad_i);
-        float C = fmaxf(rho * P->inv_rest_density - 1.0f, 0.0f);
-        w->lambda[i] = -C / (dot(grad_i, grad_i) + sum_grad2 + P->epsilon);
-        w->rho[i] = rho;
+        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
+            density_add(P, sub(xi, xyz(w->pred[nb[q]])), &sum_w, &grad_i, &sum_grad2);
+        density_finish(w, P, i, xi, sum_w, grad_i, sum_grad2);
     }
 }
 
-/// The collisions both delta.comp and collide.comp end with: a particle radius from every
+/// The collisions delta.comp and collide.comp both end with: a particle radius from every
 /// container plane, then the domain clamp, on pred_out[i].
-static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
+static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, v3 x)
 {
-    v3 x = xyz(w->pred_out[i]);
     for (uint32_t p = 0; p < P->plane_count; p++) {
         v3 n;
         float d = plane_distance(P, p, x, &n);
@@ -261,55 +307,54 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
     w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
 }
 
-/// delta.comp: the correction from the fluid and the container, then the container's
-/// collisions and the domain clamp, into pred_out.
+/// delta.comp: the correction from the fluid (lambda of each particle in pred.w) and the
+/// container, then the container's collisions and the domain clamp, into pred_out.
 void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         v3 xi = xyz(w->pred[i]);
-        float li = w->lambda[i];
+        float li = w->pred[i].w;
         v3 dp = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         uint32_t nn = nb_len(w, i);
         if (P->scorr_k > 0.0f) {
             for (uint32_t q = 0; q < nn; q++) {
-                uint32_t j = nb[q];
-                v3 r = sub(xi, xyz(w->pred[j]));
+                pbf_float4 pj = w->pred[nb[q]];
+                v3 r = sub(xi, xyz(pj));
                 float s = -P->scorr_k * powf(pbf_cpu_poly6(P, dot(r, r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
-                dp = add(dp, scale(li + w->lambda[j] + s, pbf_cpu_grad_spiky(P, r)));
+                dp = add(dp, scale(li + pj.w + s, pbf_cpu_grad_spiky(P, r)));
             }
         } else {
             for (uint32_t q = 0; q < nn; q++) {
-                uint32_t j = nb[q];
-                dp = add(dp, scale(li + w->lambda[j], pbf_cpu_grad_spiky(P, sub(xi, xyz(w->pred[j])))));
+                pbf_float4 pj = w->pred[nb[q]];
+                dp = add(dp, scale(li + pj.w, pbf_cpu_grad_spiky(P, sub(xi, xyz(pj)))));
             }
         }
         dp = scale(P->mass_density * P->inv_rest_density, dp);
         v3 wall_grad;
         pbf_cpu_container_boundary(P, xi, &wall_grad);
         dp = add(dp, scale(li, wall_grad));
-        v3 x = add(xi, scale(P->omega, dp));
-        w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
-        container_collide(w, P, i);
+        container_collide(w, P, i, add(xi, scale(P->omega, dp)));
     }
 }
 
 /// collide.comp (only with colliders): the colliders' part of the correction, computed at
-/// the iteration's start (pred, lambda) and added with omega to what delta wrote, then the
-/// swept collisions from the substep's start position pos[i], then the container again.
+/// the iteration's start (pred, lambda in pred.w) and added with omega to what delta wrote,
+/// then the swept collisions from the substep's start position pos[i], then the container.
 void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
+        pbf_float4 pi = w->pred[i];
         v3 bdp = { 0.0f, 0.0f, 0.0f };
-        pbf_cpu_colliders_delta(w, P, xyz(w->pred[i]), w->lambda[i], &bdp);
+        pbf_cpu_colliders_delta(w, P, xyz(pi), pi.w, &bdp);
         v3 x = add(xyz(w->pred_out[i]), scale(P->omega, bdp));
         x = pbf_cpu_colliders_collide(w, P, xyz(w->pos[i]), x);
-        w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
-        container_collide(w, P, i);
+        container_collide(w, P, i, x);
     }
 }
 
-/// velocity.comp: v = (x* - x) / dt with the speed clamp; x = x*.
+/// velocity.comp: v = (x* - x) / dt with the speed clamp, w = the volume m / rho from the
+/// last density pass; x = x*.
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
@@ -317,17 +362,13 @@ void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
         v3 v = scale(P->inv_dt, sub(x, xyz(w->pos[i])));
         float s = length(v);
         if (s > P->max_speed) v = scale(P->max_speed / s, v);
-        w->vel[i] = (pbf_float4){ v.x, v.y, v.z, w->vel[i].w };
+        float volume = P->mass_density / fmaxf(w->lambda_rho[2 * (size_t)i + 1], 1e-6f * P->rest_density);
+        w->vel[i] = (pbf_float4){ v.x, v.y, v.z, volume };
         w->pos[i] = (pbf_float4){ x.x, x.y, x.z, w->pos[i].w };
     }
 }
 
-static float volume_of(const pbf_gpu_params *P, float rho)
-{
-    return P->mass_density / fmaxf(rho, 1e-6f * P->rest_density);
-}
-
-/// vorticity.comp: omega_i = sum_j V_j grad_i W_ij x (v_j - v_i), w = |omega_i|.
+/// vorticity.comp: omega_i = sum_j V_j grad_i W_ij x (v_j - v_i), V_j in vel[j].w; w = |omega_i|.
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
@@ -336,8 +377,8 @@ void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P)
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
             uint32_t j = nb[q];
-            float vol = volume_of(P, w->rho[j]);
-            o = add(o, scale(vol, cross(pbf_cpu_grad_spiky(P, sub(xi, xyz(w->pos[j]))), sub(xyz(w->vel[j]), vi))));
+            pbf_float4 vj = w->vel[j];
+            o = add(o, scale(vj.w, cross(pbf_cpu_grad_spiky(P, sub(xi, xyz(w->pos[j]))), sub(xyz(vj), vi))));
         }
         w->omega[i] = (pbf_float4){ o.x, o.y, o.z, length(o) };
     }
@@ -349,26 +390,36 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         v3 xi = xyz(w->pos[i]), vi = xyz(w->vel[i]);
-        v3 eta = { 0.0f, 0.0f, 0.0f }, xsph = { 0.0f, 0.0f, 0.0f };
-        float wi = w->omega[i].w;
+        v3 xsph = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
-        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-            uint32_t j = nb[q];
-            v3 r = sub(xi, xyz(w->pos[j]));
-            float vol = volume_of(P, w->rho[j]);
-            if (P->vorticity > 0.0f) eta = add(eta, scale(vol * (w->omega[j].w - wi), pbf_cpu_grad_spiky(P, r)));
-            xsph = add(xsph, scale(pbf_cpu_poly6(P, dot(r, r)), scale(vol, sub(xyz(w->vel[j]), vi))));
-        }
+        uint32_t nn = nb_len(w, i);
         v3 v = vi;
-        float le = length(eta);
-        if (P->vorticity > 0.0f && le > 1e-9f)
-            v = add(v, scale(P->dt * P->vorticity, cross(divide(eta, le), xyz(w->omega[i]))));
+        if (P->vorticity > 0.0f) {
+            float wi = w->omega[i].w;
+            v3 eta = { 0.0f, 0.0f, 0.0f };
+            for (uint32_t q = 0; q < nn; q++) {
+                uint32_t j = nb[q];
+                v3 r = sub(xi, xyz(w->pos[j]));
+                pbf_float4 vj = w->vel[j];
+                eta = add(eta, scale(vj.w * (w->omega[j].w - wi), pbf_cpu_grad_spiky(P, r)));
+                xsph = add(xsph, scale(pbf_cpu_poly6(P, dot(r, r)), scale(vj.w, sub(xyz(vj), vi))));
+            }
+            float le = length(eta);
+            if (le > 1e-9f) v = add(v, scale(P->dt * P->vorticity, cross(divide(eta, le), xyz(w->omega[i]))));
+        } else {
+            for (uint32_t q = 0; q < nn; q++) {
+                uint32_t j = nb[q];
+                v3 r = sub(xi, xyz(w->pos[j]));
+                pbf_float4 vj = w->vel[j];
+                xsph = add(xsph, scale(pbf_cpu_poly6(P, dot(r, r)), scale(vj.w, sub(xyz(vj), vi))));
+            }
+        }
         v = add(v, scale(P->viscosity, xsph));
         w->vel_out[i] = (pbf_float4){ v.x, v.y, v.z, w->vel[i].w };
     }
-    pbf_cpu_swap4(&w->vel, &w->vel_out);
 }
 
+/// metrics.comp's density of slot i at its position (fluid over the list + boundaries).
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
 {
     v3 xi = xyz(w->pos[i]);
@@ -385,6 +436,3 @@ float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &unused_grad);
     return rho;
 }
-
-/// The parameters the metrics pass sees after a step: those of the last substep, with the
-/// colliders as uploaded for that step. Before the first step the colliders stand where
