@@ -490,7 +490,14 @@ static void bind_step(pbf_world *w)
 typedef struct step_ctx {
     pbf_world *w;
     stats_slot *slot;
+    int substep;
 } step_ctx;
+
+// The stage hook (pbf_internal.h): after a stage's passes, before any ping-pong flip.
+static void stage_done(step_ctx *s, pbf_stage stage, int iteration)
+{
+    if (s->w->stage_hook) s->w->stage_hook(s->w->stage_hook_user, stage, s->substep, iteration);
+}
 
 static void mark(step_ctx *s, pbf_stage stage)
 {
@@ -559,9 +566,11 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
 {
     pbf_world *w = s->w;
     const pbf_params *p = &w->params;
+    s->substep = sub;
     pbf_write_params(w, dt, sub, slot);
     bind_step(w);
     dispatch_particles(s, PROG_PREDICT, PBF_STAGE_PREDICT);
+    stage_done(s, PBF_STAGE_PREDICT, -1);
 
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->cell_start);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
@@ -569,11 +578,16 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     dispatch_particles(s, PROG_GRID_COUNT, PBF_STAGE_GRID_COUNT);
+    stage_done(s, PBF_STAGE_GRID_COUNT, -1);
     run_scan(s);
+    stage_done(s, PBF_STAGE_GRID_SCAN, -1);
     bind_step(w);
     dispatch_particles(s, PROG_GRID_SCATTER, PBF_STAGE_GRID_SCATTER);
+    stage_done(s, PBF_STAGE_GRID_SCATTER, -1);
     dispatch_particles(s, PROG_GRID_SORT, PBF_STAGE_GRID_SORT);
+    stage_done(s, PBF_STAGE_GRID_SORT, -1);
     dispatch_particles(s, PROG_REORDER, PBF_STAGE_REORDER);
+    stage_done(s, PBF_STAGE_REORDER, -1);
     w->cur_pos ^= 1;
     w->cur_vel ^= 1;
     w->cur_pred ^= 1;
@@ -586,19 +600,32 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     }
     dispatch_particles(s, PROG_NEIGHBOURS, PBF_STAGE_NEIGHBOURS);
+    stage_done(s, PBF_STAGE_NEIGHBOURS, -1);
 
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
-        if (it > 0) dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
+        if (it > 0) {
+            dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
+            stage_done(s, PBF_STAGE_DENSITY, it);
+        }
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
-        if (w->gpu_colliders > 0) dispatch_particles(s, PROG_COLLIDE, PBF_STAGE_COLLIDE);
+        stage_done(s, PBF_STAGE_DELTA, it);
+        if (w->gpu_colliders > 0) {
+            dispatch_particles(s, PROG_COLLIDE, PBF_STAGE_COLLIDE);
+            stage_done(s, PBF_STAGE_COLLIDE, it);
+        }
         w->cur_pred ^= 1;
         pbf_bind_particles(w);
     }
     dispatch_particles(s, PROG_VELOCITY, PBF_STAGE_VELOCITY);
+    stage_done(s, PBF_STAGE_VELOCITY, -1);
     if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
-        if (p->vorticity > 0.0f) dispatch_particles(s, PROG_VORTICITY, PBF_STAGE_VORTICITY);
+        if (p->vorticity > 0.0f) {
+            dispatch_particles(s, PROG_VORTICITY, PBF_STAGE_VORTICITY);
+            stage_done(s, PBF_STAGE_VORTICITY, -1);
+        }
         dispatch_particles(s, PROG_VISCOSITY, PBF_STAGE_VISCOSITY);
+        stage_done(s, PBF_STAGE_VISCOSITY, -1);
         w->cur_vel ^= 1;
         pbf_bind_particles(w);
     }
@@ -706,7 +733,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     slot->appended_total = w->appended_total;
     slot->substeps = p->substeps;
     pbf_colliders_begin_step(w, slot);
-    step_ctx s = { w, slot };
+    step_ctx s = { w, slot, 0 };
     mark(&s, PBF_STAGE_PREDICT);
     float sub_dt = dt / (float)p->substeps;
     for (int k = 0; k < p->substeps; k++) {
@@ -721,6 +748,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     glUseProgram(w->programs[PROG_METRICS_FINAL]);
     glUniform1ui(w->u_frame, (GLuint)w->step_index);
     dispatch(&s, PROG_METRICS_FINAL, 1, PBF_STAGE_METRICS);
+    stage_done(&s, PBF_STAGE_METRICS, -1);
     pbf_colliders_end_step(w);
     w->time += dt;
     slot->time = w->time;
@@ -740,6 +768,58 @@ pbf_gpu_buffers pbf_world_gpu_buffers(const pbf_world *w)
 }
 
 // ---- downloads (tests, tools) ---------------------------------------------------------------
+
+void pbf_world_set_stage_hook(pbf_world *w, pbf_stage_hook_fn *fn, void *user)
+{
+    w->stage_hook = fn;
+    w->stage_hook_user = user;
+}
+
+// The buffer at storage binding `binding` as the passes see it now.
+static GLuint binding_buffer(const pbf_world *w, int binding)
+{
+    switch (binding) {
+    case PBF_B_POS: return w->pos[w->cur_pos];
+    case PBF_B_VEL: return w->vel[w->cur_vel];
+    case PBF_B_PRED: return w->pred[w->cur_pred];
+    case PBF_B_ID: return w->ids[w->cur_ids];
+    case PBF_B_POS_OUT: return w->pos[w->cur_pos ^ 1];
+    case PBF_B_VEL_OUT: return w->vel[w->cur_vel ^ 1];
+    case PBF_B_PRED_OUT: return w->pred[w->cur_pred ^ 1];
+    case PBF_B_ID_OUT: return w->ids[w->cur_ids ^ 1];
+    case PBF_B_CELL: return w->cell_of;
+    case PBF_B_CELL_START: return w->cell_start;
+    case PBF_B_CELL_FILL: return w->cell_fill;
+    case PBF_B_SORTED: return w->sorted;
+    case PBF_B_ORDER: return w->order;
+    case PBF_B_LAMBDA: return w->lambda;
+    case PBF_B_OMEGA: return w->omega;
+    case PBF_B_COLLIDERS: return w->colliders;
+    case PBF_B_FORCES: return w->forces; // the step's accumulators come first
+    case PBF_B_NB_LIST: return w->nb_list;
+    case PBF_B_NB_COUNT: return w->nb_count;
+    case PBF_B_STATE: return w->state;
+    case PBF_B_COLLIDER_DATA: return w->collider_data;
+    default: return 0;
+    }
+}
+
+pbf_result pbf_world_read_binding(pbf_world *w, int binding, size_t bytes, void *out)
+{
+    GLuint buf = binding_buffer(w, binding);
+    if (!buf) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_read_binding: binding %d has no buffer to read", binding);
+    if (bytes == 0) return PBF_OK;
+    glBindBuffer(GL_COPY_READ_BUFFER, buf);
+    GLint64 size = 0;
+    glGetBufferParameteri64v(GL_COPY_READ_BUFFER, GL_BUFFER_SIZE, &size);
+    if ((uint64_t)bytes > (uint64_t)size)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_read_binding: %zu bytes asked of binding %d, which holds %lld",
+                        bytes, binding, (long long)size);
+    // Shader writes become visible to a CPU read only after this barrier (docs/architecture.md).
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetBufferSubData(GL_COPY_READ_BUFFER, 0, (GLsizeiptr)bytes, out);
+    return PBF_OK;
+}
 
 typedef struct id_index {
     uint32_t id, slot;
