@@ -449,8 +449,8 @@ pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *w)
     st.particles = w->count;
     double sum = 0.0, err = 0.0;
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(w->pos[i]);
-        if (!finite3(xi) || !finite3(xyz(w->vel[i]))) {
+        pbf_vec3 xi = pbf_xyz(w->pos[i]);
+        if (!pbf_cpu_finite3(xi) || !pbf_cpu_finite3(pbf_xyz(w->vel[i]))) {
             st.nan_count++;
             continue;
         }

@@ -9,22 +9,9 @@
 
 // ---- colliders (colliders.glsl) ---------------------------------------------------------
 
-static float dot4(pbf_float4 a, pbf_float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w; }
-static float distance3(v3 a, v3 b) { return length(sub(a, b)); }
-static v3 normalize3(v3 a) { return divide(a, length(a)); }
-/// GLSL mix as the specification writes it: x (1 - a) + y a.
-static float mixf(float x, float y, float a) { return x * (1.0f - a) + y * a; }
-static v3 mix3(v3 x, v3 y, float a) { return (v3){ mixf(x.x, y.x, a), mixf(x.y, y.y, a), mixf(x.z, y.z, a) }; }
+static float distance3(pbf_vec3 a, pbf_vec3 b) { return pbf_length(pbf_sub(a, b)); }
+static pbf_vec3 mix3(pbf_vec3 x, pbf_vec3 y, float a) { return (pbf_vec3){ pbf_mixf(x.x, y.x, a), pbf_mixf(x.y, y.y, a), pbf_mixf(x.z, y.z, a) }; }
 static int clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
-
-static v3 quat_rotate(pbf_float4 q, v3 v)
-{
-    v3 u = { q.x, q.y, q.z };
-    v3 t = scale(2.0f, cross(u, v));
-    return add(add(v, scale(q.w, t)), cross(u, t));
-}
-
-static v3 quat_rotate_inv(pbf_float4 q, v3 v) { return quat_rotate((pbf_float4){ -q.x, -q.y, -q.z, q.w }, v); }
 
 static float grid_sample(const float *data, uint32_t base, const uint32_t dims[3], int x, int y, int z)
 {
@@ -33,16 +20,16 @@ static float grid_sample(const float *data, uint32_t base, const uint32_t dims[3
 
 /// grid_distance: trilinear distance and its gradient; outside the grid's box the distance
 /// to the box is added.
-static float grid_distance(const float *data, uint32_t base, uint32_t packed, pbf_float4 frame, v3 l, v3 *ln)
+static float grid_distance(const float *data, uint32_t base, uint32_t packed, pbf_float4 frame, pbf_vec3 l, pbf_vec3 *ln)
 {
     const uint32_t dims[3] = { packed & 1023u, (packed >> 10) & 1023u, (packed >> 20) & 1023u };
-    v3 lo = xyz(frame);
-    v3 hi = add(lo, scale(frame.w, (v3){ (float)(dims[0] - 1u), (float)(dims[1] - 1u), (float)(dims[2] - 1u) }));
-    v3 lc = { clampf(l.x, lo.x, hi.x), clampf(l.y, lo.y, hi.y), clampf(l.z, lo.z, hi.z) };
-    v3 g = divide(sub(lc, lo), frame.w);
+    pbf_vec3 lo = pbf_xyz(frame);
+    pbf_vec3 hi = pbf_add(lo, pbf_scale(frame.w, (pbf_vec3){ (float)(dims[0] - 1u), (float)(dims[1] - 1u), (float)(dims[2] - 1u) }));
+    pbf_vec3 lc = { pbf_clamp(l.x, lo.x, hi.x), pbf_clamp(l.y, lo.y, hi.y), pbf_clamp(l.z, lo.z, hi.z) };
+    pbf_vec3 g = pbf_div(pbf_sub(lc, lo), frame.w);
     int i0[3] = { clampi((int)floorf(g.x), 0, (int)dims[0] - 2), clampi((int)floorf(g.y), 0, (int)dims[1] - 2),
                   clampi((int)floorf(g.z), 0, (int)dims[2] - 2) };
-    v3 f = { g.x - (float)i0[0], g.y - (float)i0[1], g.z - (float)i0[2] };
+    pbf_vec3 f = { g.x - (float)i0[0], g.y - (float)i0[1], g.z - (float)i0[2] };
     float c000 = grid_sample(data, base, dims, i0[0], i0[1], i0[2]);
     float c100 = grid_sample(data, base, dims, i0[0] + 1, i0[1], i0[2]);
     float c010 = grid_sample(data, base, dims, i0[0], i0[1] + 1, i0[2]);
@@ -51,34 +38,34 @@ static float grid_distance(const float *data, uint32_t base, uint32_t packed, pb
     float c101 = grid_sample(data, base, dims, i0[0] + 1, i0[1], i0[2] + 1);
     float c011 = grid_sample(data, base, dims, i0[0], i0[1] + 1, i0[2] + 1);
     float c111 = grid_sample(data, base, dims, i0[0] + 1, i0[1] + 1, i0[2] + 1);
-    float x00 = mixf(c000, c100, f.x), x10 = mixf(c010, c110, f.x);
-    float x01 = mixf(c001, c101, f.x), x11 = mixf(c011, c111, f.x);
-    float y0 = mixf(x00, x10, f.y), y1 = mixf(x01, x11, f.y);
-    float d = mixf(y0, y1, f.z);
-    v3 grad;
-    grad.x = mixf(mixf(c100 - c000, c110 - c010, f.y), mixf(c101 - c001, c111 - c011, f.y), f.z);
-    grad.y = mixf(x10 - x00, x11 - x01, f.z);
+    float x00 = pbf_mixf(c000, c100, f.x), x10 = pbf_mixf(c010, c110, f.x);
+    float x01 = pbf_mixf(c001, c101, f.x), x11 = pbf_mixf(c011, c111, f.x);
+    float y0 = pbf_mixf(x00, x10, f.y), y1 = pbf_mixf(x01, x11, f.y);
+    float d = pbf_mixf(y0, y1, f.z);
+    pbf_vec3 grad;
+    grad.x = pbf_mixf(pbf_mixf(c100 - c000, c110 - c010, f.y), pbf_mixf(c101 - c001, c111 - c011, f.y), f.z);
+    grad.y = pbf_mixf(x10 - x00, x11 - x01, f.z);
     grad.z = y1 - y0;
-    float gl = length(grad);
-    *ln = gl > 1e-12f ? divide(grad, gl) : (v3){ 0.0f, 1.0f, 0.0f };
-    v3 out_of_box = sub(l, lc);
-    float ob = length(out_of_box);
+    float gl = pbf_length(grad);
+    *ln = gl > 1e-12f ? pbf_div(grad, gl) : (pbf_vec3){ 0.0f, 1.0f, 0.0f };
+    pbf_vec3 out_of_box = pbf_sub(l, lc);
+    float ob = pbf_length(out_of_box);
     if (ob > 0.0f) {
         d += ob;
-        *ln = normalize3(add(out_of_box, scale(fmaxf(d - ob, 0.0f), *ln)));
+        *ln = pbf_normalize(pbf_add(out_of_box, pbf_scale(fmaxf(d - ob, 0.0f), *ln)));
     }
     return d;
 }
 
 /// hull_distance: the largest face-plane distance.
-static float hull_distance(const float *data, uint32_t base, uint32_t count, v3 l, v3 *ln)
+static float hull_distance(const float *data, uint32_t base, uint32_t count, pbf_vec3 l, pbf_vec3 *ln)
 {
     float best = -1e30f;
-    *ln = (v3){ 0.0f, 1.0f, 0.0f };
+    *ln = (pbf_vec3){ 0.0f, 1.0f, 0.0f };
     for (uint32_t k = 0; k < count; k++) {
         const float *o = data + base + 4u * k;
-        v3 n = { o[0], o[1], o[2] };
-        float d = dot(n, l) - o[3];
+        pbf_vec3 n = { o[0], o[1], o[2] };
+        float d = pbf_dot(n, l) - o[3];
         if (d > best) {
             best = d;
             *ln = n;
@@ -89,44 +76,44 @@ static float hull_distance(const float *data, uint32_t base, uint32_t count, v3 
 
 /// shape_distance: signed distance (m, positive outside the solid) from local point l to
 /// the surface of collider c's shape, and the outward unit normal, both in its frame.
-static float shape_distance(const pbf_cpu_world *w, const pbf_gpu_collider *c, v3 l, v3 *ln)
+static float shape_distance(const pbf_cpu_world *w, const pbf_gpu_collider *c, pbf_vec3 l, pbf_vec3 *ln)
 {
     uint32_t type = c->info.x;
     pbf_float4 s = c->params;
     float d;
     if (type == PBF_COLLIDER_PLANE) {
-        *ln = xyz(s);
-        d = dot(l, *ln) - s.w;
+        *ln = pbf_xyz(s);
+        d = pbf_dot(l, *ln) - s.w;
     } else if (type == PBF_COLLIDER_SPHERE) {
-        float len = length(l);
-        *ln = len > 1e-9f ? divide(l, len) : (v3){ 0.0f, 1.0f, 0.0f };
+        float len = pbf_length(l);
+        *ln = len > 1e-9f ? pbf_div(l, len) : (pbf_vec3){ 0.0f, 1.0f, 0.0f };
         d = len - s.x;
     } else if (type == PBF_COLLIDER_BOX) {
-        v3 q3 = { fabsf(l.x) - s.x, fabsf(l.y) - s.y, fabsf(l.z) - s.z };
+        pbf_vec3 q3 = { fabsf(l.x) - s.x, fabsf(l.y) - s.y, fabsf(l.z) - s.z };
         if (fmaxf(q3.x, fmaxf(q3.y, q3.z)) > 0.0f) {
-            v3 o = { fmaxf(q3.x, 0.0f), fmaxf(q3.y, 0.0f), fmaxf(q3.z, 0.0f) };
-            d = length(o);
-            *ln = divide((v3){ signf(l.x) * o.x, signf(l.y) * o.y, signf(l.z) * o.z }, fmaxf(d, 1e-12f));
+            pbf_vec3 o = { fmaxf(q3.x, 0.0f), fmaxf(q3.y, 0.0f), fmaxf(q3.z, 0.0f) };
+            d = pbf_length(o);
+            *ln = pbf_div((pbf_vec3){ pbf_sign(l.x) * o.x, pbf_sign(l.y) * o.y, pbf_sign(l.z) * o.z }, fmaxf(d, 1e-12f));
         } else {
             // inside: nearest face
-            if (q3.x > q3.y && q3.x > q3.z) *ln = (v3){ l.x < 0.0f ? -1.0f : 1.0f, 0.0f, 0.0f };
-            else if (q3.y > q3.z) *ln = (v3){ 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
-            else *ln = (v3){ 0.0f, 0.0f, l.z < 0.0f ? -1.0f : 1.0f };
+            if (q3.x > q3.y && q3.x > q3.z) *ln = (pbf_vec3){ l.x < 0.0f ? -1.0f : 1.0f, 0.0f, 0.0f };
+            else if (q3.y > q3.z) *ln = (pbf_vec3){ 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
+            else *ln = (pbf_vec3){ 0.0f, 0.0f, l.z < 0.0f ? -1.0f : 1.0f };
             d = fmaxf(q3.x, fmaxf(q3.y, q3.z));
         }
     } else if (type == PBF_COLLIDER_CAPSULE) {
-        v3 r = { l.x - 0.0f, l.y - clampf(l.y, -s.y, s.y), l.z - 0.0f };
-        float len = length(r);
-        *ln = len > 1e-9f ? divide(r, len) : (v3){ 1.0f, 0.0f, 0.0f };
+        pbf_vec3 r = { l.x - 0.0f, l.y - pbf_clamp(l.y, -s.y, s.y), l.z - 0.0f };
+        float len = pbf_length(r);
+        *ln = len > 1e-9f ? pbf_div(r, len) : (pbf_vec3){ 1.0f, 0.0f, 0.0f };
         d = len - s.x;
     } else if (type == PBF_COLLIDER_CYLINDER) {
         float rl = sqrtf(l.x * l.x + l.z * l.z);
         float qx = rl - s.x, qy = fabsf(l.y) - s.y;
-        v3 radial = rl > 1e-9f ? divide((v3){ l.x, 0.0f, l.z }, rl) : (v3){ 1.0f, 0.0f, 0.0f };
-        v3 axial = { 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
+        pbf_vec3 radial = rl > 1e-9f ? pbf_div((pbf_vec3){ l.x, 0.0f, l.z }, rl) : (pbf_vec3){ 1.0f, 0.0f, 0.0f };
+        pbf_vec3 axial = { 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
         if (qx > 0.0f && qy > 0.0f) {
             d = sqrtf(qx * qx + qy * qy);
-            *ln = normalize3(add(scale(qx, radial), scale(qy, axial)));
+            *ln = pbf_normalize(pbf_add(pbf_scale(qx, radial), pbf_scale(qy, axial)));
         } else if (qx > qy) {
             d = qx;
             *ln = radial;
@@ -142,20 +129,12 @@ static float shape_distance(const pbf_cpu_world *w, const pbf_gpu_collider *c, v
     return d;
 }
 
-static pbf_float4 quat_nlerp(pbf_float4 a, pbf_float4 b, float t)
-{
-    if (dot4(a, b) < 0.0f) b = (pbf_float4){ -b.x, -b.y, -b.z, -b.w };
-    pbf_float4 m = { mixf(a.x, b.x, t), mixf(a.y, b.y, t), mixf(a.z, b.z, t), mixf(a.w, b.w, t) };
-    float len = sqrtf(dot4(m, m));
-    return (pbf_float4){ m.x / len, m.y / len, m.z / len, m.w / len };
-}
-
 /// collider_poses: the pose at the start (p0, q0) and at the end (p1, q1) of substep
 /// P->substep; a pose that spans several substeps (linear_velocity.w > 1) is interpolated.
-static void collider_poses(const pbf_gpu_params *P, const pbf_gpu_collider *c, v3 *p0, pbf_float4 *q0, v3 *p1,
+static void collider_poses(const pbf_gpu_params *P, const pbf_gpu_collider *c, pbf_vec3 *p0, pbf_float4 *q0, pbf_vec3 *p1,
                            pbf_float4 *q1)
 {
-    v3 pa = xyz(c->prev_position), pb = xyz(c->position);
+    pbf_vec3 pa = pbf_xyz(c->prev_position), pb = pbf_xyz(c->position);
     pbf_float4 qa = c->prev_rotation, qb = c->rotation;
     float span = c->linear_velocity.w;
     if (span > 1.5f) {
@@ -172,74 +151,62 @@ static void collider_poses(const pbf_gpu_params *P, const pbf_gpu_collider *c, v
     }
 }
 
-static void collider_end_pose(const pbf_gpu_params *P, const pbf_gpu_collider *c, v3 *p1, pbf_float4 *q1)
+static void collider_end_pose(const pbf_gpu_params *P, const pbf_gpu_collider *c, pbf_vec3 *p1, pbf_float4 *q1)
 {
-    v3 p0;
+    pbf_vec3 p0;
     pbf_float4 q0;
     collider_poses(P, c, &p0, &q0, p1, q1);
 }
 
-static bool collider_near(v3 p1, const pbf_gpu_collider *c, v3 x, float reach)
+static bool collider_near(pbf_vec3 p1, const pbf_gpu_collider *c, pbf_vec3 x, float reach)
 {
     if (c->info.x == PBF_COLLIDER_PLANE) return true;
     return distance3(x, p1) <= c->position.w + reach;
 }
 
-/// Share of the kernel beyond a plane at signed distance d, and its slope in d, for the
-/// continuous kernel (the lattice factor divided out): colliders.glsl's beyond().
-static float boundary_factor(const pbf_gpu_params *P) { return 2.0f * pbf_cpu_wall_volume(P, 0.0f); }
-static float beyond(const pbf_gpu_params *P, float d, float inv_factor)
-{
-    return d >= 0.0f ? pbf_cpu_wall_volume(P, d) * inv_factor : 1.0f - pbf_cpu_wall_volume(P, -d) * inv_factor;
-}
-static float beyond_slope(const pbf_gpu_params *P, float d, float inv_factor)
-{
-    return -pbf_cpu_wall_gradient(P, fabsf(d)) * inv_factor;
-}
-
 /// collider_boundary: the share V of a filled neighbourhood that collider c takes at x and
 /// its gradient (1/m), at the end pose; boxes as a product of three slabs, other shapes as
 /// the half-space at the signed distance; false when out of reach or inside.
-static bool collider_boundary(const pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_gpu_collider *c, v3 x,
-                              float *V, v3 *gradV)
+static bool collider_boundary(const pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_gpu_collider *c, pbf_vec3 x,
+                              float *V, pbf_vec3 *gradV)
 {
     *V = 0.0f;
-    *gradV = (v3){ 0.0f, 0.0f, 0.0f };
-    v3 p1;
+    *gradV = (pbf_vec3){ 0.0f, 0.0f, 0.0f };
+    pbf_vec3 p1;
     pbf_float4 q1;
     collider_end_pose(P, c, &p1, &q1);
     if (!collider_near(p1, c, x, P->h)) return false;
-    v3 l = quat_rotate_inv(q1, sub(x, p1));
-    v3 ln;
+    pbf_vec3 l = quat_rotate_inv(q1, pbf_sub(x, p1));
+    pbf_vec3 ln;
     float d = shape_distance(w, c, l, &ln);
     if (d >= P->h || d < 0.0f) return false;
     if (c->info.x == PBF_COLLIDER_BOX) {
-        v3 e = xyz(c->params);
-        v3 a = sub(e, l), b = add(e, l); // distances to the + and - faces of each slab
+        pbf_vec3 e = pbf_xyz(c->params);
+        pbf_vec3 a = pbf_sub(e, l), b = pbf_add(e, l); // distances to the + and - faces of each slab
         float k = boundary_factor(P), ik = 1.0f / k;
-        v3 F = { 1.0f - beyond(P, a.x, ik) - beyond(P, b.x, ik), 1.0f - beyond(P, a.y, ik) - beyond(P, b.y, ik),
+        pbf_vec3 F = { 1.0f - beyond(P, a.x, ik) - beyond(P, b.x, ik), 1.0f - beyond(P, a.y, ik) - beyond(P, b.y, ik),
                  1.0f - beyond(P, a.z, ik) - beyond(P, b.z, ik) };
-        F = (v3){ fmaxf(F.x, 0.0f), fmaxf(F.y, 0.0f), fmaxf(F.z, 0.0f) };
-        v3 dF = { beyond_slope(P, a.x, ik) - beyond_slope(P, b.x, ik), beyond_slope(P, a.y, ik) - beyond_slope(P, b.y, ik),
+        F = (pbf_vec3){ fmaxf(F.x, 0.0f), fmaxf(F.y, 0.0f), fmaxf(F.z, 0.0f) };
+        pbf_vec3 dF = { beyond_slope(P, a.x, ik) - beyond_slope(P, b.x, ik), beyond_slope(P, a.y, ik) - beyond_slope(P, b.y, ik),
                   beyond_slope(P, a.z, ik) - beyond_slope(P, b.z, ik) };
         *V = k * F.x * F.y * F.z;
-        *gradV = scale(k, quat_rotate(q1, (v3){ dF.x * F.y * F.z, F.x * dF.y * F.z, F.x * F.y * dF.z }));
+        *gradV = pbf_scale(k, quat_rotate(q1, (pbf_vec3){ dF.x * F.y * F.z, F.x * dF.y * F.z, F.x * F.y * dF.z }));
     } else {
-        *V = pbf_cpu_wall_volume(P, d);
-        *gradV = scale(-pbf_cpu_wall_gradient(P, d), quat_rotate(q1, ln));
+        *V = boundary_volume(P, d);
+        *gradV = pbf_scale(-boundary_gradient(P, d), quat_rotate(q1, ln));
     }
     return true;
 }
 
 /// colliders_density: adds the colliders' share of the density at x and of grad_i C_i.
-void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, v3 x, float *rho, v3 *grad_i)
+void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float *rho, pbf_vec3 *grad_i)
 {
     for (uint32_t b = 0; b < P->collider_count; b++) {
         float V;
-        v3 gradV;
+        pbf_vec3 gradV;
         if (!collider_boundary(w, P, &w->gpu[b], x, &V, &gradV)) continue;
         *rho += P->rest_density * V;
-        *grad_i = add(*grad_i, gradV);
+        *grad_i = pbf_add(*grad_i, gradV);
     }
 }
 
@@ -248,12 +215,12 @@ static void accumulate(int32_t *acc, int32_t v) { *acc = (int32_t)((uint32_t)*ac
 
 /// add_force: force f (N) at point `at` on two-way collider b, in its fixed-point scale
 /// (GLSL round() is round-half-even on Mesa: rintf in the default rounding mode).
-static void add_force(pbf_cpu_world *w, uint32_t b, v3 f, v3 at)
+static void add_force(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 at)
 {
     const pbf_gpu_collider *c = &w->gpu[b];
     if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) return;
     float s = c->center_of_mass.w;
-    v3 t = cross(sub(at, xyz(c->center_of_mass)), f);
+    pbf_vec3 t = pbf_cross(pbf_sub(at, pbf_xyz(c->center_of_mass)), f);
     const float fs[3] = { f.x * s, f.y * s, f.z * s }, ts[3] = { t.x * s, t.y * s, t.z * s };
     for (int k = 0; k < 3; k++) {
         accumulate(&w->forces[b][k], (int32_t)rintf(fs[k]));
@@ -263,50 +230,50 @@ static void add_force(pbf_cpu_world *w, uint32_t b, v3 f, v3 at)
 
 /// colliders_delta: the colliders' part of the position correction of a particle at x with
 /// multiplier lambda, and the reaction on two-way colliders (f = -m omega bdp / dt^2).
-void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, v3 x, float lambda, v3 *dp)
+void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, pbf_vec3 *dp)
 {
     float to_force = -P->mass * P->inv_dt * P->inv_dt * P->omega;
     for (uint32_t b = 0; b < P->collider_count; b++) {
         const pbf_gpu_collider *c = &w->gpu[b];
         float V;
-        v3 gradV;
+        pbf_vec3 gradV;
         if (!collider_boundary(w, P, c, x, &V, &gradV)) continue;
-        v3 bdp = scale(lambda, gradV);
-        *dp = add(*dp, bdp);
+        pbf_vec3 bdp = pbf_scale(lambda, gradV);
+        *dp = pbf_add(*dp, bdp);
         if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
         accumulate(&w->forces[b][3], 1);
         if (lambda != 0.0f) {
             // Acting at the particle's nearest surface point.
-            v3 p1, ln;
+            pbf_vec3 p1, ln;
             pbf_float4 q1;
             collider_end_pose(P, c, &p1, &q1);
-            float d = shape_distance(w, c, quat_rotate_inv(q1, sub(x, p1)), &ln);
-            v3 n = quat_rotate(q1, ln);
-            add_force(w, b, scale(to_force, bdp), sub(x, scale(d, n)));
+            float d = shape_distance(w, c, quat_rotate_inv(q1, pbf_sub(x, p1)), &ln);
+            pbf_vec3 n = quat_rotate(q1, ln);
+            add_force(w, b, pbf_scale(to_force, bdp), pbf_sub(x, pbf_scale(d, n)));
         }
     }
 }
 
 /// sweep_hit: the first point of the local path a -> e that comes within r of the surface,
 /// by sphere tracing on the distance; false when none.
-static bool sweep_hit(const pbf_cpu_world *w, const pbf_gpu_collider *c, v3 a, v3 e, float da, float r, v3 *hit)
+static bool sweep_hit(const pbf_cpu_world *w, const pbf_gpu_collider *c, pbf_vec3 a, pbf_vec3 e, float da, float r, pbf_vec3 *hit)
 {
-    v3 seg = sub(e, a);
-    float len = length(seg);
+    pbf_vec3 seg = pbf_sub(e, a);
+    float len = pbf_length(seg);
     *hit = e;
     if (len < 1e-9f) return false;
     float t = 0.0f, d = da;
     for (int k = 0; k < 24; k++) {
         if (d <= r * 1.001f) {
-            *hit = add(a, scale(t, seg));
+            *hit = pbf_add(a, pbf_scale(t, seg));
             return true;
         }
         t += (d - r) / len;
         if (t >= 1.0f) return false;
-        v3 unused;
-        d = shape_distance(w, c, add(a, scale(t, seg)), &unused);
+        pbf_vec3 unused;
+        d = shape_distance(w, c, pbf_add(a, pbf_scale(t, seg)), &unused);
     }
-    *hit = add(a, scale(t, seg));
+    *hit = pbf_add(a, pbf_scale(t, seg));
     return true;
 }
 
@@ -314,46 +281,46 @@ static bool sweep_hit(const pbf_cpu_world *w, const pbf_gpu_collider *c, v3 a, v
 /// every collider to a particle radius from its surface, sweeping its path in each
 /// collider's frame from the previous pose to the current one; particles that started
 /// inside (or within r/2) are moved out at PBF_PUSH_OUT_SPEED at most, with no reaction.
-v3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, v3 xs, v3 x)
+pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x)
 {
     float to_force = -P->mass * P->inv_dt * P->inv_dt;
     float r = P->radius;
     for (uint32_t b = 0; b < P->collider_count; b++) {
         const pbf_gpu_collider *c = &w->gpu[b];
-        v3 p0, p1;
+        pbf_vec3 p0, p1;
         pbf_float4 q0, q1;
         collider_poses(P, c, &p0, &q0, &p1, &q1);
-        float turn = 2.0f * acosf(fminf(fabsf(dot4(q0, q1)), 1.0f)); // rad turned in this substep
+        float turn = 2.0f * acosf(fminf(fabsf(pbf_dot4(q0, q1)), 1.0f)); // rad turned in this substep
         float reach = r + distance3(p0, p1) + distance3(xs, x) + c->position.w * turn;
         if (!collider_near(p1, c, x, reach)) continue;
-        v3 l0 = quat_rotate_inv(q0, sub(xs, p0)); // where it started, in the collider's frame
-        v3 l1 = quat_rotate_inv(q1, sub(x, p1));  // where it is now
-        v3 n0, n1;
+        pbf_vec3 l0 = quat_rotate_inv(q0, pbf_sub(xs, p0)); // where it started, in the collider's frame
+        pbf_vec3 l1 = quat_rotate_inv(q1, pbf_sub(x, p1));  // where it is now
+        pbf_vec3 n0, n1;
         float d0 = shape_distance(w, c, l0, &n0);
         float d1 = shape_distance(w, c, l1, &n1);
-        v3 lnew = l1;
+        pbf_vec3 lnew = l1;
         if (d0 < 0.5f * r) {
             float target = fminf(r, d0 + (float)PBF_PUSH_OUT_SPEED * P->dt);
             if (d1 < target) {
-                lnew = add(l1, scale(target - d1, n1));
+                lnew = pbf_add(l1, pbf_scale(target - d1, n1));
                 if ((c->info.y & PBF_COLLIDER_TWO_WAY) != 0u) accumulate(&w->forces[b][7], 1);
             }
-            x = add(p1, quat_rotate(q1, lnew));
+            x = pbf_add(p1, quat_rotate(q1, lnew));
             continue;
         }
         float len = distance3(l0, l1);
         if (d1 >= r && 0.5f * (d0 + d1 - len) > r) continue;
-        v3 hit;
+        pbf_vec3 hit;
         if (!sweep_hit(w, c, l0, l1, d0, r, &hit)) continue;
-        v3 nh;
+        pbf_vec3 nh;
         shape_distance(w, c, hit, &nh);
         // Keep the motion along the surface, remove the part into it.
-        float into = dot(sub(l1, hit), nh);
-        lnew = into < 0.0f ? sub(l1, scale(into, nh)) : l1;
+        float into = pbf_dot(pbf_sub(l1, hit), nh);
+        lnew = into < 0.0f ? pbf_sub(l1, pbf_scale(into, nh)) : l1;
         float dn = shape_distance(w, c, lnew, &n1);
-        if (dn < r) lnew = add(lnew, scale(r - dn, n1));
-        v3 xn = add(p1, quat_rotate(q1, lnew));
-        add_force(w, b, scale(to_force, sub(xn, x)), sub(xn, scale(r, quat_rotate(q1, nh))));
+        if (dn < r) lnew = pbf_add(lnew, pbf_scale(r - dn, n1));
+        pbf_vec3 xn = pbf_add(p1, quat_rotate(q1, lnew));
+        add_force(w, b, pbf_scale(to_force, pbf_sub(xn, x)), pbf_sub(xn, pbf_scale(r, quat_rotate(q1, nh))));
         x = xn;
     }
     return x;

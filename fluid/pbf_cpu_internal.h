@@ -64,26 +64,11 @@ struct pbf_cpu_world {
     char error[512];
 };
 
-// ---- small vector helpers (float, evaluated in the order the shaders write) ----------
+// The kernels, boundaries and frames the shaders use, and the vector type they are written
+// in (pbf_vec3 with pbf_add, pbf_scale, ...): shaders/fluid/pbf_kernels.h.
+#include "shaders/fluid/pbf_kernels.h"
 
-typedef struct v3 {
-    float x, y, z;
-} v3;
-
-static inline v3 xyz(pbf_float4 a) { return (v3){ a.x, a.y, a.z }; }
-static inline v3 add(v3 a, v3 b) { return (v3){ a.x + b.x, a.y + b.y, a.z + b.z }; }
-static inline v3 sub(v3 a, v3 b) { return (v3){ a.x - b.x, a.y - b.y, a.z - b.z }; }
-static inline v3 scale(float s, v3 a) { return (v3){ s * a.x, s * a.y, s * a.z }; }
-static inline v3 divide(v3 a, float s) { return (v3){ a.x / s, a.y / s, a.z / s }; }
-static inline float dot(v3 a, v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static inline float length(v3 a) { return sqrtf(dot(a, a)); }
-static inline v3 cross(v3 a, v3 b)
-{
-    return (v3){ a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y };
-}
-static inline float clampf(float x, float lo, float hi) { return fminf(fmaxf(x, lo), hi); }
-static inline float signf(float x) { return x > 0.0f ? 1.0f : x < 0.0f ? -1.0f : 0.0f; }
-static inline bool finite3(v3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+static inline bool pbf_cpu_finite3(pbf_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 /// Records an error message; returns r.
 pbf_result pbf_cpu_fail(pbf_cpu_world *w, pbf_result r, const char *fmt, ...)
@@ -95,11 +80,6 @@ pbf_result pbf_cpu_fail(pbf_cpu_world *w, pbf_result r, const char *fmt, ...)
 // ---- pbf_cpu_passes.c: the passes, each named for the shader it mirrors ----------------
 // Each runs over the live particles (w->count) and reads and writes the arrays its shader
 // binds, ping-pong partners included; none flips a pair (the step does).
-float pbf_cpu_poly6(const pbf_gpu_params *P, float r2);
-v3 pbf_cpu_grad_spiky(const pbf_gpu_params *P, v3 r);
-float pbf_cpu_wall_volume(const pbf_gpu_params *P, float d);
-float pbf_cpu_wall_gradient(const pbf_gpu_params *P, float d);
-float pbf_cpu_container_boundary(const pbf_gpu_params *P, v3 x, v3 *grad);
 void pbf_cpu_predict(pbf_cpu_world *w, const pbf_gpu_params *P);
 /// grid_count.comp at positions x (pred in the step), after the clear the step does first.
 void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x);
@@ -122,9 +102,9 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P);
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i);
 
 // ---- pbf_cpu_colliders.c: colliders.glsl and pbf_colliders.c's step bookkeeping ---------
-void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, v3 x, float *rho, v3 *grad_i);
-void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, v3 x, float lambda, v3 *dp);
-v3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, v3 xs, v3 x);
+void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float *rho, pbf_vec3 *grad_i);
+void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, pbf_vec3 *dp);
+pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x);
 void pbf_cpu_colliders_begin_step(pbf_cpu_world *w);
 void pbf_cpu_colliders_end_step(pbf_cpu_world *w);
 

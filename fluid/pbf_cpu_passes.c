@@ -4,87 +4,9 @@
 
 #include <string.h>
 
-// ---- kernels and boundaries (common.glsl, colliders.glsl) -----------------------------
-
-float pbf_cpu_poly6(const pbf_gpu_params *P, float r2)
-{
-    float d = P->h * P->h - r2;
-    return d > 0.0f ? P->poly6 * d * d * d : 0.0f;
-}
-
-/// Gradient of the spiky kernel with respect to x_i for r = x_i - x_j (1/m^4).
-v3 pbf_cpu_grad_spiky(const pbf_gpu_params *P, v3 r)
-{
-    float len = length(r);
-    if (len <= 1e-9f * P->h || len >= P->h) return (v3){ 0.0f, 0.0f, 0.0f };
-    float d = P->h - len;
-    return scale(P->spiky_grad * d * d / len, r);
-}
-
-float pbf_cpu_boundary_volume(float d, float h)
-{
-    float u = clampf(d / h, 0.0f, 1.0f);
-    float u2 = u * u;
-    // F(u) = u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9, the antiderivative of (1 - u^2)^4.
-    float F = u * (1.0f + u2 * (-4.0f / 3.0f + u2 * (6.0f / 5.0f + u2 * (-4.0f / 7.0f + u2 / 9.0f))));
-    return (315.0f / 256.0f) * (128.0f / 315.0f - F);
-}
-
-float pbf_cpu_boundary_gradient(float d, float h)
-{
-    float u = clampf(d / h, 0.0f, 1.0f);
-    // H(u) = u^2/2 - u^3 + 3u^4/4 - u^5/5, the antiderivative of u (1 - u)^3.
-    float H = u * u * (0.5f + u * (-1.0f + u * (0.75f - u * 0.2f)));
-    return (30.0f / h) * (0.05f - H);
-}
-
-/// common.glsl boundary_volume with the lattice calibration, in the shader's order of
-/// operations (pbf_cpu_boundary_volume is the continuous V(d) the tests integrate).
-float pbf_cpu_wall_volume(const pbf_gpu_params *P, float d)
-{
-    float u = clampf(d / P->h, 0.0f, 1.0f);
-    float u2 = u * u;
-    float F = u * (1.0f + u2 * (-4.0f / 3.0f + u2 * (6.0f / 5.0f + u2 * (-4.0f / 7.0f + u2 / 9.0f))));
-    return P->boundary_scale * (315.0f / 256.0f) * (128.0f / 315.0f - F);
-}
-
-/// common.glsl boundary_gradient, likewise (1/m).
-float pbf_cpu_wall_gradient(const pbf_gpu_params *P, float d)
-{
-    float u = clampf(d / P->h, 0.0f, 1.0f);
-    float H = u * u * (0.5f + u * (-1.0f + u * (0.75f - u * 0.2f)));
-    return P->boundary_scale * (30.0f / P->h) * (0.05f - H);
-}
-
-static float plane_distance(const pbf_gpu_params *P, uint32_t p, v3 x, v3 *n)
-{
-    *n = xyz(P->planes[p]);
-    return dot(x, *n) - P->planes[p].w;
-}
-
-/// common.glsl container_boundary: the union of the planes' half-spaces.
-float pbf_cpu_container_boundary(const pbf_gpu_params *P, v3 x, v3 *grad)
-{
-    float keep = 1.0f;
-    float vp[PBF_MAX_PLANES];
-    v3 gp[PBF_MAX_PLANES];
-    for (uint32_t p = 0; p < P->plane_count; p++) {
-        v3 n;
-        float d = plane_distance(P, p, x, &n);
-        vp[p] = d < P->h ? pbf_cpu_wall_volume(P, d) : 0.0f;
-        gp[p] = d < P->h ? scale(pbf_cpu_wall_gradient(P, d), n) : (v3){ 0.0f, 0.0f, 0.0f };
-        keep *= 1.0f - vp[p];
-    }
-    *grad = (v3){ 0.0f, 0.0f, 0.0f };
-    for (uint32_t p = 0; p < P->plane_count; p++) {
-        if (vp[p] <= 0.0f) continue;
-        float others = 1.0f;
-        for (uint32_t q = 0; q < P->plane_count; q++)
-            if (q != p) others *= 1.0f - vp[q];
-        *grad = sub(*grad, scale(others, gp[p]));
-    }
-    return 1.0f - keep;
-}
+// The continuous V(d) and G(d) of the boundary model (pbf_kernels.h), for the tests.
+float pbf_cpu_boundary_volume(float d, float h) { return pbf_boundary_volume(d, h, 1.0f); }
+float pbf_cpu_boundary_gradient(float d, float h) { return pbf_boundary_gradient(d, h, 1.0f); }
 
 // ---- one function per pass, in the step's order ---------------------------------------
 
@@ -92,12 +14,12 @@ float pbf_cpu_container_boundary(const pbf_gpu_params *P, v3 x, v3 *grad)
 void pbf_cpu_predict(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 v = add(xyz(w->vel[i]), scale(P->dt, xyz(P->gravity)));
-        v = scale(1.0f / (1.0f + P->damping * P->dt), v);
-        float s = length(v);
-        if (s > P->max_speed) v = scale(P->max_speed / s, v);
+        pbf_vec3 v = pbf_add(pbf_xyz(w->vel[i]), pbf_scale(P->dt, pbf_xyz(P->gravity)));
+        v = pbf_scale(1.0f / (1.0f + P->damping * P->dt), v);
+        float s = pbf_length(v);
+        if (s > P->max_speed) v = pbf_scale(P->max_speed / s, v);
         w->vel[i] = (pbf_float4){ v.x, v.y, v.z, w->vel[i].w };
-        v3 x = add(xyz(w->pos[i]), scale(P->dt, v));
+        pbf_vec3 x = pbf_add(pbf_xyz(w->pos[i]), pbf_scale(P->dt, v));
         w->pred[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
     }
 }
@@ -111,7 +33,7 @@ static int cell_axis(float x, float origin, float inv_cell, uint32_t dim)
     return (int)f;
 }
 
-static void cell_coord(const pbf_gpu_params *P, v3 x, int c[3])
+static void cell_coord(const pbf_gpu_params *P, pbf_vec3 x, int c[3])
 {
     c[0] = cell_axis(x.x, P->grid_origin.x, P->inv_cell, P->grid_dims.x);
     c[1] = cell_axis(x.y, P->grid_origin.y, P->inv_cell, P->grid_dims.y);
@@ -132,7 +54,7 @@ void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
     memset(w->cell_fill, 0, ((size_t)w->cells + 1) * 4);
     for (uint32_t i = 0; i < w->count; i++) {
         int c[3];
-        cell_coord(P, xyz(x[i]), c);
+        cell_coord(P, pbf_xyz(x[i]), c);
         w->cell_of[i] = cell_index(P, c[0], c[1], c[2]);
         w->cell_start[w->cell_of[i]]++;
     }
@@ -195,27 +117,27 @@ static const uint32_t *nb_of(const pbf_cpu_world *w, uint32_t i) { return w->nb_
 
 /// density.glsl density_add: neighbour at r = x_i - x_j into sum W, grad_i C_i (fluid part)
 /// and sum_j |grad_j C_i|^2.
-static void density_add(const pbf_gpu_params *P, v3 r, float *sum_w, v3 *grad_i, float *sum_grad2)
+static void density_add(const pbf_gpu_params *P, pbf_vec3 r, float *sum_w, pbf_vec3 *grad_i, float *sum_grad2)
 {
     float k = P->mass_density * P->inv_rest_density;
-    *sum_w += pbf_cpu_poly6(P, dot(r, r));
-    v3 g = scale(k, pbf_cpu_grad_spiky(P, r));
-    *grad_i = add(*grad_i, g);
-    *sum_grad2 += dot(g, g);
+    *sum_w += w_poly6(P, pbf_dot(r, r));
+    pbf_vec3 g = pbf_scale(k, grad_spiky(P, r));
+    *grad_i = pbf_add(*grad_i, g);
+    *sum_grad2 += pbf_dot(g, g);
 }
 
 /// density.glsl density_finish: rho_i with the boundaries' share, C_i and lambda_i, into
 /// lambda_rho[i] and pred[i].w.
-static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, v3 xi, float sum_w, v3 grad_i,
+static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, pbf_vec3 xi, float sum_w, pbf_vec3 grad_i,
                            float sum_grad2)
 {
     float rho = P->mass_density * sum_w;
-    v3 wall_grad;
-    rho += P->rest_density * pbf_cpu_container_boundary(P, xi, &wall_grad);
-    grad_i = add(grad_i, wall_grad);
+    pbf_vec3 wall_grad;
+    rho += P->rest_density * container_boundary(P, xi, &wall_grad);
+    grad_i = pbf_add(grad_i, wall_grad);
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &grad_i);
     float C = fmaxf(rho * P->inv_rest_density - 1.0f, 0.0f);
-    float lambda = -C / (dot(grad_i, grad_i) + sum_grad2 + P->epsilon);
+    float lambda = -C / (pbf_dot(grad_i, grad_i) + sum_grad2 + P->epsilon);
     w->lambda_rho[2 * (size_t)i] = lambda;
     w->lambda_rho[2 * (size_t)i + 1] = rho;
     w->pred[i].w = lambda;
@@ -239,12 +161,12 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
     int reach = (int)ceilf(P->h * P->inv_cell - 1e-4f);
     float h2 = P->h * P->h;
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(x[i]);
+        pbf_vec3 xi = pbf_xyz(x[i]);
         int c[3];
         cell_coord(P, xi, c);
         uint32_t n = 0, *list = w->nb_list + (size_t)i * w->max_neighbours;
-        float sum_w = pbf_cpu_poly6(P, 0.0f);
-        v3 grad_i = { 0.0f, 0.0f, 0.0f };
+        float sum_w = w_poly6(P, 0.0f);
+        pbf_vec3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
         // Rows of cells (fixed y, z) in z then y order, each trimmed to the x cells the
         // kernel sphere reaches; rows whose y-z slab lies farther than h are skipped.
@@ -261,8 +183,8 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 uint32_t e = w->cell_start[cell_index(P, x1, y, z) + 1];
                 for (uint32_t k = b; k < e; k++) {
                     uint32_t j = place ? place[k] : k;
-                    v3 r = sub(xi, xyz(x[j]));
-                    if (dot(r, r) < h2 && j != i) {
+                    pbf_vec3 r = pbf_sub(xi, pbf_xyz(x[j]));
+                    if (pbf_dot(r, r) < h2 && j != i) {
                         if (n < w->max_neighbours) {
                             list[n] = j;
                             if (solve) density_add(P, r, &sum_w, &grad_i, &sum_grad2);
@@ -281,29 +203,29 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
 void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(w->pred[i]);
-        float sum_w = pbf_cpu_poly6(P, 0.0f);
-        v3 grad_i = { 0.0f, 0.0f, 0.0f };
+        pbf_vec3 xi = pbf_xyz(w->pred[i]);
+        float sum_w = w_poly6(P, 0.0f);
+        pbf_vec3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
-            density_add(P, sub(xi, xyz(w->pred[nb[q]])), &sum_w, &grad_i, &sum_grad2);
+            density_add(P, pbf_sub(xi, pbf_xyz(w->pred[nb[q]])), &sum_w, &grad_i, &sum_grad2);
         density_finish(w, P, i, xi, sum_w, grad_i, sum_grad2);
     }
 }
 
 /// The collisions delta.comp and collide.comp both end with: a particle radius from every
 /// container plane, then the domain clamp, on pred_out[i].
-static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, v3 x)
+static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, pbf_vec3 x)
 {
     for (uint32_t p = 0; p < P->plane_count; p++) {
-        v3 n;
+        pbf_vec3 n;
         float d = plane_distance(P, p, x, &n);
-        if (d < P->radius) x = add(x, scale(P->radius - d, n));
+        if (d < P->radius) x = pbf_add(x, pbf_scale(P->radius - d, n));
     }
-    x.x = clampf(x.x, P->domain_min.x + P->radius, P->domain_max.x - P->radius);
-    x.y = clampf(x.y, P->domain_min.y + P->radius, P->domain_max.y - P->radius);
-    x.z = clampf(x.z, P->domain_min.z + P->radius, P->domain_max.z - P->radius);
+    x.x = pbf_clamp(x.x, P->domain_min.x + P->radius, P->domain_max.x - P->radius);
+    x.y = pbf_clamp(x.y, P->domain_min.y + P->radius, P->domain_max.y - P->radius);
+    x.z = pbf_clamp(x.z, P->domain_min.z + P->radius, P->domain_max.z - P->radius);
     w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
 }
 
@@ -312,29 +234,29 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
 void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(w->pred[i]);
+        pbf_vec3 xi = pbf_xyz(w->pred[i]);
         float li = w->pred[i].w;
-        v3 dp = { 0.0f, 0.0f, 0.0f };
+        pbf_vec3 dp = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         uint32_t nn = nb_len(w, i);
         if (P->scorr_k > 0.0f) {
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
-                v3 r = sub(xi, xyz(pj));
-                float s = -P->scorr_k * powf(pbf_cpu_poly6(P, dot(r, r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
-                dp = add(dp, scale(li + pj.w + s, pbf_cpu_grad_spiky(P, r)));
+                pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj));
+                float s = -P->scorr_k * powf(w_poly6(P, pbf_dot(r, r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
+                dp = pbf_add(dp, pbf_scale(li + pj.w + s, grad_spiky(P, r)));
             }
         } else {
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
-                dp = add(dp, scale(li + pj.w, pbf_cpu_grad_spiky(P, sub(xi, xyz(pj)))));
+                dp = pbf_add(dp, pbf_scale(li + pj.w, grad_spiky(P, pbf_sub(xi, pbf_xyz(pj)))));
             }
         }
-        dp = scale(P->mass_density * P->inv_rest_density, dp);
-        v3 wall_grad;
-        pbf_cpu_container_boundary(P, xi, &wall_grad);
-        dp = add(dp, scale(li, wall_grad));
-        container_collide(w, P, i, add(xi, scale(P->omega, dp)));
+        dp = pbf_scale(P->mass_density * P->inv_rest_density, dp);
+        pbf_vec3 wall_grad;
+        container_boundary(P, xi, &wall_grad);
+        dp = pbf_add(dp, pbf_scale(li, wall_grad));
+        container_collide(w, P, i, pbf_add(xi, pbf_scale(P->omega, dp)));
     }
 }
 
@@ -345,10 +267,10 @@ void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_float4 pi = w->pred[i];
-        v3 bdp = { 0.0f, 0.0f, 0.0f };
-        pbf_cpu_colliders_delta(w, P, xyz(pi), pi.w, &bdp);
-        v3 x = add(xyz(w->pred_out[i]), scale(P->omega, bdp));
-        x = pbf_cpu_colliders_collide(w, P, xyz(w->pos[i]), x);
+        pbf_vec3 bdp = { 0.0f, 0.0f, 0.0f };
+        pbf_cpu_colliders_delta(w, P, pbf_xyz(pi), pi.w, &bdp);
+        pbf_vec3 x = pbf_add(pbf_xyz(w->pred_out[i]), pbf_scale(P->omega, bdp));
+        x = pbf_cpu_colliders_collide(w, P, pbf_xyz(w->pos[i]), x);
         container_collide(w, P, i, x);
     }
 }
@@ -358,10 +280,10 @@ void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P)
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 x = xyz(w->pred[i]);
-        v3 v = scale(P->inv_dt, sub(x, xyz(w->pos[i])));
-        float s = length(v);
-        if (s > P->max_speed) v = scale(P->max_speed / s, v);
+        pbf_vec3 x = pbf_xyz(w->pred[i]);
+        pbf_vec3 v = pbf_scale(P->inv_dt, pbf_sub(x, pbf_xyz(w->pos[i])));
+        float s = pbf_length(v);
+        if (s > P->max_speed) v = pbf_scale(P->max_speed / s, v);
         float volume = P->mass_density / fmaxf(w->lambda_rho[2 * (size_t)i + 1], 1e-6f * P->rest_density);
         w->vel[i] = (pbf_float4){ v.x, v.y, v.z, volume };
         w->pos[i] = (pbf_float4){ x.x, x.y, x.z, w->pos[i].w };
@@ -372,15 +294,15 @@ void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(w->pos[i]), vi = xyz(w->vel[i]);
-        v3 o = { 0.0f, 0.0f, 0.0f };
+        pbf_vec3 xi = pbf_xyz(w->pos[i]), vi = pbf_xyz(w->vel[i]);
+        pbf_vec3 o = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
             uint32_t j = nb[q];
             pbf_float4 vj = w->vel[j];
-            o = add(o, scale(vj.w, cross(pbf_cpu_grad_spiky(P, sub(xi, xyz(w->pos[j]))), sub(xyz(vj), vi))));
+            o = pbf_add(o, pbf_scale(vj.w, pbf_cross(grad_spiky(P, pbf_sub(xi, pbf_xyz(w->pos[j]))), pbf_sub(pbf_xyz(vj), vi))));
         }
-        w->omega[i] = (pbf_float4){ o.x, o.y, o.z, length(o) };
+        w->omega[i] = (pbf_float4){ o.x, o.y, o.z, pbf_length(o) };
     }
 }
 
@@ -389,32 +311,32 @@ void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P)
 void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        v3 xi = xyz(w->pos[i]), vi = xyz(w->vel[i]);
-        v3 xsph = { 0.0f, 0.0f, 0.0f };
+        pbf_vec3 xi = pbf_xyz(w->pos[i]), vi = pbf_xyz(w->vel[i]);
+        pbf_vec3 xsph = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         uint32_t nn = nb_len(w, i);
-        v3 v = vi;
+        pbf_vec3 v = vi;
         if (P->vorticity > 0.0f) {
             float wi = w->omega[i].w;
-            v3 eta = { 0.0f, 0.0f, 0.0f };
+            pbf_vec3 eta = { 0.0f, 0.0f, 0.0f };
             for (uint32_t q = 0; q < nn; q++) {
                 uint32_t j = nb[q];
-                v3 r = sub(xi, xyz(w->pos[j]));
+                pbf_vec3 r = pbf_sub(xi, pbf_xyz(w->pos[j]));
                 pbf_float4 vj = w->vel[j];
-                eta = add(eta, scale(vj.w * (w->omega[j].w - wi), pbf_cpu_grad_spiky(P, r)));
-                xsph = add(xsph, scale(pbf_cpu_poly6(P, dot(r, r)), scale(vj.w, sub(xyz(vj), vi))));
+                eta = pbf_add(eta, pbf_scale(vj.w * (w->omega[j].w - wi), grad_spiky(P, r)));
+                xsph = pbf_add(xsph, pbf_scale(w_poly6(P, pbf_dot(r, r)), pbf_scale(vj.w, pbf_sub(pbf_xyz(vj), vi))));
             }
-            float le = length(eta);
-            if (le > 1e-9f) v = add(v, scale(P->dt * P->vorticity, cross(divide(eta, le), xyz(w->omega[i]))));
+            float le = pbf_length(eta);
+            if (le > 1e-9f) v = pbf_add(v, pbf_scale(P->dt * P->vorticity, pbf_cross(pbf_div(eta, le), pbf_xyz(w->omega[i]))));
         } else {
             for (uint32_t q = 0; q < nn; q++) {
                 uint32_t j = nb[q];
-                v3 r = sub(xi, xyz(w->pos[j]));
+                pbf_vec3 r = pbf_sub(xi, pbf_xyz(w->pos[j]));
                 pbf_float4 vj = w->vel[j];
-                xsph = add(xsph, scale(pbf_cpu_poly6(P, dot(r, r)), scale(vj.w, sub(xyz(vj), vi))));
+                xsph = pbf_add(xsph, pbf_scale(w_poly6(P, pbf_dot(r, r)), pbf_scale(vj.w, pbf_sub(pbf_xyz(vj), vi))));
             }
         }
-        v = add(v, scale(P->viscosity, xsph));
+        v = pbf_add(v, pbf_scale(P->viscosity, xsph));
         w->vel_out[i] = (pbf_float4){ v.x, v.y, v.z, w->vel[i].w };
     }
 }
@@ -422,17 +344,17 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
 /// metrics.comp's density of slot i at its position (fluid over the list + boundaries).
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
 {
-    v3 xi = xyz(w->pos[i]);
-    float sum_w = pbf_cpu_poly6(P, 0.0f);
+    pbf_vec3 xi = pbf_xyz(w->pos[i]);
+    float sum_w = w_poly6(P, 0.0f);
     const uint32_t *nb = nb_of(w, i);
     for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-        v3 r = sub(xi, xyz(w->pos[nb[q]]));
-        sum_w += pbf_cpu_poly6(P, dot(r, r));
+        pbf_vec3 r = pbf_sub(xi, pbf_xyz(w->pos[nb[q]]));
+        sum_w += w_poly6(P, pbf_dot(r, r));
     }
     float rho = P->mass_density * sum_w;
-    v3 unused_wall_grad;
-    rho += P->rest_density * pbf_cpu_container_boundary(P, xi, &unused_wall_grad);
-    v3 unused_grad = { 0.0f, 0.0f, 0.0f };
+    pbf_vec3 unused_wall_grad;
+    rho += P->rest_density * container_boundary(P, xi, &unused_wall_grad);
+    pbf_vec3 unused_grad = { 0.0f, 0.0f, 0.0f };
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &unused_grad);
     return rho;
 }

@@ -145,12 +145,6 @@ float shape_distance(uint b, vec3 l, out vec3 ln)
 
 // ---- poses ------------------------------------------------------------------------------
 
-vec4 quat_nlerp(vec4 a, vec4 b, float t)
-{
-    if (dot(a, b) < 0.0) b = -b;
-    return normalize(mix(a, b, t));
-}
-
 // The collider's pose at the start (p0, q0) and at the end (p1, q1) of this substep.
 void collider_poses(uint b, out vec3 p0, out vec4 q0, out vec3 p1, out vec4 q1)
 {
@@ -192,17 +186,6 @@ float collider_distance_at(uint b, vec3 p, vec4 q, vec3 x, out vec3 n)
     n = quat_rotate(q, ln);
     return d;
 }
-
-// Share of the kernel beyond a plane at signed distance d (negative: the particle is past
-// it), and its derivative with respect to d, for the continuous kernel (beyond(0) = 1/2):
-// common.glsl's V and G carry a lattice calibration factor (V(0) = factor / 2), divided
-// out here and applied once to the combined share.
-float boundary_factor() { return 2.0 * boundary_volume(0.0); }
-float beyond(float d, float inv_factor)
-{
-    return d >= 0.0 ? boundary_volume(d) * inv_factor : 1.0 - boundary_volume(-d) * inv_factor;
-}
-float beyond_slope(float d, float inv_factor) { return -boundary_gradient(abs(d)) * inv_factor; }
 
 // The boundary share V (the fraction of a filled neighbourhood that collider b takes) at x,
 // and its gradient with respect to x (1/m), at the collider's end pose. Boxes: the product
