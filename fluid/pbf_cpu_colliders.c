@@ -2,153 +2,25 @@
 // reports) and the shapes, boundary share, swept collisions and forces of colliders.glsl.
 #include "fluid/pbf_cpu_internal.h"
 #include "fluid/pbf_uniforms.h"
+#include "shaders/fluid/pbf_shapes.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 // ---- colliders (colliders.glsl) ---------------------------------------------------------
+// The geometry (shapes, poses, boundary share, swept hit) is shaders/fluid/pbf_shapes.h,
+// shared with the shaders; these wrappers name a collider as colliders.glsl's do.
 
-static float distance3(pbf_vec3 a, pbf_vec3 b) { return pbf_length(pbf_sub(a, b)); }
-static pbf_vec3 mix3(pbf_vec3 x, pbf_vec3 y, float a) { return (pbf_vec3){ pbf_mixf(x.x, y.x, a), pbf_mixf(x.y, y.y, a), pbf_mixf(x.z, y.z, a) }; }
-static int clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
-
-static float grid_sample(const float *data, uint32_t base, const uint32_t dims[3], int x, int y, int z)
-{
-    return data[base + (uint32_t)x + dims[0] * ((uint32_t)y + dims[1] * (uint32_t)z)];
-}
-
-/// grid_distance: trilinear distance and its gradient; outside the grid's box the distance
-/// to the box is added.
-static float grid_distance(const float *data, uint32_t base, uint32_t packed, pbf_float4 frame, pbf_vec3 l, pbf_vec3 *ln)
-{
-    const uint32_t dims[3] = { packed & 1023u, (packed >> 10) & 1023u, (packed >> 20) & 1023u };
-    pbf_vec3 lo = pbf_xyz(frame);
-    pbf_vec3 hi = pbf_add(lo, pbf_scale(frame.w, (pbf_vec3){ (float)(dims[0] - 1u), (float)(dims[1] - 1u), (float)(dims[2] - 1u) }));
-    pbf_vec3 lc = { pbf_clamp(l.x, lo.x, hi.x), pbf_clamp(l.y, lo.y, hi.y), pbf_clamp(l.z, lo.z, hi.z) };
-    pbf_vec3 g = pbf_div(pbf_sub(lc, lo), frame.w);
-    int i0[3] = { clampi((int)floorf(g.x), 0, (int)dims[0] - 2), clampi((int)floorf(g.y), 0, (int)dims[1] - 2),
-                  clampi((int)floorf(g.z), 0, (int)dims[2] - 2) };
-    pbf_vec3 f = { g.x - (float)i0[0], g.y - (float)i0[1], g.z - (float)i0[2] };
-    float c000 = grid_sample(data, base, dims, i0[0], i0[1], i0[2]);
-    float c100 = grid_sample(data, base, dims, i0[0] + 1, i0[1], i0[2]);
-    float c010 = grid_sample(data, base, dims, i0[0], i0[1] + 1, i0[2]);
-    float c110 = grid_sample(data, base, dims, i0[0] + 1, i0[1] + 1, i0[2]);
-    float c001 = grid_sample(data, base, dims, i0[0], i0[1], i0[2] + 1);
-    float c101 = grid_sample(data, base, dims, i0[0] + 1, i0[1], i0[2] + 1);
-    float c011 = grid_sample(data, base, dims, i0[0], i0[1] + 1, i0[2] + 1);
-    float c111 = grid_sample(data, base, dims, i0[0] + 1, i0[1] + 1, i0[2] + 1);
-    float x00 = pbf_mixf(c000, c100, f.x), x10 = pbf_mixf(c010, c110, f.x);
-    float x01 = pbf_mixf(c001, c101, f.x), x11 = pbf_mixf(c011, c111, f.x);
-    float y0 = pbf_mixf(x00, x10, f.y), y1 = pbf_mixf(x01, x11, f.y);
-    float d = pbf_mixf(y0, y1, f.z);
-    pbf_vec3 grad;
-    grad.x = pbf_mixf(pbf_mixf(c100 - c000, c110 - c010, f.y), pbf_mixf(c101 - c001, c111 - c011, f.y), f.z);
-    grad.y = pbf_mixf(x10 - x00, x11 - x01, f.z);
-    grad.z = y1 - y0;
-    float gl = pbf_length(grad);
-    *ln = gl > 1e-12f ? pbf_div(grad, gl) : (pbf_vec3){ 0.0f, 1.0f, 0.0f };
-    pbf_vec3 out_of_box = pbf_sub(l, lc);
-    float ob = pbf_length(out_of_box);
-    if (ob > 0.0f) {
-        d += ob;
-        *ln = pbf_normalize(pbf_add(out_of_box, pbf_scale(fmaxf(d - ob, 0.0f), *ln)));
-    }
-    return d;
-}
-
-/// hull_distance: the largest face-plane distance.
-static float hull_distance(const float *data, uint32_t base, uint32_t count, pbf_vec3 l, pbf_vec3 *ln)
-{
-    float best = -1e30f;
-    *ln = (pbf_vec3){ 0.0f, 1.0f, 0.0f };
-    for (uint32_t k = 0; k < count; k++) {
-        const float *o = data + base + 4u * k;
-        pbf_vec3 n = { o[0], o[1], o[2] };
-        float d = pbf_dot(n, l) - o[3];
-        if (d > best) {
-            best = d;
-            *ln = n;
-        }
-    }
-    return best;
-}
-
-/// shape_distance: signed distance (m, positive outside the solid) from local point l to
-/// the surface of collider c's shape, and the outward unit normal, both in its frame.
 static float shape_distance(const pbf_cpu_world *w, const pbf_gpu_collider *c, pbf_vec3 l, pbf_vec3 *ln)
 {
-    uint32_t type = c->info.x;
-    pbf_float4 s = c->params;
-    float d;
-    if (type == PBF_COLLIDER_PLANE) {
-        *ln = pbf_xyz(s);
-        d = pbf_dot(l, *ln) - s.w;
-    } else if (type == PBF_COLLIDER_SPHERE) {
-        float len = pbf_length(l);
-        *ln = len > 1e-9f ? pbf_div(l, len) : (pbf_vec3){ 0.0f, 1.0f, 0.0f };
-        d = len - s.x;
-    } else if (type == PBF_COLLIDER_BOX) {
-        pbf_vec3 q3 = { fabsf(l.x) - s.x, fabsf(l.y) - s.y, fabsf(l.z) - s.z };
-        if (fmaxf(q3.x, fmaxf(q3.y, q3.z)) > 0.0f) {
-            pbf_vec3 o = { fmaxf(q3.x, 0.0f), fmaxf(q3.y, 0.0f), fmaxf(q3.z, 0.0f) };
-            d = pbf_length(o);
-            *ln = pbf_div((pbf_vec3){ pbf_sign(l.x) * o.x, pbf_sign(l.y) * o.y, pbf_sign(l.z) * o.z }, fmaxf(d, 1e-12f));
-        } else {
-            // inside: nearest face
-            if (q3.x > q3.y && q3.x > q3.z) *ln = (pbf_vec3){ l.x < 0.0f ? -1.0f : 1.0f, 0.0f, 0.0f };
-            else if (q3.y > q3.z) *ln = (pbf_vec3){ 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
-            else *ln = (pbf_vec3){ 0.0f, 0.0f, l.z < 0.0f ? -1.0f : 1.0f };
-            d = fmaxf(q3.x, fmaxf(q3.y, q3.z));
-        }
-    } else if (type == PBF_COLLIDER_CAPSULE) {
-        pbf_vec3 r = { l.x - 0.0f, l.y - pbf_clamp(l.y, -s.y, s.y), l.z - 0.0f };
-        float len = pbf_length(r);
-        *ln = len > 1e-9f ? pbf_div(r, len) : (pbf_vec3){ 1.0f, 0.0f, 0.0f };
-        d = len - s.x;
-    } else if (type == PBF_COLLIDER_CYLINDER) {
-        float rl = sqrtf(l.x * l.x + l.z * l.z);
-        float qx = rl - s.x, qy = fabsf(l.y) - s.y;
-        pbf_vec3 radial = rl > 1e-9f ? pbf_div((pbf_vec3){ l.x, 0.0f, l.z }, rl) : (pbf_vec3){ 1.0f, 0.0f, 0.0f };
-        pbf_vec3 axial = { 0.0f, l.y < 0.0f ? -1.0f : 1.0f, 0.0f };
-        if (qx > 0.0f && qy > 0.0f) {
-            d = sqrtf(qx * qx + qy * qy);
-            *ln = pbf_normalize(pbf_add(pbf_scale(qx, radial), pbf_scale(qy, axial)));
-        } else if (qx > qy) {
-            d = qx;
-            *ln = radial;
-        } else {
-            d = qy;
-            *ln = axial;
-        }
-    } else if (type == PBF_COLLIDER_HULL) {
-        d = hull_distance(w->collider_data, c->info.z, c->info.w, l, ln);
-    } else {
-        d = grid_distance(w->collider_data, c->info.z, c->info.w, s, l, ln);
-    }
-    return d;
+    return shape_distance_of(w->collider_data, *c, l, ln);
 }
 
-/// collider_poses: the pose at the start (p0, q0) and at the end (p1, q1) of substep
-/// P->substep; a pose that spans several substeps (linear_velocity.w > 1) is interpolated.
 static void collider_poses(const pbf_gpu_params *P, const pbf_gpu_collider *c, pbf_vec3 *p0, pbf_float4 *q0, pbf_vec3 *p1,
                            pbf_float4 *q1)
 {
-    pbf_vec3 pa = pbf_xyz(c->prev_position), pb = pbf_xyz(c->position);
-    pbf_float4 qa = c->prev_rotation, qb = c->rotation;
-    float span = c->linear_velocity.w;
-    if (span > 1.5f) {
-        float t0 = (float)P->substep / span, t1 = fminf((float)(P->substep + 1u) / span, 1.0f);
-        *p0 = mix3(pa, pb, t0);
-        *q0 = quat_nlerp(qa, qb, t0);
-        *p1 = mix3(pa, pb, t1);
-        *q1 = quat_nlerp(qa, qb, t1);
-    } else {
-        *p0 = pa;
-        *q0 = qa;
-        *p1 = pb;
-        *q1 = qb;
-    }
+    collider_poses_of(P, *c, p0, q0, p1, q1);
 }
 
 static void collider_end_pose(const pbf_gpu_params *P, const pbf_gpu_collider *c, pbf_vec3 *p1, pbf_float4 *q1)
@@ -158,44 +30,10 @@ static void collider_end_pose(const pbf_gpu_params *P, const pbf_gpu_collider *c
     collider_poses(P, c, &p0, &q0, p1, q1);
 }
 
-static bool collider_near(pbf_vec3 p1, const pbf_gpu_collider *c, pbf_vec3 x, float reach)
-{
-    if (c->info.x == PBF_COLLIDER_PLANE) return true;
-    return distance3(x, p1) <= c->position.w + reach;
-}
-
-/// collider_boundary: the share V of a filled neighbourhood that collider c takes at x and
-/// its gradient (1/m), at the end pose; boxes as a product of three slabs, other shapes as
-/// the half-space at the signed distance; false when out of reach or inside.
 static bool collider_boundary(const pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_gpu_collider *c, pbf_vec3 x,
                               float *V, pbf_vec3 *gradV)
 {
-    *V = 0.0f;
-    *gradV = (pbf_vec3){ 0.0f, 0.0f, 0.0f };
-    pbf_vec3 p1;
-    pbf_float4 q1;
-    collider_end_pose(P, c, &p1, &q1);
-    if (!collider_near(p1, c, x, P->h)) return false;
-    pbf_vec3 l = quat_rotate_inv(q1, pbf_sub(x, p1));
-    pbf_vec3 ln;
-    float d = shape_distance(w, c, l, &ln);
-    if (d >= P->h || d < 0.0f) return false;
-    if (c->info.x == PBF_COLLIDER_BOX) {
-        pbf_vec3 e = pbf_xyz(c->params);
-        pbf_vec3 a = pbf_sub(e, l), b = pbf_add(e, l); // distances to the + and - faces of each slab
-        float k = boundary_factor(P), ik = 1.0f / k;
-        pbf_vec3 F = { 1.0f - beyond(P, a.x, ik) - beyond(P, b.x, ik), 1.0f - beyond(P, a.y, ik) - beyond(P, b.y, ik),
-                 1.0f - beyond(P, a.z, ik) - beyond(P, b.z, ik) };
-        F = (pbf_vec3){ fmaxf(F.x, 0.0f), fmaxf(F.y, 0.0f), fmaxf(F.z, 0.0f) };
-        pbf_vec3 dF = { beyond_slope(P, a.x, ik) - beyond_slope(P, b.x, ik), beyond_slope(P, a.y, ik) - beyond_slope(P, b.y, ik),
-                  beyond_slope(P, a.z, ik) - beyond_slope(P, b.z, ik) };
-        *V = k * F.x * F.y * F.z;
-        *gradV = pbf_scale(k, quat_rotate(q1, (pbf_vec3){ dF.x * F.y * F.z, F.x * dF.y * F.z, F.x * F.y * dF.z }));
-    } else {
-        *V = boundary_volume(P, d);
-        *gradV = pbf_scale(-boundary_gradient(P, d), quat_rotate(q1, ln));
-    }
-    return true;
+    return collider_boundary_of(P, w->collider_data, *c, x, V, gradV);
 }
 
 /// colliders_density: adds the colliders' share of the density at x and of grad_i C_i.
@@ -254,29 +92,6 @@ void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3
     }
 }
 
-/// sweep_hit: the first point of the local path a -> e that comes within r of the surface,
-/// by sphere tracing on the distance; false when none.
-static bool sweep_hit(const pbf_cpu_world *w, const pbf_gpu_collider *c, pbf_vec3 a, pbf_vec3 e, float da, float r, pbf_vec3 *hit)
-{
-    pbf_vec3 seg = pbf_sub(e, a);
-    float len = pbf_length(seg);
-    *hit = e;
-    if (len < 1e-9f) return false;
-    float t = 0.0f, d = da;
-    for (int k = 0; k < 24; k++) {
-        if (d <= r * 1.001f) {
-            *hit = pbf_add(a, pbf_scale(t, seg));
-            return true;
-        }
-        t += (d - r) / len;
-        if (t >= 1.0f) return false;
-        pbf_vec3 unused;
-        d = shape_distance(w, c, pbf_add(a, pbf_scale(t, seg)), &unused);
-    }
-    *hit = pbf_add(a, pbf_scale(t, seg));
-    return true;
-}
-
 /// colliders_collide: moves a particle now at x, which started the substep at xs, out of
 /// every collider to a particle radius from its surface, sweeping its path in each
 /// collider's frame from the previous pose to the current one; particles that started
@@ -291,8 +106,8 @@ pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pb
         pbf_float4 q0, q1;
         collider_poses(P, c, &p0, &q0, &p1, &q1);
         float turn = 2.0f * acosf(fminf(fabsf(pbf_dot4(q0, q1)), 1.0f)); // rad turned in this substep
-        float reach = r + distance3(p0, p1) + distance3(xs, x) + c->position.w * turn;
-        if (!collider_near(p1, c, x, reach)) continue;
+        float reach = r + pbf_distance(p0, p1) + pbf_distance(xs, x) + c->position.w * turn;
+        if (!collider_near_of(*c, p1, x, reach)) continue;
         pbf_vec3 l0 = quat_rotate_inv(q0, pbf_sub(xs, p0)); // where it started, in the collider's frame
         pbf_vec3 l1 = quat_rotate_inv(q1, pbf_sub(x, p1));  // where it is now
         pbf_vec3 n0, n1;
@@ -308,10 +123,10 @@ pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pb
             x = pbf_add(p1, quat_rotate(q1, lnew));
             continue;
         }
-        float len = distance3(l0, l1);
+        float len = pbf_distance(l0, l1);
         if (d1 >= r && 0.5f * (d0 + d1 - len) > r) continue;
         pbf_vec3 hit;
-        if (!sweep_hit(w, c, l0, l1, d0, r, &hit)) continue;
+        if (!sweep_hit_of(w->collider_data, *c, l0, l1, d0, r, &hit)) continue;
         pbf_vec3 nh;
         shape_distance(w, c, hit, &nh);
         // Keep the motion along the surface, remove the part into it.

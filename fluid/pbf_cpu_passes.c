@@ -115,17 +115,6 @@ static uint32_t nb_len(const pbf_cpu_world *w, uint32_t i)
 
 static const uint32_t *nb_of(const pbf_cpu_world *w, uint32_t i) { return w->nb_list + (size_t)i * w->max_neighbours; }
 
-/// density.glsl density_add: neighbour at r = x_i - x_j into sum W, grad_i C_i (fluid part)
-/// and sum_j |grad_j C_i|^2.
-static void density_add(const pbf_gpu_params *P, pbf_vec3 r, float *sum_w, pbf_vec3 *grad_i, float *sum_grad2)
-{
-    float k = P->mass_density * P->inv_rest_density;
-    *sum_w += w_poly6(P, pbf_dot(r, r));
-    pbf_vec3 g = pbf_scale(k, grad_spiky(P, r));
-    *grad_i = pbf_add(*grad_i, g);
-    *sum_grad2 += pbf_dot(g, g);
-}
-
 /// density.glsl density_finish: rho_i with the boundaries' share, C_i and lambda_i, into
 /// lambda_rho[i] and pred[i].w.
 static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, pbf_vec3 xi, float sum_w, pbf_vec3 grad_i,
@@ -136,8 +125,7 @@ static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i
     rho += P->rest_density * container_boundary(P, xi, &wall_grad);
     grad_i = pbf_add(grad_i, wall_grad);
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &grad_i);
-    float C = fmaxf(rho * P->inv_rest_density - 1.0f, 0.0f);
-    float lambda = -C / (pbf_dot(grad_i, grad_i) + sum_grad2 + P->epsilon);
+    float lambda = density_lambda(P, rho, grad_i, sum_grad2);
     w->lambda_rho[2 * (size_t)i] = lambda;
     w->lambda_rho[2 * (size_t)i + 1] = rho;
     w->pred[i].w = lambda;

@@ -42,7 +42,7 @@
 // of 30 neighbours may be off by 30 half-ulps, 1.8e-6, so 2e-6. Lambda and omega: of the
 // largest |lambda| or |omega| of that call. Lambda carries C = rho / rho0 - 1, which loses
 // rho's rounding (3e-7) against compressions of a few per cent: up to 1.2e-5 of the
-// largest, so 5e-5 (relaxation epsilon 1% off moves lambda by 1e-4 of itself: caught);
+// largest, so 5e-5 (lambda off by 1e-4 of itself, what 1% more epsilon makes, is caught);
 // omega, a sum of 30 cross products without that loss, 5e-7 measured, 1e-5.
 // The collide stage ends a swept collision where the distance first comes within 1.001 r
 // of the surface: a rounding can stop the sphere trace one step earlier or later, which

@@ -14,8 +14,9 @@
 //   pointer first);
 // - collider data (hull planes, distance grids) as `collider_data[i]`: the GLSL storage
 //   block; in C, a parameter (PBF_DATA_ARG, PBF_DATA_);
-// - `out` parameters as PBF_OUT(type) name, written and read as PBF_REF(name), and passed
-//   on as PBF_ADDR(name): `out type` / name / name in GLSL, a pointer in C;
+// - `out` and `inout` parameters as PBF_OUT(type) name and PBF_INOUT(type) name, written and
+//   read as PBF_REF(name), passed on as PBF_ADDR(name): `out type` / name / name in GLSL, a
+//   pointer in C;
 // - float literals with an f suffix (GLSL 4.30 takes it), so C computes in float too.
 // What stays on each side is the plumbing: buffers and thread indices, the loops over
 // neighbours and colliders, atomics (see docs/solver.md, "One source of truth").
@@ -33,6 +34,7 @@
 #define PBF_DATA_ARG
 #define PBF_DATA_
 #define PBF_OUT(type) out type
+#define PBF_INOUT(type) inout type
 #define PBF_REF(name) name
 #define PBF_ADDR(name) name
 #define pbf_vec3 vec3
@@ -53,6 +55,15 @@
 #define pbf_abs abs
 #define pbf_sign sign
 #define pbf_sqrt sqrt
+#define pbf_length2(x, y) length(vec2(x, y))
+#define pbf_distance distance
+#define pbf_mixf mix
+#define pbf_mix3 mix
+#define pbf_clampi clamp
+#define PBF_FLOAT_OF(x) float(x)
+#define PBF_INT_OF(x) int(x)
+#define PBF_UINT_OF(x) uint(x)
+#define PBF_FLOOR_INT(x) int(floor(x))
 #define pbf_dot4 dot
 #define pbf_neg4(a) (-(a))
 #define pbf_mix4 mix
@@ -71,6 +82,7 @@
 #define PBF_DATA_ARG const float *collider_data,
 #define PBF_DATA_ collider_data,
 #define PBF_OUT(type) type *
+#define PBF_INOUT(type) type *
 #define PBF_REF(name) (*(name))
 #define PBF_ADDR(name) (&(name))
 #define P (*pbf_p)
@@ -99,10 +111,21 @@ PBF_FN float pbf_max(float a, float b) { return fmaxf(a, b); }
 PBF_FN float pbf_abs(float a) { return fabsf(a); }
 PBF_FN float pbf_sign(float a) { return a > 0.0f ? 1.0f : a < 0.0f ? -1.0f : 0.0f; }
 PBF_FN float pbf_sqrt(float a) { return sqrtf(a); }
+PBF_FN float pbf_length2(float x, float y) { return sqrtf(x * x + y * y); }
+PBF_FN float pbf_distance(pbf_vec3 a, pbf_vec3 b) { return pbf_length(pbf_sub(a, b)); }
+PBF_FN int pbf_clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
+#define PBF_FLOAT_OF(x) ((float)(x))
+#define PBF_INT_OF(x) ((int)(x))
+#define PBF_UINT_OF(x) ((uint32_t)(x))
+#define PBF_FLOOR_INT(x) ((int)floorf(x))
 PBF_FN float pbf_dot4(pbf_float4 a, pbf_float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w; }
 PBF_FN pbf_float4 pbf_neg4(pbf_float4 a) { return (pbf_float4){ -a.x, -a.y, -a.z, -a.w }; }
 /// GLSL mix as its specification writes it: x (1 - a) + y a.
 PBF_FN float pbf_mixf(float x, float y, float a) { return x * (1.0f - a) + y * a; }
+PBF_FN pbf_vec3 pbf_mix3(pbf_vec3 x, pbf_vec3 y, float a)
+{
+    return (pbf_vec3){ pbf_mixf(x.x, y.x, a), pbf_mixf(x.y, y.y, a), pbf_mixf(x.z, y.z, a) };
+}
 PBF_FN pbf_float4 pbf_mix4(pbf_float4 x, pbf_float4 y, float a)
 {
     return (pbf_float4){ pbf_mixf(x.x, y.x, a), pbf_mixf(x.y, y.y, a), pbf_mixf(x.z, y.z, a), pbf_mixf(x.w, y.w, a) };
@@ -131,6 +154,29 @@ PBF_FN pbf_vec3 grad_spiky(PBF_P_ARG pbf_vec3 r)
     if (len <= 1e-9f * P.h || len >= P.h) return pbf_v3(0.0f, 0.0f, 0.0f);
     float d = P.h - len;
     return pbf_scale(P.spiky_grad * d * d / len, r);
+}
+
+// ---- the density constraint (density.glsl) ----------------------------------------------
+
+/// Adds neighbour j at r = x_i - x_j to the sums: sum W (poly6), grad_i C_i (fluid part,
+/// 1/m) and sum_j |grad_j C_i|^2 (1/m^2).
+PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(pbf_vec3) grad_i,
+                        PBF_INOUT(float) sum_grad2)
+{
+    float k = P.mass_density * P.inv_rest_density;
+    PBF_REF(sum_w) += w_poly6(PBF_P_ pbf_dot(r, r));
+    pbf_vec3 g = pbf_scale(k, grad_spiky(PBF_P_ r));
+    PBF_REF(grad_i) = pbf_add(PBF_REF(grad_i), g);
+    PBF_REF(sum_grad2) += pbf_dot(g, g);
+}
+
+/// The multiplier of a particle with density rho (kg/m^3) and the sums above (boundaries
+/// included): C_i = max(rho_i / rho0 - 1, 0), lambda_i = -C_i / (|grad_i C_i|^2 +
+/// sum_j |grad_j C_i|^2 + epsilon), m^2.
+PBF_FN float density_lambda(PBF_P_ARG float rho, pbf_vec3 grad_i, float sum_grad2)
+{
+    float C = pbf_max(rho * P.inv_rest_density - 1.0f, 0.0f);
+    return -C / (pbf_dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
 }
 
 // ---- boundaries -------------------------------------------------------------------------
