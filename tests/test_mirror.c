@@ -418,10 +418,8 @@ typedef void pose_fn(int body, double t, float position[3], float rotation[4]);
 
 typedef struct mirror_scene {
     const char *name;
-    pbf_params params;
-    uint32_t capacity;
-    float domain_min[3], domain_max[3], box_min[3], box_max[3];
-    pbf_block_def block;
+    support_scene s;  ///< the worlds, container and block (tests/support.h)
+    bool pool;        ///< a pool layer under the block, where the bodies stand
     int bodies;
     pbf_collider_def def[MAX_BODIES];
     pose_fn *pose;
@@ -439,18 +437,17 @@ static mirror_scene dam_break(void)
     mirror_scene s;
     memset(&s, 0, sizeof s);
     s.name = "dam break";
-    s.params = pbf_default_params();
-    s.capacity = 4096;
+    s.s = support_dam_break();
+    s.s.capacity = 4096;
     const float dmin[3] = { -0.05f, -0.05f, -0.05f }, dmax[3] = { 0.85f, 0.7f, 0.35f };
     const float bmin[3] = { 0.0f, 0.0f, 0.0f }, bmax[3] = { 0.8f, 0.65f, 0.3f };
-    memcpy(s.domain_min, dmin, sizeof dmin);
-    memcpy(s.domain_max, dmax, sizeof dmax);
-    memcpy(s.box_min, bmin, sizeof bmin);
-    memcpy(s.box_max, bmax, sizeof bmax);
-    s.block = pbf_default_block_def();
+    memcpy(s.s.domain_min, dmin, sizeof dmin);
+    memcpy(s.s.domain_max, dmax, sizeof dmax);
+    memcpy(s.s.box_min, bmin, sizeof bmin);
+    memcpy(s.s.box_max, bmax, sizeof bmax);
     const float lo[3] = { 0.003f, 0.003f, 0.003f }, hi[3] = { 0.403f, 0.353f, 0.253f };
-    memcpy(s.block.min, lo, sizeof lo);
-    memcpy(s.block.max, hi, sizeof hi);
+    memcpy(s.s.block.min, lo, sizeof lo);
+    memcpy(s.s.block.max, hi, sizeof hi);
     s.warmup = 24;
     s.steps = 2;
     s.dt = 1.0f / 60.0f;
@@ -485,16 +482,17 @@ static mirror_scene slab_on_bodies(void)
     mirror_scene s = dam_break();
     s.name = "slab on bodies";
     const float bmax[3] = { 0.5f, 0.5f, 0.26f };
-    memcpy(s.box_max, bmax, sizeof bmax);
-    s.params.scorr_k = 0.1f;
-    s.params.sor = 1.2f;
-    s.params.damping = 0.5f;
-    s.params.iterations = 3;
-    s.params.substeps = 2;
+    memcpy(s.s.box_max, bmax, sizeof bmax);
+    s.s.params.scorr_k = 0.1f;
+    s.s.params.sor = 1.2f;
+    s.s.params.damping = 0.5f;
+    s.s.params.iterations = 3;
+    s.s.params.substeps = 2;
     const float lo[3] = { 0.0f, 0.17f, 0.0f }, hi[3] = { 0.5f, 0.27f, 0.25f };
-    memcpy(s.block.min, lo, sizeof lo);
-    memcpy(s.block.max, hi, sizeof hi);
-    s.block.velocity[1] = -1.0f;
+    memcpy(s.s.block.min, lo, sizeof lo);
+    memcpy(s.s.block.max, hi, sizeof hi);
+    s.s.block.velocity[1] = -1.0f;
+    s.pool = true;
     s.bodies = 2;
     s.pose = bodies_pose;
     for (int b = 0; b < s.bodies; b++) {
@@ -512,8 +510,8 @@ static mirror_scene slab_on_bodies(void)
 
 static void add_pool(pbf_world *g, pbf_cpu_world *c)
 {
-    // A pool layer 0.5 x 0.05 x 0.25 m under the slab; the bodies stand in it, so some of its
-    // particles start inside them (the push-out).
+    // A pool layer 0.5 x 0.05 x 0.25 m under the slab (added after it); the bodies stand in
+    // it, so some of its particles start inside them (the push-out).
     pbf_block_def pool = pbf_default_block_def();
     const float lo[3] = { 0.003f, 0.003f, 0.003f }, hi[3] = { 0.497f, 0.053f, 0.253f };
     memcpy(pool.min, lo, sizeof lo);
@@ -544,28 +542,15 @@ static void run_scene(const support_gpu *f, const mirror_scene *s, tally *t)
     // Forces: what SWEEP_MAX particles moved across the sweep band push, f = m dx / dt^2
     // (two orders above the accumulators' rounding); torques: that force at the longest
     // lever, a body's bounding radius plus a particle radius.
-    pbf_constants k = pbf_derive_constants(&s->params);
-    double dt = s->dt / s->params.substeps, lever = 0.0;
+    const pbf_params *p = &s->s.params;
+    pbf_constants k = pbf_derive_constants(p);
+    double dt = s->dt / p->substeps, lever = 0.0;
     t->tol[C_COLLIDE_F] = SWEEP_MAX * k.mass * SWEEP_BAND * k.spacing / (dt * dt);
     for (int b = 0; b < s->bodies; b++) lever = fmax(lever, pbf_collider_bounding_radius(&s->def[b]));
-    t->tol[C_COLLIDE_T] = t->tol[C_COLLIDE_F] * (lever + s->params.particle_radius);
-    pbf_world_def def = pbf_default_world_def();
-    def.params = s->params;
-    def.capacity = s->capacity;
-    def.max_neighbours = pbf_suggest_max_neighbours(&s->params);
-    memcpy(def.domain_min, s->domain_min, sizeof def.domain_min);
-    memcpy(def.domain_max, s->domain_max, sizeof def.domain_max);
-    def.shader_dir = f->shader_dir;
-    char err[1024];
-    pbf_world *g = pbf_world_create(&def, err, sizeof err);
-    if (!g) fail_msg("pbf_world_create: %s", err);
-    pbf_cpu_world *c = pbf_cpu_world_create(&s->params, s->capacity, s->domain_min, s->domain_max, err, sizeof err);
-    if (!c) fail_msg("pbf_cpu_world_create: %s", err);
-    assert_int_equal(pbf_world_set_container(g, s->box_min, s->box_max, false), PBF_OK);
-    assert_int_equal(pbf_cpu_world_set_container(c, s->box_min, s->box_max, false), PBF_OK);
-    if (s->bodies) add_pool(g, c);
-    assert_int_equal(pbf_world_add_block(g, &s->block, NULL), PBF_OK);
-    assert_int_equal(pbf_cpu_world_add_block(c, &s->block, NULL), PBF_OK);
+    t->tol[C_COLLIDE_T] = t->tol[C_COLLIDE_F] * (lever + p->particle_radius);
+    pbf_world *g = support_gpu_world(f, &s->s);
+    pbf_cpu_world *c = support_cpu_world(&s->s);
+    if (s->pool) add_pool(g, c);
     pbf_collider_id ids[MAX_BODIES];
     for (int b = 0; b < s->bodies; b++) {
         assert_int_equal(pbf_world_add_collider(g, &s->def[b], &ids[b]), PBF_OK);
@@ -587,7 +572,7 @@ static void run_scene(const support_gpu *f, const mirror_scene *s, tally *t)
         assert_int_equal(pbf_world_read_binding(g, state[k], bytes, a), PBF_OK);
     }
 
-    mirror m = { g, c, (uint32_t)s->bodies, pbf_derive_constants(&s->params).spacing, NULL, 0, 0, 0, 0, false, t };
+    mirror m = { g, c, (uint32_t)s->bodies, k.spacing, NULL, 0, 0, 0, 0, false, t };
     pbf_world_set_stage_hook(g, record_gpu, &m);
     pbf_cpu_world_set_stage_hook(c, replay_on_cpu, &m);
     uint32_t *gpu_state = malloc((size_t)n * 16 + 16);
@@ -621,7 +606,7 @@ static void run_scene(const support_gpu *f, const mirror_scene *s, tally *t)
             handover += memcmp(rg.force, rc.force, sizeof rg.force) != 0 || memcmp(rg.torque, rc.torque, sizeof rg.torque) != 0 ||
                         rg.contacts != rc.contacts || rg.pushed_out != rc.pushed_out;
         }
-        note(t, C_HANDOVER, handover, m.step, s->params.substeps - 1, -1, first / 4);
+        note(t, C_HANDOVER, handover, m.step, p->substeps - 1, -1, first / 4);
         // metrics.comp on the same state: densities, and the counts exactly.
         pbf_step_stats gs;
         assert_int_equal(pbf_world_poll_stats(g, &gs, 1, true), 1);
@@ -632,7 +617,7 @@ static void run_scene(const support_gpu *f, const mirror_scene *s, tally *t)
         assert_int_equal(gs.overflow_count, cs.overflow_count);
         double d = fmax(fabs((double)gs.density_avg / cs.density_avg - 1.0),
                         fabs((double)gs.density_max / cs.density_max - 1.0));
-        note(t, C_METRICS, d, m.step, s->params.substeps - 1, -1, 0);
+        note(t, C_METRICS, d, m.step, p->substeps - 1, -1, 0);
     }
     pbf_world_set_stage_hook(g, NULL, NULL);
     pbf_cpu_world_set_stage_hook(c, NULL, NULL);
