@@ -186,10 +186,10 @@ void pbf_colliders_bind(pbf_world *w);
 /// Frees the colliders' CPU copies and GL buffers (pbf_world_destroy).
 void pbf_colliders_free(pbf_world *w);
 
-// ---- pbf_world.c: looking inside a step (tests: tests/test_mirror.c) ----------------------
+// ---- pbf_inspect.c: looking inside a step (tests/test_mirror.c) ---------------------------
 
-/// Calls fn after each stage of every step (NULL: no hook, the default; the step then
-/// costs one pointer test per stage more). It runs right after the stage's passes were
+/// Calls fn after each stage of every step (NULL, the default: none; unset, it costs the
+/// step one pointer test per stage). It runs right after the stage's passes were
 /// issued, before the step flips a ping-pong pair, so a stage's results are where its
 /// passes wrote them: reorder, delta, collide and viscosity in the *_OUT bindings. `substep`
 /// counts from 0; `iteration` is the solver iteration of the density, delta and collide
