@@ -5,6 +5,9 @@
 
 #include "fluid/pbf_cpu.h"
 #include "shaders/fluid/pbf_shared.h"
+// The formulas the shaders use (kernels, boundaries, frames, the density constraint) and
+// the vector vocabulary they are written in (pbf_vec3, pbf_add, pbf_scale, ...).
+#include "shaders/fluid/pbf_kernels.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -63,10 +66,6 @@ struct pbf_cpu_world {
     void *hook_user;
     char error[512];
 };
-
-// The kernels, boundaries and frames the shaders use, and the vector type they are written
-// in (pbf_vec3 with pbf_add, pbf_scale, ...): shaders/fluid/pbf_kernels.h.
-#include "shaders/fluid/pbf_kernels.h"
 
 static inline bool pbf_cpu_finite3(pbf_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
