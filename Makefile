@@ -24,8 +24,9 @@ setup:
 build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed tests
 	premake4 --file=premake5.lua gmake
 	@# ar only adds members: a renamed or removed source would leave its old object in a
-	@# library. The file list changed, so the libraries are made afresh.
-	@rm -f build/bin/*.a build/lib/*.so
+	@# library, and a renamed test would leave its old program for run.sh to run. The file
+	@# list changed, so the libraries and test programs are made afresh.
+	@rm -f build/bin/*.a build/lib/*.so build/bin/test_*
 	@touch build/Makefile
 
 build: setup build/Makefile

@@ -2,13 +2,16 @@
 // redone in plain C, float32, one thread, for small scenes (tests, tools, debugging).
 //
 // It is a second implementation of the same specification, not a port of a port: the
-// stages are the same (per substep: predict, grid, reorder, neighbours, iterations x
-// {density, delta, collide (only with colliders)}, velocity, then vorticity (eps > 0) and
-// viscosity when either is on), the constants come from pbf_derive_constants, and the
-// per-particle arithmetic is written in the shaders' order. The neighbour grid is the GPU's (cell size h, same origin and
-// dimensions, a stable counting sort each substep), so neighbour lists come in the same
-// order and the sums run in the same order too; what remains is the shader compiler's
-// freedom (fused multiply-adds, sqrt/pow precision), which the tests measure.
+// stages are the same (per substep: predict, grid count, scan, scatter and sort, reorder,
+// neighbours with the first iteration's density, iterations x {density (from the second),
+// delta, collide (only with colliders)}, velocity, then vorticity (eps > 0) and viscosity
+// when either is on), each a function that reads and writes the arrays its shader binds, in
+// the same layout; the constants come from pbf_derive_constants, and the per-particle
+// arithmetic is written in the shaders' order. The neighbour grid is the GPU's (cell size
+// h, same origin and dimensions, a stable counting sort each substep), so neighbour lists
+// come in the same order and the sums run in the same order too; what remains is the shader
+// compiler's freedom (fused multiply-adds, sqrt/pow precision). tests/test_mirror.c runs
+// each stage on both from the same input and compares them (pbf_cpu_internal.h's hook).
 //
 // Colliders are mirrored with colliders.glsl's shapes (hulls and distance grids included),
 // poses (a pose set between steps is interpolated substep by substep), boundary share,

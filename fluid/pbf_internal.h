@@ -80,6 +80,9 @@ typedef struct stats_slot {
     int colliders;
 } stats_slot;
 
+/// Called by the step after each stage's passes (tests that compare stages: pbf_world_set_stage_hook).
+typedef void pbf_stage_hook_fn(void *user, pbf_stage stage, int substep, int iteration);
+
 struct pbf_world {
     pbf_params params;
     uint32_t capacity;
@@ -139,6 +142,9 @@ struct pbf_world {
     // latest forces read back, per slot (N, N m)
     float force[PBF_MAX_COLLIDERS][6];
     uint64_t force_step[PBF_MAX_COLLIDERS];
+
+    pbf_stage_hook_fn *stage_hook; // NULL unless a test compares stages
+    void *stage_hook_user;
 };
 
 // ---- pbf_base.c: services the world's parts share (below world, emitters, colliders) ----
@@ -181,5 +187,23 @@ void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r);
 void pbf_colliders_bind(pbf_world *w);
 /// Frees the colliders' CPU copies and GL buffers (pbf_world_destroy).
 void pbf_colliders_free(pbf_world *w);
+
+// ---- pbf_inspect.c: looking inside a step (tests/test_mirror.c) ---------------------------
+
+/// Calls fn after each stage of every step (NULL, the default: none; unset, it costs the
+/// step one pointer test per stage). It runs right after the stage's passes were
+/// issued, before the step flips a ping-pong pair, so a stage's results are where its
+/// passes wrote them: reorder, delta, collide and viscosity in the *_OUT bindings. `substep`
+/// counts from 0; `iteration` is the solver iteration of the density, delta and collide
+/// stages (density is called from 1: the neighbours stage computes iteration 0's) and -1
+/// for the others. The metrics stage is reported once per step, after the last substep.
+/// The CPU reference (pbf_cpu_internal.h) calls its hook at the same points.
+void pbf_world_set_stage_hook(pbf_world *w, pbf_stage_hook_fn *fn, void *user);
+
+/// Reads `bytes` from the start of the buffer the passes see at storage binding `binding`
+/// (PBF_B_POS ... PBF_B_COLLIDER_DATA, the ping-pong pairs as currently bound), which
+/// holds its data in slot order; waits for the GPU (a GL_BUFFER_UPDATE barrier, then
+/// glGetBufferSubData). For tests and tools only: it stalls the pipeline.
+pbf_result pbf_world_read_binding(pbf_world *w, int binding, size_t bytes, void *out);
 
 #endif

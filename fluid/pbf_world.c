@@ -512,7 +512,14 @@ static void bind_step(pbf_world *w)
 typedef struct step_ctx {
     pbf_world *w;
     stats_slot *slot;
+    int substep;
 } step_ctx;
+
+// The stage hook (pbf_internal.h): after a stage's passes, before any ping-pong flip.
+static void stage_done(step_ctx *s, pbf_stage stage, int iteration)
+{
+    if (s->w->stage_hook) s->w->stage_hook(s->w->stage_hook_user, stage, s->substep, iteration);
+}
 
 static void mark(step_ctx *s, pbf_stage stage)
 {
@@ -581,17 +588,24 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
 {
     pbf_world *w = s->w;
     const pbf_params *p = &w->params;
+    s->substep = sub;
     pbf_write_params(w, dt, sub, slot);
     bind_step(w);
     dispatch_particles(s, PROG_PREDICT, PBF_STAGE_PREDICT);
+    stage_done(s, PBF_STAGE_PREDICT, -1);
 
     dispatch(s, PROG_GRID_CLEAR, groups_for(w->cells + 2, PBF_WG), PBF_STAGE_GRID_COUNT);
     dispatch_particles(s, PROG_GRID_COUNT, PBF_STAGE_GRID_COUNT);
+    stage_done(s, PBF_STAGE_GRID_COUNT, -1);
     run_scan(s);
+    stage_done(s, PBF_STAGE_GRID_SCAN, -1);
     bind_step(w);
     dispatch_particles(s, PROG_GRID_SCATTER, PBF_STAGE_GRID_SCATTER);
+    stage_done(s, PBF_STAGE_GRID_SCATTER, -1);
     dispatch_particles(s, PROG_GRID_SORT, PBF_STAGE_GRID_SORT);
+    stage_done(s, PBF_STAGE_GRID_SORT, -1);
     dispatch_particles(s, PROG_REORDER, PBF_STAGE_REORDER);
+    stage_done(s, PBF_STAGE_REORDER, -1);
     w->cur_pos ^= 1;
     w->cur_vel ^= 1;
     w->cur_pred ^= 1;
@@ -604,19 +618,32 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     }
     dispatch_particles(s, PROG_NEIGHBOURS, PBF_STAGE_NEIGHBOURS);
+    stage_done(s, PBF_STAGE_NEIGHBOURS, -1);
 
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
-        if (it > 0) dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
+        if (it > 0) {
+            dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
+            stage_done(s, PBF_STAGE_DENSITY, it);
+        }
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
-        if (w->gpu_colliders > 0) dispatch_particles(s, PROG_COLLIDE, PBF_STAGE_COLLIDE);
+        stage_done(s, PBF_STAGE_DELTA, it);
+        if (w->gpu_colliders > 0) {
+            dispatch_particles(s, PROG_COLLIDE, PBF_STAGE_COLLIDE);
+            stage_done(s, PBF_STAGE_COLLIDE, it);
+        }
         w->cur_pred ^= 1;
         pbf_bind_particles(w);
     }
     dispatch_particles(s, PROG_VELOCITY, PBF_STAGE_VELOCITY);
+    stage_done(s, PBF_STAGE_VELOCITY, -1);
     if (p->vorticity > 0.0f || p->viscosity > 0.0f) {
-        if (p->vorticity > 0.0f) dispatch_particles(s, PROG_VORTICITY, PBF_STAGE_VORTICITY);
+        if (p->vorticity > 0.0f) {
+            dispatch_particles(s, PROG_VORTICITY, PBF_STAGE_VORTICITY);
+            stage_done(s, PBF_STAGE_VORTICITY, -1);
+        }
         dispatch_particles(s, PROG_VISCOSITY, PBF_STAGE_VISCOSITY);
+        stage_done(s, PBF_STAGE_VISCOSITY, -1);
         w->cur_vel ^= 1;
         pbf_bind_particles(w);
     }
@@ -729,7 +756,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     slot->appended_total = w->appended_total;
     slot->substeps = p->substeps;
     pbf_colliders_begin_step(w, slot);
-    step_ctx s = { w, slot };
+    step_ctx s = { w, slot, 0 };
     mark(&s, PBF_STAGE_PREDICT);
     float sub_dt = dt / (float)p->substeps;
     for (int k = 0; k < p->substeps; k++) {
@@ -746,6 +773,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     glUseProgram(w->programs[PROG_METRICS_FINAL]);
     glUniform1ui(w->u_frame, (GLuint)w->step_index);
     dispatch(&s, PROG_METRICS_FINAL, 1, PBF_STAGE_METRICS);
+    stage_done(&s, PBF_STAGE_METRICS, -1);
     pbf_colliders_end_step(w);
     w->time += dt;
     slot->time = w->time;

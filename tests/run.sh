@@ -51,6 +51,20 @@ for t in build/bin/test_*; do
         /^\[  SKIPPED \] / && !/ test\(s\)/ && why != "" { print "    skipped " $4 ": " why; why = "" }' "$log_dir/$name.log"
 done
 
+# verdict OK KIND NAME PASS_TEXT FAIL_TEXT SECONDS: counts and prints one runner-driven test,
+# with the first lines of its stderr ($log_dir/KIND_NAME.err) when it failed.
+verdict() {
+    if [ "$1" = 1 ]; then
+        passed=$((passed + 1))
+        echo "ok      $2 $3 ($4, ${6}s)"
+    else
+        failed=$((failed + 1))
+        failures="$failures $2:$3"
+        echo "FAILED  $2 $3: $5, ${6}s; stderr:"
+        sed 's/^/    /' "$log_dir/$2_$3.err" | head -20
+    fi
+}
+
 for s in tests/scripts/*.lua; do
     [ -f "$s" ] || continue
     name=$(basename "$s" .lua)
@@ -84,15 +98,7 @@ for s in tests/scripts/*.lua; do
     done <<EOT
 $(sed -n 's/^-- expect-stderr: *//p' "$s")
 EOT
-    if [ "$ok" = 1 ]; then
-        passed=$((passed + 1))
-        echo "ok      script $name (exit $rc, ${secs}s)"
-    else
-        failed=$((failed + 1))
-        failures="$failures script:$name"
-        echo "FAILED  script $name: exit $rc (expected $expect), ${secs}s; stderr:"
-        sed 's/^/    /' "$log_dir/script_$name.err" | head -20
-    fi
+    verdict "$ok" script "$name" "exit $rc" "exit $rc (expected $expect)" "$secs"
 done
 
 # Every shipped scene, as a user would start it, for 60 frames (exit 0 expected).
@@ -103,15 +109,9 @@ for s in scripts/scenes/*.lua; do
     build/bin/seiche --headless --quiet --frames 60 "$s" >"$log_dir/scene_$name.out" 2>"$log_dir/scene_$name.err"
     rc=$?
     secs=$(( $(date +%s) - start ))
-    if [ "$rc" = 0 ]; then
-        passed=$((passed + 1))
-        echo "ok      scene $name (${secs}s)"
-    else
-        failed=$((failed + 1))
-        failures="$failures scene:$name"
-        echo "FAILED  scene $name: exit $rc, ${secs}s; stderr:"
-        sed 's/^/    /' "$log_dir/scene_$name.err" | head -20
-    fi
+    ok=0
+    [ "$rc" != 0 ] || ok=1
+    verdict "$ok" scene "$name" "exit 0" "exit $rc" "$secs"
 done
 
 echo

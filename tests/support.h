@@ -1,5 +1,6 @@
 // Shared helpers for the cmocka tests: a headless GL context, the shader and fixture
-// directories, and a logger that captures messages so tests can assert on them.
+// directories, a logger that captures messages so tests can assert on them, and the
+// solver tests' scenes, built the same way on the GPU and in the CPU reference.
 //
 // Include after the cmocka prerequisites (<stdarg.h>, <stddef.h>, <stdint.h>, <setjmp.h>)
 // and <cmocka.h>, or on its own: this header includes them itself.
@@ -15,6 +16,8 @@
 
 #include "engine/gl/context.h"
 #include "engine/core/log.h"
+#include "fluid/pbf.h"
+#include "fluid/pbf_cpu.h"
 
 /// Messages captured by support_capture_logger(); `text` holds "level: message\n" lines.
 typedef struct support_log {
@@ -69,5 +72,36 @@ void support_skip_unless_on_path(const char *program);
 /// Reads back the pixel at (x, y), counted from the top-left corner, of the current
 /// framebuffer of `ctx` into rgb[0..2] (0..255).
 void support_pixel(const eng_context *ctx, int x, int y, int rgb[3]);
+
+// ---- the solver tests' scenes (test_solver, test_solver_colliders, test_mirror) ---------
+
+/// A scene built identically on the GPU (support_gpu_world) and in the CPU reference
+/// (support_cpu_world): parameters, capacity, domain (m), a container, a block and extra
+/// particles, added in that order.
+typedef struct support_scene {
+    pbf_params params;
+    uint32_t capacity;
+    float domain_min[3], domain_max[3];
+    bool container;
+    float box_min[3], box_max[3];
+    bool closed_top;
+    pbf_block_def block;    ///< none when block.max[0] <= block.min[0]
+    const float *positions; ///< extra particles (xyz triples) after the block, or NULL
+    const float *velocities;
+    uint32_t extra;
+} support_scene;
+
+/// A dam break: a 0.25 m cube of water (10^3 particles at the default 2.5 cm spacing) in
+/// the corner of an open 0.5 x 0.5 x 0.25 m tank, default parameters.
+support_scene support_dam_break(void);
+/// The scene on the GPU (shaders from f->shader_dir) and in the CPU reference; the test
+/// fails when either refuses it.
+pbf_world *support_gpu_world(const support_gpu *f, const support_scene *s);
+pbf_cpu_world *support_cpu_world(const support_scene *s);
+/// Largest distance between corresponding particles of two xyzw arrays (m or m/s); NaN
+/// counts as the worst.
+double support_max_deviation(const float *a, const float *b, uint32_t n);
+/// Fails unless `message` contains every string of the NULL-terminated `needles`.
+void support_assert_mentions(const char *message, const char *const *needles);
 
 #endif

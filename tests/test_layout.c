@@ -45,6 +45,15 @@ static int setup(void **state)
     return file_count > 20 ? 0 : -1;
 }
 
+static FILE *open_source(int i)
+{
+    char path[1400];
+    snprintf(path, sizeof path, "%s/%s", root, files[i]);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    return f;
+}
+
 static bool starts(const char *s, const char *prefix) { return strncmp(s, prefix, strlen(prefix)) == 0; }
 
 // The engine's rooms, bottom up; -1 for a file outside them.
@@ -102,10 +111,7 @@ static void includes_point_down(void **state)
     (void)state;
     int broken = 0;
     for (int i = 0; i < file_count; i++) {
-        char path[1400];
-        snprintf(path, sizeof path, "%s/%s", root, files[i]);
-        FILE *f = fopen(path, "r");
-        assert_non_null(f);
+        FILE *f = open_source(i);
         char line[512];
         int n = 0;
         while (fgets(line, sizeof line, f)) {
@@ -137,10 +143,7 @@ static void no_source_file_is_over_a_thousand_lines(void **state)
     (void)state;
     int big = 0;
     for (int i = 0; i < file_count; i++) {
-        char path[1400];
-        snprintf(path, sizeof path, "%s/%s", root, files[i]);
-        FILE *f = fopen(path, "r");
-        assert_non_null(f);
+        FILE *f = open_source(i);
         int lines = 0, c;
         while ((c = fgetc(f)) != EOF) lines += c == '\n';
         fclose(f);

@@ -1,7 +1,7 @@
 /// phys.h: Seiche's C API over the Bullet rigid-body engine (prefix `phys_`).
 ///
 /// Bullet is C++; this header is plain C11 and includes no Bullet header. The
-/// implementation (phys.cpp) catches every C++ exception at the boundary, so
+/// implementation (phys_*.cpp) catches every C++ exception at the boundary, so
 /// nothing is ever thrown into C.
 ///
 ///     phys_world_def wd = phys_default_world_def();
@@ -20,12 +20,12 @@
 ///
 /// Shape of the API (after Box2D v3):
 /// - A world is an opaque pointer, `phys_world*`. It holds everything: bodies,
-///   shapes, constraints, the last error message and the log callback. There is
-///   no process-wide state in this wrapper, which is why the world is a pointer
-///   and not an index into a global table.
-/// - Bodies, shapes and constraints are ids passed by value. An id carries a
-///   slot (`index1`, 1-based), a tag of the world that issued it (`world0`) and
-///   a generation. The all-zero id is the null id. When an object is destroyed
+///   shapes, constraints, joints, the last error message and the log callback.
+///   There is no process-wide state in this wrapper, which is why the world is
+///   a pointer and not an index into a global table.
+/// - Bodies, shapes, constraints and joints are ids passed by value. An id
+///   carries a slot (`index1`, 1-based), a tag of the world that issued it
+///   (`world0`) and a generation. The all-zero id is the null id. When an object is destroyed
 ///   its slot's generation moves on, so an old id is "stale" and every call
 ///   that takes it fails with PHYS_ERR_STALE_ID instead of touching freed memory.
 /// - Creation takes a def struct filled by a default function
@@ -165,8 +165,8 @@ phys_world_def phys_default_world_def(void);
 /// message goes to def->log (there is no world to keep it).
 phys_result phys_world_create(const phys_world_def *def, phys_world **out_world);
 
-/// Destroy a world and everything in it (bodies, shapes, constraints); every
-/// id from it becomes meaningless. NULL is allowed and does nothing.
+/// Destroy a world and everything in it (bodies, shapes, constraints,
+/// joints); every id from it becomes meaningless. NULL is allowed and does nothing.
 void phys_world_destroy(phys_world *world);
 
 /// Advance the world by exactly one Bullet step of `dt` seconds.
@@ -461,8 +461,9 @@ phys_body_def phys_default_body_def(void);
 /// Create a body. On success *out is its id.
 phys_result phys_body_create(phys_world *world, const phys_body_def *def, phys_body_id *out);
 
-/// Destroy a body. Constraints attached to it are destroyed with it (their ids
-/// become stale). The shape is not destroyed.
+/// Destroy a body. Constraints and joints attached to it are destroyed with it
+/// (their ids become stale; the other body of a joint is woken). The shape is
+/// not destroyed.
 phys_result phys_body_destroy(phys_world *world, phys_body_id body);
 
 /// True when `body` names a live body of this world. Never sets an error.
@@ -582,6 +583,205 @@ phys_result phys_constraint_destroy(phys_world *world, phys_constraint_id constr
 
 /// True when `constraint` names a live constraint of this world.
 bool phys_constraint_is_valid(const phys_world *world, phys_constraint_id constraint);
+
+// ---------------------------------------------------------------------------
+// Joints (Bullet's constraints)
+//
+// A joint ties `body_a`, which must be PHYS_BODY_DYNAMIC, to `body_b`: another
+// body of any type, or the world when body_b is the null id. Pivots and axes
+// are given in world space at creation and fixed to each body there, so
+// create the joint with the bodies where they belong relative to each other.
+//
+// What a joint measures is body_a relative to body_b (or the world):
+// - hinge angle: rotation of body_a relative to body_b about the axis, rad,
+//   right-hand rule, 0 at creation, wrapped to [-π, π];
+// - slider position: displacement of body_a relative to body_b along the
+//   axis, m, 0 at creation.
+// Limits bound that measure. A motor drives its rate towards a target
+// velocity (rad/s, m/s) with at most a given torque (N·m) or force (N);
+// Bullet reduces the motor's push near a limit and the limit wins.
+//
+// Limits are inelastic: a hinge stops a door at its limit (Bullet's hinge
+// limit has a restitution by default; the wrapper sets it to 0).
+//
+// Joints are soft, like contacts: Bullet's sequential-impulse solver removes
+// a fraction of the error each step, so under load a pivot stretches by
+// millimetres and a body driven into a limit overshoots it briefly. The
+// solver runs phys_world_def.solver_iterations over all rows; it converges
+// slowly when a pivot is far from the centre of a body with little inertia
+// about its own centre: a ball on a point joint 1 m away swings slower than
+// it should (radius 5 cm: period +1.7% at dt 1/240 s, +8% at 1/60 s; radius
+// 10 cm at 1/120 s: +0.2%). More iterations, a shorter dt, or the arm as a
+// body of its own fix that.
+//
+// The two bodies of a joint do not collide with each other unless the def's
+// collide_connected is true. Destroying either body destroys its joints (their
+// ids become stale); destroying the world frees them all. Creating, changing
+// or destroying a joint wakes its bodies; a joint with an enabled motor, or
+// one whose body_b is kinematic, keeps its dynamic bodies awake.
+// ---------------------------------------------------------------------------
+
+/// Id of a joint; same layout and rules as phys_body_id.
+typedef struct phys_joint_id {
+    uint32_t index1;
+    uint16_t world0;
+    uint16_t generation;
+} phys_joint_id;
+
+/// Kind of joint.
+typedef enum phys_joint_type {
+    PHYS_JOINT_HINGE = 1, ///< one rotation about an axis (door, wheel)
+    PHYS_JOINT_SLIDER,    ///< one translation along an axis, no rotation (piston, lock gate)
+    PHYS_JOINT_FIXED,     ///< none: a weld that keeps the relative pose at creation
+    PHYS_JOINT_POINT      ///< three rotations about a pivot (ball socket, chain link)
+} phys_joint_type;
+
+/// A hinge (Bullet's btHingeConstraint): body_a turns about the line through
+/// `pivot` along `axis`, relative to body_b. Fill with phys_default_hinge_joint_def().
+/// Limit and motor fields are checked even while disabled.
+typedef struct phys_hinge_joint_def {
+    phys_body_id body_a;     ///< a PHYS_BODY_DYNAMIC body
+    phys_body_id body_b;     ///< another body, or the null id for the world (default)
+    phys_vec3 pivot;         ///< world point on the axis, m; default origin
+    phys_vec3 axis;          ///< world direction, any non-zero length (normalised); default {0, 0, 1}
+    bool enable_limit;       ///< default false
+    float lower_angle;       ///< rad, in [-π, π] and <= upper_angle; default 0
+    float upper_angle;       ///< rad, in [-π, π]; default 0 (equal limits lock the hinge)
+    bool enable_motor;       ///< default false
+    float motor_speed;       ///< target rate of the angle, rad/s, finite; default 0
+    float max_motor_torque;  ///< N·m, finite and >= 0; default 0
+    bool collide_connected;  ///< whether body_a and body_b collide; default false
+} phys_hinge_joint_def;
+
+/// A slider (Bullet's btSliderConstraint): body_a moves along the line through
+/// `anchor` along `axis`, relative to body_b, and does not rotate relative to
+/// it. Fill with phys_default_slider_joint_def(). Limit and motor fields are
+/// checked even while disabled.
+typedef struct phys_slider_joint_def {
+    phys_body_id body_a;     ///< a PHYS_BODY_DYNAMIC body
+    phys_body_id body_b;     ///< another body, or the null id for the world (default)
+    phys_vec3 anchor;        ///< world point on the line, m; default origin
+    phys_vec3 axis;          ///< world direction, any non-zero length (normalised); default {1, 0, 0}
+    bool enable_limit;       ///< default false
+    float lower_translation; ///< m, finite and <= upper_translation; default 0
+    float upper_translation; ///< m, finite; default 0
+    bool enable_motor;       ///< default false
+    float motor_speed;       ///< target rate of the position, m/s, finite; default 0
+    float max_motor_force;   ///< N, finite and >= 0; default 0
+    bool collide_connected;  ///< default false
+} phys_slider_joint_def;
+
+/// A weld (Bullet's btFixedConstraint): keeps body_a's pose relative to
+/// body_b (or the world) as it is at creation. Fill with phys_default_fixed_joint_def().
+typedef struct phys_fixed_joint_def {
+    phys_body_id body_a;     ///< a PHYS_BODY_DYNAMIC body
+    phys_body_id body_b;     ///< another body, or the null id for the world (default)
+    bool collide_connected;  ///< default false
+} phys_fixed_joint_def;
+
+/// A ball socket (Bullet's btPoint2PointConstraint): the material points of
+/// body_a and body_b at world `pivot` at creation stay together; rotation is
+/// free. Fill with phys_default_point_joint_def().
+typedef struct phys_point_joint_def {
+    phys_body_id body_a;     ///< a PHYS_BODY_DYNAMIC body
+    phys_body_id body_b;     ///< another body, or the null id for the world (default)
+    phys_vec3 pivot;         ///< world point, m; default origin
+    bool collide_connected;  ///< default false
+} phys_point_joint_def;
+
+/// Defaults: null bodies (body_b null = the world), pivot/anchor at the origin,
+/// hinge axis {0, 0, 1}, slider axis {1, 0, 0}, limits and motor off with all
+/// their values 0, collide_connected false.
+phys_hinge_joint_def phys_default_hinge_joint_def(void);
+phys_slider_joint_def phys_default_slider_joint_def(void);
+phys_fixed_joint_def phys_default_fixed_joint_def(void);
+phys_point_joint_def phys_default_point_joint_def(void);
+
+/// Create a joint. On success *out is its id; on failure *out is untouched and
+/// the message names the field (a stale or null body, body_a == body_b,
+/// body_a not dynamic, a zero axis, lower > upper, ...).
+phys_result phys_joint_create_hinge(phys_world *world, const phys_hinge_joint_def *def, phys_joint_id *out);
+phys_result phys_joint_create_slider(phys_world *world, const phys_slider_joint_def *def, phys_joint_id *out);
+phys_result phys_joint_create_fixed(phys_world *world, const phys_fixed_joint_def *def, phys_joint_id *out);
+phys_result phys_joint_create_point(phys_world *world, const phys_point_joint_def *def, phys_joint_id *out);
+
+/// Destroy a joint. Its bodies are woken and collide with each other again.
+phys_result phys_joint_destroy(phys_world *world, phys_joint_id joint);
+
+/// True when `joint` names a live joint of this world. Never sets an error.
+bool phys_joint_is_valid(const phys_world *world, phys_joint_id joint);
+
+/// The joint's type.
+phys_result phys_joint_get_type(phys_world *world, phys_joint_id joint, phys_joint_type *out);
+
+/// Hinges and sliders: turn the motor on or off. target_velocity: rad/s
+/// (hinge) or m/s (slider), finite; max_force: the most the motor may apply,
+/// N·m (hinge) or N (slider), finite and >= 0. Both are checked and stored
+/// even when enabled is false.
+phys_result phys_joint_set_motor(phys_world *world, phys_joint_id joint, bool enabled,
+                                 float target_velocity, float max_force);
+
+/// Hinges and sliders: turn the limits on or off. lower <= upper; rad in
+/// [-π, π] for a hinge, m (finite) for a slider. Checked even when enabled is false.
+phys_result phys_joint_set_limits(phys_world *world, phys_joint_id joint, bool enabled,
+                                  float lower, float upper);
+
+/// Hinges: the current angle, rad in [-π, π] (see the section's top). For the
+/// total turn of a wheel, add up the wrapped differences from step to step.
+phys_result phys_joint_get_angle(phys_world *world, phys_joint_id joint, float *out);
+
+/// Sliders: the current position, m (see the section's top).
+phys_result phys_joint_get_position(phys_world *world, phys_joint_id joint, float *out);
+
+/// What the joint did to body_a during the last step: the impulse, N·s, and
+/// the angular impulse about body_a's centre of mass, N·m·s, both world axes
+/// (body_b got the opposite impulse). Divide by dt for the force (N) and
+/// torque (N·m): a body hanging still from a joint reports {0, m g dt, 0}.
+/// Zero before the first step and while both bodies sleep. Either output may be NULL.
+phys_result phys_joint_get_applied_impulse(phys_world *world, phys_joint_id joint,
+                                           phys_vec3 *out_impulse, phys_vec3 *out_angular_impulse);
+
+// ---------------------------------------------------------------------------
+// Contact reports
+// ---------------------------------------------------------------------------
+
+/// One touching pair of bodies after a step (all contact points of the pair
+/// merged).
+typedef struct phys_contact {
+    phys_body_id a, b;   ///< the two bodies, a.index1 < b.index1; either may be static
+    /// World, m: the mean of the contact points (each midway between the two
+    /// surfaces) weighted by their impulses.
+    phys_vec3 point;
+    /// World, unit: from a towards b, the direction of the impulse on b
+    /// (impulse-weighted mean of the points' normals).
+    phys_vec3 normal;
+    /// N·s: the normal impulse of the last step, summed over the pair's
+    /// contact points; > 0. Friction is not included.
+    float impulse;
+} phys_contact;
+
+/// The body pairs whose contact impulse in the last phys_world_step exceeded
+/// `min_impulse` (N·s, finite, >= 0), sorted by a.index1 then b.index1.
+///
+/// The threshold is an impulse per step, not a force: a body of mass m
+/// resting on another pushes m·g·dt every step (0.16 N·s for 1 kg at
+/// dt = 1/60 s), while one that stops from speed v in a hit gives about m·v
+/// (a restitution e gives (1 + e)·m·v). So a threshold a few times m·g·dt
+/// reports hits and not resting contact, and one of 0 reports every pair
+/// that pushed at all. Pairs whose bodies all sleep were not solved and are
+/// not reported.
+///
+/// How Bullet shapes a hit: a box landing flat on a box gets its whole face
+/// in the first step and stops there; the report is a little over m·v, as
+/// it also carries that step's gravity and the push out of the penetration
+/// (+12% for a 0.4 m box falling 0.5 m at dt = 1/60 s). On a plane Bullet
+/// adds one contact point per step, so the box lands on one corner, tips,
+/// and its hit is spread over several steps at moving points.
+///
+/// *count receives the number of pairs found, which may exceed `max`; the
+/// first min(max, *count) go to out. max >= 0; out may be NULL when max is 0.
+phys_result phys_world_get_contacts(phys_world *world, float min_impulse, phys_contact *out,
+                                    int max, int *count);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,21 @@ const char* body_type_name(phys_body_type t) {
     return "unknown";
 }
 
+void hold_awake(BodySlot& b) {
+    if (!b.alive || b.type != PHYS_BODY_DYNAMIC) return;
+    ++b.awake_holds;
+    b.body->forceActivationState(DISABLE_DEACTIVATION);
+}
+
+void release_awake(BodySlot& b) {
+    if (!b.alive || b.type != PHYS_BODY_DYNAMIC) return;
+    if (b.awake_holds > 0) --b.awake_holds;
+    if (b.awake_holds == 0 && b.allow_sleep) {
+        b.body->forceActivationState(ACTIVE_TAG);
+        b.body->setDeactivationTime(0);
+    }
+}
+
 } // namespace phys_internal
 
 static phys_result get_body(phys_world* w, const char* fn, phys_body_id id, BodySlot** out) {
@@ -206,7 +221,7 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
         b.allow_sleep = d.allow_sleep;
         b.has_target = false;
         b.shape_slot = shape_slot;
-        b.constraint_count = 0;
+        b.awake_holds = 0;
         b.user_data = d.user_data;
         b.kin_linear = d.type == PHYS_BODY_KINEMATIC ? to_bt(d.linear_velocity) : btVector3(0, 0, 0);
         b.kin_angular = d.type == PHYS_BODY_KINEMATIC ? to_bt(d.angular_velocity) : btVector3(0, 0, 0);
@@ -229,6 +244,7 @@ phys_result phys_body_destroy(phys_world* world, phys_body_id body) {
                 destroy_constraint_slot(w, c);
             }
         }
+        destroy_body_joints(w, slot);
         BodySlot& b = w->bodies[slot];
         w->dynamics->removeRigidBody(b.body.get());
         b.body.reset();
@@ -495,7 +511,7 @@ phys_result phys_body_set_sleep_enabled(phys_world* world, phys_body_id body, bo
         b->allow_sleep = enabled;
         // Kinematic bodies never sleep; static bodies never move.
         if (b->type != PHYS_BODY_DYNAMIC) return PHYS_OK;
-        if (!enabled || b->constraint_count > 0) {
+        if (!enabled || b->awake_holds > 0) {
             b->body->forceActivationState(DISABLE_DEACTIVATION);
         } else {
             b->body->forceActivationState(ACTIVE_TAG);

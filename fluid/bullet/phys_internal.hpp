@@ -2,9 +2,9 @@
 // and its slot tables, id helpers, the exception guard, input checks and cross-file prototypes.
 //
 // How it is put together:
-// - phys_world owns one btDiscreteDynamicsWorld and three slot tables (shapes,
-//   bodies, constraints). A slot keeps its Bullet object in a unique_ptr, a
-//   generation and an alive flag; freed slots go on a free list and their
+// - phys_world owns one btDiscreteDynamicsWorld and four slot tables (shapes,
+//   bodies, constraints, joints). A slot keeps its Bullet object in a unique_ptr,
+//   a generation and an alive flag; freed slots go on a free list and their
 //   generation moves on, which is what makes old ids detectably stale.
 // - Every extern "C" entry point runs its body inside guarded(), which turns
 //   any C++ exception into a phys_result and a message. Nothing is thrown into C.
@@ -14,10 +14,15 @@
 //   runs exactly one internal step of dt with no accumulator. Kinematic bodies
 //   are moved by writing their world transform just before the step; Bullet's
 //   saveKinematicState then derives their velocity from the previous pose.
+// - Joints to the world are two-body constraints whose second body is the
+//   world's own `fixed` body: static, shapeless, at the origin, never added to
+//   the dynamics world (Bullet's getFixedBody() is the same idea, but one object
+//   for the whole process).
 //
 // The files: phys_world.cpp (world create/destroy, step, gravity, errors, input checks),
-// phys_shape.cpp (shapes, compounds, mass properties), phys_body.cpp (bodies) and
-// phys_query.cpp (ray casts, point constraints). Helpers two files share live in the
+// phys_shape.cpp (shapes, compounds, mass properties), phys_body.cpp (bodies),
+// phys_query.cpp (ray casts, point constraints), phys_joint.cpp (joints) and
+// phys_contact.cpp (contact reports). Helpers two files share live in the
 // namespace phys_internal, declared here; file-local ones are static.
 
 #ifndef SEICHE_PHYS_INTERNAL_HPP
@@ -86,7 +91,9 @@ struct BodySlot {
     bool allow_sleep = true;
     bool has_target = false;
     uint32_t shape_slot = 0;
-    uint32_t constraint_count = 0;
+    // Point constraints and motorised (or kinematic-driven) joints holding the
+    // body awake: while > 0 a dynamic body does not sleep.
+    uint32_t awake_holds = 0;
     void* user_data = nullptr;
     btTransform target;         // kinematic target for the next step
     btVector3 kin_linear{0, 0, 0};  // kinematic velocity set by the caller
@@ -100,6 +107,26 @@ struct ConstraintSlot {
     uint32_t body_slot = 0;
     float max_force = 0;
     std::unique_ptr<btPoint2PointConstraint> constraint;
+};
+
+// body_b of a joint to the world.
+constexpr uint32_t kWorldSlot = std::numeric_limits<uint32_t>::max();
+
+struct JointSlot {
+    uint16_t generation = 1;
+    bool alive = false;
+    phys_joint_type type = PHYS_JOINT_HINGE;
+    uint32_t body_a = 0;
+    uint32_t body_b = kWorldSlot;
+    bool holds_awake = false;    // counted in the bodies' awake_holds
+    bool motor = false;
+    float motor_speed = 0;       // rad/s or m/s
+    float max_motor = 0;         // N·m (hinge: made an impulse at each step) or N (slider)
+    bool limit = false;
+    float lower = 0, upper = 0;  // rad or m
+    // Heap-allocated: Bullet keeps a pointer to it, and the slot moves when the table grows.
+    std::unique_ptr<btJointFeedback> feedback;
+    std::unique_ptr<btTypedConstraint> constraint;
 };
 
 inline uint16_t next_generation(uint16_t g) {
@@ -126,7 +153,11 @@ struct phys_world {
     std::vector<phys_internal::ShapeSlot> shapes;
     std::vector<phys_internal::BodySlot> bodies;
     std::vector<phys_internal::ConstraintSlot> constraints;
-    std::vector<uint32_t> free_shapes, free_bodies, free_constraints;
+    std::vector<phys_internal::JointSlot> joints;
+    std::vector<uint32_t> free_shapes, free_bodies, free_constraints, free_joints;
+    // The other body of joints to the world (see the top of this file).
+    std::unique_ptr<btRigidBody> fixed;
+    float last_dt = 0;  // s, of the last phys_world_step (0 before the first)
     uint32_t body_count = 0;
     char last_error[512] = {0};
 
@@ -137,12 +168,17 @@ struct phys_world {
             for (phys_internal::ConstraintSlot& c : constraints) {
                 if (c.alive) dynamics->removeConstraint(c.constraint.get());
             }
+            for (phys_internal::JointSlot& j : joints) {
+                if (j.alive) dynamics->removeConstraint(j.constraint.get());
+            }
             for (phys_internal::BodySlot& b : bodies) {
                 if (b.alive) dynamics->removeRigidBody(b.body.get());
             }
         }
         constraints.clear();
+        joints.clear();
         bodies.clear();
+        fixed.reset();
         dynamics.reset();
         solver.reset();
         broadphase.reset();
@@ -274,6 +310,17 @@ const char* body_type_name(phys_body_type t);      // phys_body.cpp
 // Take a constraint out of the world, free its slot and let its body sleep again
 // (phys_query.cpp; phys_body_destroy calls it for the body's constraints).
 void destroy_constraint_slot(phys_world* w, uint32_t slot);
+
+// Hold a dynamic body awake, or let go of a hold; the last one to let go lets it sleep
+// again if its def allows (phys_body.cpp). Both do nothing for other body types.
+void hold_awake(BodySlot& b);
+void release_awake(BodySlot& b);
+
+// Destroy every joint of a body (phys_joint.cpp; phys_body_destroy calls it).
+void destroy_body_joints(phys_world* w, uint32_t body_slot);
+
+// Before a step of dt: turn hinge motor torques into impulses (phys_joint.cpp).
+void prepare_joints(phys_world* w, float dt);
 
 } // namespace phys_internal
 

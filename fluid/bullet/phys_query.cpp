@@ -15,12 +15,7 @@ void destroy_constraint_slot(phys_world* w, uint32_t slot) {
     c.constraint.reset();
     c.alive = false;
     c.generation = next_generation(c.generation);
-    BodySlot& b = w->bodies[c.body_slot];
-    if (b.constraint_count > 0) --b.constraint_count;
-    if (b.alive && b.constraint_count == 0 && b.allow_sleep) {
-        b.body->forceActivationState(ACTIVE_TAG);
-        b.body->setDeactivationTime(0);
-    }
+    release_awake(w->bodies[c.body_slot]);
     w->free_constraints.push_back(slot);
 }
 
@@ -109,8 +104,7 @@ phys_result phys_point_constraint_create(phys_world* world, const phys_point_con
         c.max_force = def->max_force;
         c.alive = true;
         claim_slot(w->free_constraints, slot);
-        ++b.constraint_count;
-        rb->forceActivationState(DISABLE_DEACTIVATION);
+        hold_awake(b);
         *out = make_id<phys_constraint_id>(w, slot, c.generation);
         return PHYS_OK;
     });

@@ -166,6 +166,10 @@ phys_result phys_world_create(const phys_world_def* def, phys_world** out_world)
             w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get());
         w->dynamics->setGravity(to_bt(def->gravity));
         w->dynamics->getSolverInfo().m_numIterations = def->solver_iterations;
+        // The world side of joints to the world: static (mass 0), no shape, at the origin.
+        btRigidBody::btRigidBodyConstructionInfo fixed_info(0, nullptr, nullptr);
+        w->fixed = std::make_unique<btRigidBody>(fixed_info);
+        w->fixed->setUserIndex(-1);
         *out_world = w.release();
         return PHYS_OK;
     } catch (const std::bad_alloc&) {
@@ -211,8 +215,10 @@ phys_result phys_world_step(phys_world* world, float dt) {
         for (ConstraintSlot& c : w->constraints) {
             if (c.alive) c.constraint->m_setting.m_impulseClamp = c.max_force * dt;
         }
+        prepare_joints(w, dt);
         // maxSubSteps = 0: Bullet's variable-step path, exactly one step of dt.
         w->dynamics->stepSimulation(dt, 0, dt);
+        w->last_dt = dt;
         for (BodySlot& b : w->bodies) b.has_target = false;
         return PHYS_OK;
     });

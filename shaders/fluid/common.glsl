@@ -152,21 +152,8 @@ layout(std430, binding = PBF_B_FORCES) readonly buffer Forces { int forces[]; };
 #endif
 #endif
 
-// ---- kernels (h = P.h) -------------------------------------------------------------
-float w_poly6(float r2)
-{
-    float d = P.h * P.h - r2;
-    return d > 0.0 ? P.poly6 * d * d * d : 0.0;
-}
-
-// Gradient of the spiky kernel with respect to x_i for r = x_i - x_j.
-vec3 grad_spiky(vec3 r)
-{
-    float len = length(r);
-    if (len <= 1e-9 * P.h || len >= P.h) return vec3(0.0);
-    float d = P.h - len;
-    return (P.spiky_grad * d * d / len) * r;
-}
+// ---- kernels, boundaries, rigid frames: shared with the CPU reference ----------------
+#include "pbf_kernels.h"
 
 // ---- grid ---------------------------------------------------------------------------
 ivec3 cell_coord(vec3 x)
@@ -186,74 +173,5 @@ uint row_of(ivec3 c) { return uint(c.y) + P.grid_dims.y * uint(c.z); }
 uint bucket_of(ivec3 c)
 {
     return (row_of(c) * 2654435761u + uint(c.x)) & (P.grid_dims.w - 1u);
-}
-
-// ---- rigid frames ---------------------------------------------------------------------
-vec3 quat_rotate(vec4 q, vec3 v)
-{
-    vec3 t = 2.0 * cross(q.xyz, v);
-    return v + q.w * t + cross(q.xyz, t);
-}
-
-vec3 quat_rotate_inv(vec4 q, vec3 v) { return quat_rotate(vec4(-q.xyz, q.w), v); }
-
-// ---- boundaries -------------------------------------------------------------------------
-// A boundary is seen by a particle as a half-space at distance d along the inward normal
-// n (the semi-analytic model of docs/solver.md). The share of a filled neighbourhood
-// that the wall takes is V(d) = int_{z>d} W_poly6, and the gradient of that share with
-// respect to the particle is -G(d) n with G(d) = int_{z>d} |grad W_spiky| (z/r).
-// Both are closed-form polynomials in u = d/h, V(0) = 1/2 and G(0) = 1.5/h, times
-// P.boundary_scale, which calibrates the continuous model to the particle lattice (a rest
-// block against a wall starts in balance; see pbf_constants.boundary_scale).
-float boundary_volume(float d)
-{
-    float u = clamp(d / P.h, 0.0, 1.0);
-    float u2 = u * u;
-    // antiderivative of (1-u^2)^4: u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9; F(1) = 128/315
-    float F = u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
-    return P.boundary_scale * (315.0 / 256.0) * (128.0 / 315.0 - F);
-}
-
-float boundary_gradient(float d)
-{
-    float u = clamp(d / P.h, 0.0, 1.0);
-    // antiderivative of u(1-u)^3: u^2/2 - u^3 + 3u^4/4 - u^5/5; H(1) = 1/20
-    float H = u * u * (0.5 + u * (-1.0 + u * (0.75 - u * 0.2)));
-    return P.boundary_scale * (30.0 / P.h) * (0.05 - H);
-}
-
-// Container plane p: distance of x on the inside (positive) and the inward normal.
-float plane_distance(uint p, vec3 x, out vec3 n)
-{
-    n = P.planes[p].xyz;
-    return dot(x, n) - P.planes[p].w;
-}
-
-// The container's share of the density at x (a fraction of a filled neighbourhood) and
-// that share's gradient with respect to x (1/m), grad C_i gets `grad`. The planes'
-// half-spaces are combined as a union, V = 1 - prod_p (1 - V_p), so edges and corners are
-// not counted two or three times (exact for a separable kernel, within a few per cent of
-// the true overlap for poly6); each plane's gradient is weighted by what the others leave.
-float container_boundary(vec3 x, out vec3 grad)
-{
-    float keep = 1.0;
-    float vp[PBF_MAX_PLANES];
-    vec3 gp[PBF_MAX_PLANES];
-    for (uint p = 0u; p < P.plane_count; p++) {
-        vec3 n;
-        float d = plane_distance(p, x, n);
-        vp[p] = d < P.h ? boundary_volume(d) : 0.0;
-        gp[p] = d < P.h ? boundary_gradient(d) * n : vec3(0.0);
-        keep *= 1.0 - vp[p];
-    }
-    grad = vec3(0.0);
-    for (uint p = 0u; p < P.plane_count; p++) {
-        if (vp[p] <= 0.0) continue;
-        float others = 1.0; // products, not a division: the CPU reference matches bit for bit
-        for (uint q = 0u; q < P.plane_count; q++)
-            if (q != p) others *= 1.0 - vp[q];
-        grad -= gp[p] * others;
-    }
-    return 1.0 - keep;
 }
 

@@ -1,0 +1,286 @@
+// The formulas the shaders and the CPU reference share: SPH kernels, the boundary model's
+// closed forms, container planes, rigid frames and the collider shapes' signed distances.
+//
+// One definition, compiled as GLSL (included by common.glsl and colliders.glsl, after the
+// parameter block P and the collider buffers are declared) and as C (included by the CPU
+// reference, fluid/pbf_cpu_*.c). GL_core_profile tells which, as in pbf_shared.h. To read
+// and write the same text in both, the bodies use:
+// - `pbf_vec3` and function-style vector operations (pbf_add, pbf_sub, pbf_scale (scalar
+//   times vector), pbf_div, pbf_dot, pbf_length, pbf_cross, pbf_xyz of a vec4, ...): GLSL
+//   macros that expand to the operators and built-ins, small C functions in C;
+// - the parameter block as `P.field`: the GLSL uniform block; in C, a first parameter
+//   `const pbf_gpu_params *pbf_p` that P stands for (declared by PBF_P_ARG, or PBF_P_ONLY
+//   when it is the only one, and passed on by PBF_P_ or PBF_P; C callers pass their own
+//   pointer first);
+// - collider data (hull planes, distance grids) as `collider_data[i]`: the GLSL storage
+//   block; in C, a parameter (PBF_DATA_ARG, PBF_DATA_);
+// - `out` and `inout` parameters as PBF_OUT(type) name and PBF_INOUT(type) name, written and
+//   read as PBF_REF(name), passed on as PBF_ADDR(name): `out type` / name / name in GLSL, a
+//   pointer in C;
+// - float literals with an f suffix (GLSL 4.30 takes it), so C computes in float too.
+// What stays on each side is the plumbing: buffers and thread indices, the loops over
+// neighbours and colliders, atomics (see docs/solver.md, "One source of truth").
+#ifndef PBF_KERNELS_H
+#define PBF_KERNELS_H
+
+#include "pbf_shared.h"
+
+#ifdef GL_core_profile
+#define PBF_FN
+#define PBF_P_ONLY void
+#define PBF_P_ARG
+#define PBF_P
+#define PBF_P_
+#define PBF_DATA_ARG
+#define PBF_DATA_
+#define PBF_OUT(type) out type
+#define PBF_INOUT(type) inout type
+#define PBF_REF(name) name
+#define PBF_ADDR(name) name
+#define pbf_vec3 vec3
+#define pbf_v3(x, y, z) vec3(x, y, z)
+#define pbf_xyz(a) ((a).xyz)
+#define pbf_add(a, b) ((a) + (b))
+#define pbf_sub(a, b) ((a) - (b))
+#define pbf_neg(a) (-(a))
+#define pbf_scale(s, a) ((s) * (a))
+#define pbf_div(a, s) ((a) / (s))
+#define pbf_dot dot
+#define pbf_length length
+#define pbf_cross cross
+#define pbf_normalize normalize
+#define pbf_clamp clamp
+#define pbf_min min
+#define pbf_max max
+#define pbf_abs abs
+#define pbf_sign sign
+#define pbf_sqrt sqrt
+#define pbf_length2(x, y) length(vec2(x, y))
+#define pbf_distance distance
+#define pbf_mixf mix
+#define pbf_mix3 mix
+#define pbf_clampi clamp
+#define PBF_FLOAT_OF(x) float(x)
+#define PBF_INT_OF(x) int(x)
+#define PBF_UINT_OF(x) uint(x)
+#define PBF_FLOOR_INT(x) int(floor(x))
+#define pbf_dot4 dot
+#define pbf_neg4(a) (-(a))
+#define pbf_mix4 mix
+#define pbf_normalize4 normalize
+#define pbf_quat_conj(q) vec4(-(q).xyz, (q).w)
+#else
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#define PBF_FN static inline
+#define PBF_P_ONLY const pbf_gpu_params *pbf_p
+#define PBF_P_ARG const pbf_gpu_params *pbf_p,
+#define PBF_P pbf_p
+#define PBF_P_ pbf_p,
+#define PBF_DATA_ARG const float *collider_data,
+#define PBF_DATA_ collider_data,
+#define PBF_OUT(type) type *
+#define PBF_INOUT(type) type *
+#define PBF_REF(name) (*(name))
+#define PBF_ADDR(name) (&(name))
+#define P (*pbf_p)
+
+typedef struct pbf_vec3 {
+    float x, y, z;
+} pbf_vec3;
+
+PBF_FN pbf_vec3 pbf_v3(float x, float y, float z) { return (pbf_vec3){ x, y, z }; }
+PBF_FN pbf_vec3 pbf_xyz(pbf_float4 a) { return (pbf_vec3){ a.x, a.y, a.z }; }
+PBF_FN pbf_vec3 pbf_add(pbf_vec3 a, pbf_vec3 b) { return (pbf_vec3){ a.x + b.x, a.y + b.y, a.z + b.z }; }
+PBF_FN pbf_vec3 pbf_sub(pbf_vec3 a, pbf_vec3 b) { return (pbf_vec3){ a.x - b.x, a.y - b.y, a.z - b.z }; }
+PBF_FN pbf_vec3 pbf_neg(pbf_vec3 a) { return (pbf_vec3){ -a.x, -a.y, -a.z }; }
+PBF_FN pbf_vec3 pbf_scale(float s, pbf_vec3 a) { return (pbf_vec3){ s * a.x, s * a.y, s * a.z }; }
+PBF_FN pbf_vec3 pbf_div(pbf_vec3 a, float s) { return (pbf_vec3){ a.x / s, a.y / s, a.z / s }; }
+PBF_FN float pbf_dot(pbf_vec3 a, pbf_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+PBF_FN float pbf_length(pbf_vec3 a) { return sqrtf(pbf_dot(a, a)); }
+PBF_FN pbf_vec3 pbf_cross(pbf_vec3 a, pbf_vec3 b)
+{
+    return (pbf_vec3){ a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y };
+}
+PBF_FN pbf_vec3 pbf_normalize(pbf_vec3 a) { return pbf_div(a, pbf_length(a)); }
+PBF_FN float pbf_clamp(float x, float lo, float hi) { return fminf(fmaxf(x, lo), hi); }
+PBF_FN float pbf_min(float a, float b) { return fminf(a, b); }
+PBF_FN float pbf_max(float a, float b) { return fmaxf(a, b); }
+PBF_FN float pbf_abs(float a) { return fabsf(a); }
+PBF_FN float pbf_sign(float a) { return a > 0.0f ? 1.0f : a < 0.0f ? -1.0f : 0.0f; }
+PBF_FN float pbf_sqrt(float a) { return sqrtf(a); }
+PBF_FN float pbf_length2(float x, float y) { return sqrtf(x * x + y * y); }
+PBF_FN float pbf_distance(pbf_vec3 a, pbf_vec3 b) { return pbf_length(pbf_sub(a, b)); }
+PBF_FN int pbf_clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
+#define PBF_FLOAT_OF(x) ((float)(x))
+#define PBF_INT_OF(x) ((int)(x))
+#define PBF_UINT_OF(x) ((uint32_t)(x))
+#define PBF_FLOOR_INT(x) ((int)floorf(x))
+PBF_FN float pbf_dot4(pbf_float4 a, pbf_float4 b) { return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w; }
+PBF_FN pbf_float4 pbf_neg4(pbf_float4 a) { return (pbf_float4){ -a.x, -a.y, -a.z, -a.w }; }
+/// GLSL mix as its specification writes it: x (1 - a) + y a.
+PBF_FN float pbf_mixf(float x, float y, float a) { return x * (1.0f - a) + y * a; }
+PBF_FN pbf_vec3 pbf_mix3(pbf_vec3 x, pbf_vec3 y, float a)
+{
+    return (pbf_vec3){ pbf_mixf(x.x, y.x, a), pbf_mixf(x.y, y.y, a), pbf_mixf(x.z, y.z, a) };
+}
+PBF_FN pbf_float4 pbf_mix4(pbf_float4 x, pbf_float4 y, float a)
+{
+    return (pbf_float4){ pbf_mixf(x.x, y.x, a), pbf_mixf(x.y, y.y, a), pbf_mixf(x.z, y.z, a), pbf_mixf(x.w, y.w, a) };
+}
+PBF_FN pbf_float4 pbf_normalize4(pbf_float4 a)
+{
+    float len = sqrtf(pbf_dot4(a, a));
+    return (pbf_float4){ a.x / len, a.y / len, a.z / len, a.w / len };
+}
+PBF_FN pbf_float4 pbf_quat_conj(pbf_float4 q) { return (pbf_float4){ -q.x, -q.y, -q.z, q.w }; }
+#endif
+
+// ---- kernels (h = P.h) -----------------------------------------------------------------
+
+/// The poly6 kernel W(r) for r^2 = r2 (1/m^3).
+PBF_FN float w_poly6(PBF_P_ARG float r2)
+{
+    float d = P.h * P.h - r2;
+    return d > 0.0f ? P.poly6 * d * d * d : 0.0f;
+}
+
+/// Gradient of the spiky kernel with respect to x_i for r = x_i - x_j (1/m^4).
+PBF_FN pbf_vec3 grad_spiky(PBF_P_ARG pbf_vec3 r)
+{
+    float len = pbf_length(r);
+    if (len <= 1e-9f * P.h || len >= P.h) return pbf_v3(0.0f, 0.0f, 0.0f);
+    float d = P.h - len;
+    return pbf_scale(P.spiky_grad * d * d / len, r);
+}
+
+// ---- the density constraint (density.glsl) ----------------------------------------------
+
+/// Adds neighbour j at r = x_i - x_j to the sums: sum W (poly6), grad_i C_i (fluid part,
+/// 1/m) and sum_j |grad_j C_i|^2 (1/m^2).
+PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(pbf_vec3) grad_i,
+                        PBF_INOUT(float) sum_grad2)
+{
+    float k = P.mass_density * P.inv_rest_density;
+    PBF_REF(sum_w) += w_poly6(PBF_P_ pbf_dot(r, r));
+    pbf_vec3 g = pbf_scale(k, grad_spiky(PBF_P_ r));
+    PBF_REF(grad_i) = pbf_add(PBF_REF(grad_i), g);
+    PBF_REF(sum_grad2) += pbf_dot(g, g);
+}
+
+/// The multiplier of a particle with density rho (kg/m^3) and the sums above (boundaries
+/// included): C_i = max(rho_i / rho0 - 1, 0), lambda_i = -C_i / (|grad_i C_i|^2 +
+/// sum_j |grad_j C_i|^2 + epsilon), m^2.
+PBF_FN float density_lambda(PBF_P_ARG float rho, pbf_vec3 grad_i, float sum_grad2)
+{
+    float C = pbf_max(rho * P.inv_rest_density - 1.0f, 0.0f);
+    return -C / (pbf_dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
+}
+
+// ---- boundaries -------------------------------------------------------------------------
+// A boundary is seen by a particle as a half-space at distance d along the inward normal
+// n (the semi-analytic model of docs/solver.md). The share of a filled neighbourhood
+// that the wall takes is V(d) = int_{z>d} W_poly6, and the gradient of that share with
+// respect to the particle is -G(d) n with G(d) = int_{z>d} |grad W_spiky| (z/r).
+// Both are closed-form polynomials in u = d/h, V(0) = 1/2 and G(0) = 1.5/h, times
+// `scale`: P.boundary_scale in the solver, which calibrates the continuous model to the
+// particle lattice (a rest block against a wall starts in balance; see
+// pbf_constants.boundary_scale), 1 for the continuous V and G themselves.
+
+/// V(d) for kernel radius h (m), times scale (dimensionless).
+PBF_FN float pbf_boundary_volume(float d, float h, float scale)
+{
+    float u = pbf_clamp(d / h, 0.0f, 1.0f);
+    float u2 = u * u;
+    // antiderivative of (1-u^2)^4: u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9; F(1) = 128/315
+    float F = u * (1.0f + u2 * (-4.0f / 3.0f + u2 * (6.0f / 5.0f + u2 * (-4.0f / 7.0f + u2 / 9.0f))));
+    return scale * (315.0f / 256.0f) * (128.0f / 315.0f - F);
+}
+
+/// G(d) for kernel radius h (m), times scale (1/m).
+PBF_FN float pbf_boundary_gradient(float d, float h, float scale)
+{
+    float u = pbf_clamp(d / h, 0.0f, 1.0f);
+    // antiderivative of u(1-u)^3: u^2/2 - u^3 + 3u^4/4 - u^5/5; H(1) = 1/20
+    float H = u * u * (0.5f + u * (-1.0f + u * (0.75f - u * 0.2f)));
+    return scale * (30.0f / h) * (0.05f - H);
+}
+
+/// The solver's V(d) and G(d): calibrated to the lattice.
+PBF_FN float boundary_volume(PBF_P_ARG float d) { return pbf_boundary_volume(d, P.h, P.boundary_scale); }
+PBF_FN float boundary_gradient(PBF_P_ARG float d) { return pbf_boundary_gradient(d, P.h, P.boundary_scale); }
+
+/// Container plane p: distance of x on the inside (positive) and the inward normal.
+PBF_FN float plane_distance(PBF_P_ARG PBF_UINT p, pbf_vec3 x, PBF_OUT(pbf_vec3) n)
+{
+    PBF_REF(n) = pbf_xyz(P.planes[p]);
+    return pbf_dot(x, PBF_REF(n)) - P.planes[p].w;
+}
+
+/// The container's share of the density at x (a fraction of a filled neighbourhood) and
+/// that share's gradient with respect to x (1/m), grad C_i gets `grad`. The planes'
+/// half-spaces are combined as a union, V = 1 - prod_p (1 - V_p), so edges and corners are
+/// not counted two or three times (exact for a separable kernel, within a few per cent of
+/// the true overlap for poly6); each plane's gradient is weighted by what the others leave.
+PBF_FN float container_boundary(PBF_P_ARG pbf_vec3 x, PBF_OUT(pbf_vec3) grad)
+{
+    float keep = 1.0f;
+    float vp[PBF_MAX_PLANES];
+    pbf_vec3 gp[PBF_MAX_PLANES];
+    for (PBF_UINT p = 0u; p < P.plane_count; p++) {
+        pbf_vec3 n;
+        float d = plane_distance(PBF_P_ p, x, PBF_ADDR(n));
+        vp[p] = d < P.h ? boundary_volume(PBF_P_ d) : 0.0f;
+        gp[p] = d < P.h ? pbf_scale(boundary_gradient(PBF_P_ d), n) : pbf_v3(0.0f, 0.0f, 0.0f);
+        keep *= 1.0f - vp[p];
+    }
+    PBF_REF(grad) = pbf_v3(0.0f, 0.0f, 0.0f);
+    for (PBF_UINT p = 0u; p < P.plane_count; p++) {
+        if (vp[p] <= 0.0f) continue;
+        float others = 1.0f; // products, not a division: both sides stay exact to the bit
+        for (PBF_UINT q = 0u; q < P.plane_count; q++)
+            if (q != p) others *= 1.0f - vp[q];
+        PBF_REF(grad) = pbf_sub(PBF_REF(grad), pbf_scale(others, gp[p]));
+    }
+    return 1.0f - keep;
+}
+
+/// Share of the kernel beyond a plane at signed distance d (negative: the particle is past
+/// it), and its derivative with respect to d, for the continuous kernel (beyond(0) = 1/2):
+/// V and G above carry the lattice calibration (V(0) = factor / 2), divided out here and
+/// applied once to the combined share (colliders.glsl's boxes).
+PBF_FN float boundary_factor(PBF_P_ONLY) { return 2.0f * boundary_volume(PBF_P_ 0.0f); }
+PBF_FN float beyond(PBF_P_ARG float d, float inv_factor)
+{
+    return d >= 0.0f ? boundary_volume(PBF_P_ d) * inv_factor : 1.0f - boundary_volume(PBF_P_ - d) * inv_factor;
+}
+PBF_FN float beyond_slope(PBF_P_ARG float d, float inv_factor)
+{
+    return -boundary_gradient(PBF_P_ pbf_abs(d)) * inv_factor;
+}
+
+// ---- rigid frames -----------------------------------------------------------------------
+
+/// v rotated by the unit quaternion q (xyzw).
+PBF_FN pbf_vec3 quat_rotate(PBF_VEC4 q, pbf_vec3 v)
+{
+    pbf_vec3 u = pbf_xyz(q);
+    pbf_vec3 t = pbf_scale(2.0f, pbf_cross(u, v));
+    return pbf_add(pbf_add(v, pbf_scale(q.w, t)), pbf_cross(u, t));
+}
+
+PBF_FN pbf_vec3 quat_rotate_inv(PBF_VEC4 q, pbf_vec3 v) { return quat_rotate(pbf_quat_conj(q), v); }
+
+/// Normalised linear interpolation from a to b (the short way round).
+PBF_FN PBF_VEC4 quat_nlerp(PBF_VEC4 a, PBF_VEC4 b, float t)
+{
+    if (pbf_dot4(a, b) < 0.0f) b = pbf_neg4(b);
+    return pbf_normalize4(pbf_mix4(a, b, t));
+}
+
+#ifndef GL_core_profile
+#undef P
+#endif
+#endif
