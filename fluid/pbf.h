@@ -186,8 +186,9 @@ typedef struct pbf_world_def {
                             ///< cells of h / this. Finer cells mean fewer candidates per
                             ///< neighbour search and more cells to count and scan; the
                             ///< default PBF_GRID_CELLS_PER_KERNEL (2) measured best
-    float domain_min[3];    ///< m: the neighbour grid covers [min, max]; particles are
-    float domain_max[3];    ///< kept inside it (it acts as the outermost wall)
+    float domain_min[3];    ///< m: particles are kept inside [min, max] (the outermost wall);
+    float domain_max[3];    ///< the neighbour grid is hashed, so a large domain costs no
+                            ///< memory, but each axis may hold at most 65536 grid cells
     const char *shader_dir; ///< NULL: the shaders embedded in the library (the default unless
                             ///< SEICHE_SHADER_DIR is set); else a directory holding
                             ///< fluid/*.comp, read at pbf_world_create (shader development)

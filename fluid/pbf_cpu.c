@@ -16,7 +16,6 @@
 #include <string.h>
 
 #define MAX_CAPACITY (1u << 20)
-#define MAX_CELLS (1u << 24)
 
 pbf_result pbf_cpu_fail(pbf_cpu_world *w, pbf_result r, const char *fmt, ...)
 {
@@ -33,19 +32,22 @@ static pbf_result grid_layout(pbf_cpu_world *w, float h, char *err, size_t err_s
 {
     float origin[3];
     uint32_t dims[3];
-    double total = (double)pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, origin, dims);
-    if (total > (double)MAX_CELLS) {
-        snprintf(err, err_size, "pbf_cpu_world: the domain needs %.0f grid cells of size kernel_radius / %u; "
-                 "at most %u allowed on the CPU (shrink the domain or enlarge the kernel)", total,
-                 w->cells_per_kernel, MAX_CELLS);
-        return PBF_ERR_INVALID_ARG;
-    }
-    // As pbf_world.c: the cells, the removed cell (sinks; always empty here) and the total.
-    uint32_t *start = malloc(((size_t)total + 2) * 4), *fill = malloc(((size_t)total + 1) * 4);
+    pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, origin, dims);
+    for (int k = 0; k < 3; k++)
+        if (dims[k] > PBF_GRID_MAX_AXIS_CELLS) {
+            snprintf(err, err_size, "pbf_cpu_world: the domain needs %u grid cells of size kernel_radius / %u along "
+                     "axis %d; at most %u allowed (shrink the domain or enlarge the kernel)", dims[k],
+                     w->cells_per_kernel, k, PBF_GRID_MAX_AXIS_CELLS);
+            return PBF_ERR_INVALID_ARG;
+        }
+    // As pbf_world.c: the hashed grid's buckets, the removed bucket (sinks; always empty
+    // here) and the total.
+    uint32_t buckets = pbf_hash_buckets(w->capacity);
+    uint32_t *start = malloc(((size_t)buckets + 2) * 4), *fill = malloc(((size_t)buckets + 1) * 4);
     if (!start || !fill) {
         free(start);
         free(fill);
-        snprintf(err, err_size, "pbf_cpu_world: out of memory for %.0f grid cells", total);
+        snprintf(err, err_size, "pbf_cpu_world: out of memory for %u grid buckets", buckets);
         return PBF_ERR_OUT_OF_MEMORY;
     }
     free(w->cell_start);
@@ -56,7 +58,7 @@ static pbf_result grid_layout(pbf_cpu_world *w, float h, char *err, size_t err_s
         w->grid_origin[k] = origin[k];
         w->grid_dims[k] = dims[k];
     }
-    w->cells = (uint32_t)total;
+    w->cells = buckets;
     return PBF_OK;
 }
 

@@ -49,7 +49,7 @@ typedef struct pbf_cpu_stats {
 } pbf_cpu_stats;
 
 /// Creates a world for up to `capacity` particles ([1, 2^20]) in the domain [min, max]
-/// (m; the neighbour grid covers it, at most 2^24 cells of size kernel_radius). Parameters
+/// (m; the hashed neighbour grid covers it, at most 65536 cells per axis). Parameters
 /// are checked by pbf_params_validate. max_neighbours starts at pbf_suggest_max_neighbours,
 /// as in pbf_default_world_def. Returns NULL and a message naming the field on error.
 pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity, const float domain_min[3],

@@ -40,14 +40,18 @@ static void cell_coord(const pbf_gpu_params *P, pbf_vec3 x, int c[3])
     c[2] = cell_axis(x.z, P->grid_origin.z, P->inv_cell, P->grid_dims.z);
 }
 
-static uint32_t cell_index(const pbf_gpu_params *P, int x, int y, int z)
+/// common.glsl's row_of and bucket_of: the row of a cell, and the bucket of the hashed grid
+/// it goes to (a row's cells take consecutive buckets; 32-bit arithmetic wraps as in GLSL).
+static uint32_t row_of(const pbf_gpu_params *P, int y, int z) { return (uint32_t)y + P->grid_dims.y * (uint32_t)z; }
+
+static uint32_t bucket_of(const pbf_gpu_params *P, int x, int y, int z)
 {
-    return (uint32_t)x + P->grid_dims.x * ((uint32_t)y + P->grid_dims.y * (uint32_t)z);
+    return (row_of(P, y, z) * 2654435761u + (uint32_t)x) & (P->grid_dims.w - 1u);
 }
 
 /// The clears pbf_world.c issues before grid_count (cell starts and fill cursors), then
 /// grid_count.comp: the cell of each position and the particles per cell. The CPU
-/// reference has no sinks, so the removed cell (w->cells) stays empty.
+/// reference has no sinks, so the removed bucket (w->cells) stays empty.
 void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x)
 {
     memset(w->cell_start, 0, ((size_t)w->cells + 2) * 4);
@@ -55,7 +59,7 @@ void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
     for (uint32_t i = 0; i < w->count; i++) {
         int c[3];
         cell_coord(P, pbf_xyz(x[i]), c);
-        w->cell_of[i] = cell_index(P, c[0], c[1], c[2]);
+        w->cell_of[i] = bucket_of(P, c[0], c[1], c[2]);
         w->cell_start[w->cell_of[i]]++;
     }
 }
@@ -138,6 +142,14 @@ static float slab_distance(float x, float o, float s, int k)
     return fmaxf(fmaxf(lo - x, x - (lo + s)), 0.0f);
 }
 
+/// The row of the cell a position falls in (as neighbours.comp's row_of(cell_coord(x))).
+static uint32_t row_at(const pbf_gpu_params *P, pbf_vec3 x)
+{
+    int c[3];
+    cell_coord(P, x, c);
+    return row_of(P, c[1], c[2]);
+}
+
 static int min_int(int a, int b) { return a < b ? a : b; }
 static int max_int(int a, int b) { return a > b ? a : b; }
 
@@ -167,17 +179,24 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 float rx = sqrtf(h2 - ryz);
                 int x0 = max_int((int)floorf((xi.x - rx - P->grid_origin.x) * P->inv_cell), 0);
                 int x1 = min_int((int)floorf((xi.x + rx - P->grid_origin.x) * P->inv_cell), dims[0] - 1);
-                uint32_t b = w->cell_start[cell_index(P, x0, y, z)];
-                uint32_t e = w->cell_start[cell_index(P, x1, y, z) + 1];
-                for (uint32_t k = b; k < e; k++) {
-                    uint32_t j = place ? place[k] : k;
-                    pbf_vec3 r = pbf_sub(xi, pbf_xyz(x[j]));
-                    if (pbf_dot(r, r) < h2 && j != i) {
-                        if (n < w->max_neighbours) {
-                            list[n] = j;
-                            if (solve) density_add(P, r, &sum_w, &grad_i, &sum_grad2);
+                // Buckets b0..b1 of this row, wrapping past the last into the first; other
+                // rows hashed into them are skipped by their row number.
+                uint32_t row = row_of(P, y, z), b0 = bucket_of(P, x0, y, z), b1 = bucket_of(P, x1, y, z);
+                int ranges = b0 <= b1 ? 1 : 2;
+                for (int part = 0; part < ranges; part++) {
+                    uint32_t b = w->cell_start[part == 0 ? b0 : 0u];
+                    uint32_t e = w->cell_start[(part == 0 && ranges == 1) || part == 1 ? b1 + 1u : P->grid_dims.w];
+                    for (uint32_t k = b; k < e; k++) {
+                        uint32_t j = place ? place[k] : k;
+                        pbf_vec3 xj = pbf_xyz(x[j]);
+                        pbf_vec3 r = pbf_sub(xi, xj);
+                        if (pbf_dot(r, r) < h2 && j != i && row_at(P, xj) == row) {
+                            if (n < w->max_neighbours) {
+                                list[n] = j;
+                                if (solve) density_add(P, r, &sum_w, &grad_i, &sum_grad2);
+                            }
+                            n++;
                         }
-                        n++;
                     }
                 }
             }
