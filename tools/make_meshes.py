@@ -16,7 +16,7 @@ Sizes are in metres, Y up.
   tests/fixtures/tetrahedron.glb   binary glTF: that tetrahedron twice, nodes at x = -0.1 and
                                    x = +0.1 (two placed meshes merged into one)
   tests/fixtures/not_a_mesh.txt    text, not a mesh format
-  scripts/assets/boat.obj          a small boat hull, 0.6 m long, with a deck (closed)
+  scripts/assets/boat.obj          a small boat hull, 0.6 m long, with a deck (closed), keel on y = 0
 """
 import base64
 import json
@@ -123,7 +123,8 @@ def boat(stations=9, length=0.6, beam=0.2, depth=0.1):
     s, e = sections[0], sections[-1]
     faces.append((s[0], s[4], s[3], s[2], s[1]))  # transom, seen from behind
     faces.append((e[0], e[1], e[2], e[3], e[4]))  # bow, seen from ahead
-    return verts, faces
+    low = min(v[1] for v in verts)  # the keel's lowest point on y = 0
+    return [(x, y - low, z) for x, y, z in verts], faces
 
 
 def fix_winding(verts, faces):
@@ -199,8 +200,8 @@ def main():
     v, f = boat()
     f = fix_winding(v, f)
     check_closed("boat", v, triangles(f))
-    write_obj("scripts/assets/boat.obj", "A small boat hull with a deck, 0.6 m long, 0.2 m beam, 0.1 m deep; bow "
-              "towards +x, keel at y = 0.", v, f)
+    write_obj("scripts/assets/boat.obj", "A small boat hull with a deck, 0.6 m long, 0.2 m beam, about 0.1 m deep; bow "
+              "towards +x, the keel's lowest point at y = 0.", v, f)
 
 
 if __name__ == "__main__":
