@@ -97,7 +97,8 @@ embed_shaders("fluid", "pbf_glsl_fluid_sources", "build/gen/shaders_fluid.c")
 embed_shaders("render", "eng_render_sources", "build/gen/shaders_render.c")
 
 -- The libraries, bottom up (see docs and ../shared/ARCHITECTURE.md for the rules).
-local system_libs = { "imgui", "epoxy", "EGL", "glfw", "lua5.4", "BulletDynamics", "BulletCollision",
+-- assimp (libassimp-dev, its C API) reads mesh files for engine/render/mesh_file.c.
+local system_libs = { "imgui", "epoxy", "EGL", "glfw", "lua5.4", "assimp", "BulletDynamics", "BulletCollision",
                       "LinearMath", "cglm", "stb", "stdc++", "m", "dl", "pthread" }
 -- Static libraries are searched in order: each before what it calls (seiche_ui, the ImGui
 -- shim, after seiche_engine, which calls it).
