@@ -1,5 +1,5 @@
 // CPU reference, colliders: the host side of pbf_colliders.c (checks, poses, force scales,
-// reports) and the shapes, boundary share, swept collisions and forces of colliders.glsl.
+// reports) and colliders.glsl's passes around the shared geometry (pbf_shapes.h).
 #include "fluid/pbf_cpu_internal.h"
 #include "fluid/pbf_uniforms.h"
 #include "shaders/fluid/pbf_shapes.h"

@@ -1,10 +1,10 @@
-// The formulas the shaders and the CPU reference share: SPH kernels, the boundary model's
-// closed forms, container planes, rigid frames and the collider shapes' signed distances.
+// The formulas the shaders and the CPU reference share: SPH kernels, the density
+// constraint, the boundary model's closed forms, container planes and rigid frames (the
+// colliders' geometry, in the same vocabulary: pbf_shapes.h).
 //
-// One definition, compiled as GLSL (included by common.glsl and colliders.glsl, after the
-// parameter block P and the collider buffers are declared) and as C (included by the CPU
-// reference, fluid/pbf_cpu_*.c). GL_core_profile tells which, as in pbf_shared.h. To read
-// and write the same text in both, the bodies use:
+// One definition, compiled as GLSL (included by common.glsl after the parameter block P is
+// declared) and as C (by the CPU reference, fluid/pbf_cpu_*.c). GL_core_profile tells
+// which, as in pbf_shared.h. To read and write the same text in both, the bodies use:
 // - `pbf_vec3` and function-style vector operations (pbf_add, pbf_sub, pbf_scale (scalar
 //   times vector), pbf_div, pbf_dot, pbf_length, pbf_cross, pbf_xyz of a vec4, ...): GLSL
 //   macros that expand to the operators and built-ins, small C functions in C;
