@@ -114,10 +114,12 @@ static int container_bodies(instance *in, const eng_scene_config *c, char *err, 
 {
     const float *lo = c->container_min, *hi = c->container_max;
     float t = WALL_THICKNESS;
-    float top = c->domain_max[1] > hi[1] ? c->domain_max[1] : hi[1];
+    // As tall as the walls are drawn (container_nodes): a body thrown higher flies over.
+    float top = hi[1];
     float cx = 0.5f * (lo[0] + hi[0]), cz = 0.5f * (lo[2] + hi[2]);
-    float sx = 0.5f * (hi[0] - lo[0]) + t, sz = 0.5f * (hi[2] - lo[2]) + t, hy = 0.5f * (top - lo[1]) + t;
-    float cy = 0.5f * (top + lo[1]);
+    // Side walls from the floor's underside (lo.y - t) to the top, no higher.
+    float sx = 0.5f * (hi[0] - lo[0]) + t, sz = 0.5f * (hi[2] - lo[2]) + t, hy = 0.5f * (top - lo[1] + t);
+    float cy = 0.5f * (top + lo[1] - t);
     float boxes[6][6] = {
         { cx, lo[1] - 0.5f * t, cz, sx, 0.5f * t, sz },              // floor
         { lo[0] - 0.5f * t, cy, cz, 0.5f * t, hy, sz },              // x min
