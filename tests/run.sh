@@ -3,7 +3,9 @@
 # test (tests/scripts/*.lua) through `seiche --headless`. A script test passes when the
 # runner's exit status matches the one its first lines declare (`-- expect-exit: N`,
 # default 0) and, if declared, stderr contains `-- expect-stderr: TEXT` (repeatable).
-# `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner.
+# `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner;
+# `-- trusted: WHY` runs it with --trusted (every standard library: for tests that run a
+# shipped scene with dofile and add checks, docs/runner.md).
 # Prints one line per test program / script and ends with "N passed, N failed".
 cd "$(dirname "$0")/.." || exit 2
 # The strict GL mode (docs/runner.md) is on unless the caller sets SEICHE_GL_STRICT=0: a
@@ -48,6 +50,7 @@ for s in tests/scripts/*.lua; do
     budget=$(sed -n 's/^-- budget: *\([0-9.]*\).*/\1/p' "$s" | head -n 1)
     budget_opt=""
     [ -z "$budget" ] || budget_opt="--budget $budget"
+    ! grep -q '^-- trusted:' "$s" || budget_opt="$budget_opt --trusted"
     start=$(date +%s)
     # shellcheck disable=SC2086
     build/bin/seiche --headless --quiet --frames "$frames" $budget_opt "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"

@@ -473,6 +473,7 @@ static int load_scene(app *a, bool reload)
     eng_script_def sd = eng_default_script_def();
     sd.log = a->log;
     sd.budget_s = budget;
+    sd.trusted = a->opt->trusted;
     in.script = eng_script_create(&sd);
     if (!in.script) {
         report(a, "seiche: cannot create the Lua state");

@@ -5,7 +5,6 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <assert.h>
-#include <lualib.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -369,7 +368,7 @@ eng_script_def eng_default_script_def(void)
 static int open_state(lua_State *L)
 {
     eng_script *s = lua_touserdata(L, 1);
-    luaL_openlibs(L);
+    scr_open_libraries(L, s->trusted);
     register_api(s);
     return 0;
 }
