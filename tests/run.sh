@@ -3,7 +3,9 @@
 # test (tests/scripts/*.lua) through `seiche --headless`. A script test passes when the
 # runner's exit status matches the one its first lines declare (`-- expect-exit: N`,
 # default 0) and, if declared, stderr contains `-- expect-stderr: TEXT` (repeatable).
-# `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner.
+# `-- frames: N` and `-- budget: SECONDS` (the callback time budget) pass to the runner;
+# `-- trusted: WHY` runs it with --trusted (every standard library: for tests that run a
+# shipped scene with dofile and add checks, docs/runner.md).
 # `-- needs: PROGRAM` (repeatable) skips the script when PROGRAM is not on the PATH.
 # A cmocka test may skip itself (cmocka's skip(), with the reason printed first as a line
 # "SKIPPED: ..."), e.g. one that needs Mesa on another driver: it counts as skipped.
@@ -75,6 +77,7 @@ for s in tests/scripts/*.lua; do
     budget=$(sed -n 's/^-- budget: *\([0-9.]*\).*/\1/p' "$s" | head -n 1)
     budget_opt=""
     [ -z "$budget" ] || budget_opt="--budget $budget"
+    ! grep -q '^-- trusted:' "$s" || budget_opt="$budget_opt --trusted"
     missing=""
     for prog in $(sed -n 's/^-- needs: *//p' "$s"); do
         command -v "$prog" >/dev/null 2>&1 || missing="$missing $prog"

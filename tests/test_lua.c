@@ -61,9 +61,9 @@ static int doc_headings(char *out, size_t size, const char **names, int max)
 
 static eng_script *script(void)
 {
-    eng_logger log = eng_default_logger();
-    log.min_level = ENG_LOG_ERROR;
-    eng_script *s = eng_script_create(&log, 5.0);
+    eng_script_def d = eng_default_script_def();
+    d.log.min_level = ENG_LOG_ERROR;
+    eng_script *s = eng_script_create(&d);
     assert_non_null(s);
     return s;
 }
@@ -422,8 +422,9 @@ static void failed_check_is_its_own_status(void **state)
 static void endless_loop_is_stopped_by_the_budget(void **state)
 {
     (void)state;
-    eng_logger log = eng_default_logger();
-    eng_script *s = eng_script_create(&log, 0.2);
+    eng_script_def d = eng_default_script_def();
+    d.budget_s = 0.2;
+    eng_script *s = eng_script_create(&d);
     struct timespec a, b;
     clock_gettime(CLOCK_MONOTONIC, &a);
     assert_int_equal(run_chunk(s, "while true do end"), ENG_SCRIPT_ERROR);
@@ -432,7 +433,8 @@ static void endless_loop_is_stopped_by_the_budget(void **state)
     assert_non_null(strstr(eng_script_error(s), "the script's main chunk ran longer than its budget of 0.2 s (an endless loop?)"));
     assert_true(secs < 2.0);
     eng_script_destroy(s);
-    assert_null(eng_script_create(&log, 0.0)); // no budget is not allowed
+    d.budget_s = 0.0;
+    assert_null(eng_script_create(&d)); // no budget is not allowed
 }
 
 static void runaway_memory_is_stopped(void **state)

@@ -31,6 +31,9 @@ static void usage(FILE *f)
             "                        SEICHE_SHADER_DIR sets DIR too)\n"
             "  --budget SECONDS      longest a script callback may run, (0, 3600] (default 5 headless,\n"
             "                        2 in a window)\n"
+            "  --trusted             give the script every standard Lua library (io, os, package,\n"
+            "                        debug); default: the sandbox (docs/lua-api.md). Only for scripts\n"
+            "                        you trust as you would a program\n"
             "  --no-watch            window: do not reload the script when its file is saved\n"
             "  --no-ui               window: no parameter panel or on-screen error box\n"
             "  --quiet               no summary line\n"
@@ -86,6 +89,8 @@ int main(int argc, char **argv)
             o.watch = false;
         } else if (strcmp(a, "--no-ui") == 0) {
             o.ui = false;
+        } else if (strcmp(a, "--trusted") == 0) {
+            o.trusted = true;
         } else if (strcmp(a, "--budget") == 0) {
             char *end;
             errno = 0;

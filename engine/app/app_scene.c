@@ -335,7 +335,11 @@ int app_load_scene(app *a, bool reload)
     double budget = a->opt->budget_s > 0 ? a->opt->budget_s : a->opt->headless ? 5.0 : 2.0;
     instance in;
     memset(&in, 0, sizeof in);
-    in.script = eng_script_create(&a->log, budget);
+    eng_script_def sd = eng_default_script_def();
+    sd.log = a->log;
+    sd.budget_s = budget;
+    sd.trusted = a->opt->trusted;
+    in.script = eng_script_create(&sd);
     if (!in.script) {
         app_report(a, "seiche: cannot create the Lua state");
         return ENG_EXIT_USAGE;

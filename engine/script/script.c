@@ -1,27 +1,23 @@
 // The core of the Lua host (script.h): the Lua state with its time budget and memory limit,
-// protected calls with a traceback, loading the script, callbacks and timers, the API areas.
+// protected calls with a traceback, loading the script, callbacks, the API areas.
 #include "engine/script/script_internal.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <assert.h>
-#include <lualib.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
-/// The most memory a script's Lua state may hold.
-#define LUA_MEMORY_LIMIT ((size_t)512 << 20)
-
-static const char *const REGISTRY_KEY = "seiche.script";
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
+/// Work units (scr_tick) between two looks at the clock.
+#define TICK_QUANTUM ((size_t)1 << 16)
+/// Allocations may pass SCR_MEMORY_LIMIT by this much before the allocator refuses them: the
+/// next budget check stops the script with its file:line instead (a refused allocation is a
+/// Lua memory error, which names no line).
+#define MEMORY_HEADROOM ((size_t)64 << 20)
 
 eng_look eng_default_look(void)
 {
@@ -52,15 +48,6 @@ eng_scene_config eng_default_scene_config(void)
     c.camera_mode = ENG_CAMERA_ORBIT;
     c.look = eng_default_look();
     return c;
-}
-
-// The script for the budget hook, which has no upvalues (bindings use scr_get_script).
-static eng_script *registry_script(lua_State *L)
-{
-    lua_getfield(L, LUA_REGISTRYINDEX, REGISTRY_KEY);
-    eng_script *s = lua_touserdata(L, -1);
-    lua_pop(L, 1);
-    return s;
 }
 
 // ---- registration ------------------------------------------------------------------------
@@ -144,21 +131,141 @@ static void register_api(eng_script *s)
         lua_pushlightuserdata(L, s);
         luaL_setfuncs(L, api.functions[i], 1);
     }
-    lua_pushstring(L, "0.1");
+    lua_pushstring(L, pbf_version());
     lua_setfield(L, -2, "version");
     lua_setglobal(L, "seiche");
     for (int k = 0; k < OBJ_KIND_COUNT; k++) scr_new_handle_type(L, s, (obj_kind)k, api.methods[k]);
 }
 
-// ---- running Lua ---------------------------------------------------------------------
+// ---- limits: the time budget and the memory limit ----------------------------------------
+//
+// How the limits hold (docs/lua-api.md, "What a script can and cannot do"):
+//
+// - The budget is a deadline on the monotonic clock, set when the host calls into the
+//   script (run). The frame's calls share one budget: on_key, on_mouse, ..., on_step and
+//   the timers of one frame (eng_script_deliver_input starts a frame); the main chunk,
+//   on_start and on_reload share the load's.
+// - A count hook (budget_hook) looks at the clock every 1000 VM instructions, more often
+//   while the script holds much memory (one instruction may then touch all of it: comparing
+//   or concatenating long strings), and at every instruction once the script is stopped.
+// - C code runs no instructions, so the library functions that can loop long in one call
+//   (patterns, string.rep, table.concat/insert/remove/move/sort) are our own versions that
+//   count their work with scr_tick; every 2^16 units it looks at the clock too.
+// - Over the budget (or the memory limit, or after a failed seiche.check) scr_stop records
+//   the message and raises it. pcall in the script catches that error, but the stop stays:
+//   the hook now fires at every instruction, in every coroutine, and raises the same
+//   message again, as does every scr_tick, so the next instruction after any catch raises
+//   again, until the error leaves the host's lua_pcall. Lua runs an error's message handler
+//   with hooks off when the error comes from a hook; xpcall's handler would escape that
+//   way, so the sandbox's xpcall calls its handler after unwinding (script_sandbox.c).
+// - Finalisers run with hooks off too (in any GC step and in lua_close): the sandbox's
+//   setmetatable refuses __gc. Callback lookups are raw (no __index runs) and protected.
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+static void budget_hook(lua_State *L, lua_Debug *ar);
+
+// VM instructions between two looks at the clock: the more memory, the longer one
+// instruction can take.
+static int hook_interval(const eng_script *s)
+{
+    size_t used = s->memory + s->c_memory;
+    return used < ((size_t)8 << 20) ? 1000 : used < ((size_t)64 << 20) ? 100 : used < ((size_t)256 << 20) ? 10 : 1;
+}
+
+const char *scr_where(lua_State *L, char *buf, size_t size)
+{
+    lua_Debug ar;
+    buf[0] = 0;
+    for (int level = 0; lua_getstack(L, level, &ar); level++) {
+        if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
+        snprintf(buf, size, "%s:%d: ", ar.short_src, ar.currentline);
+        break;
+    }
+    return buf;
+}
+
+static int raise_stop(lua_State *L, eng_script *s)
+{
+    lua_sethook(L, budget_hook, LUA_MASKCOUNT, 1);
+    if (L != s->L) lua_sethook(s->L, budget_hook, LUA_MASKCOUNT, 1);
+    lua_pushstring(L, s->stop);
+    return lua_error(L);
+}
+
+int scr_stop(lua_State *L, eng_script *s, scr_stop_kind kind, const char *fmt, ...)
+{
+    if (s->stop_kind == STOP_NONE) {
+        char where[256], msg[700];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, sizeof msg, fmt, ap);
+        va_end(ap);
+        if (*scr_where(L, where, sizeof where)) snprintf(s->stop, sizeof s->stop, "%s%s", where, msg);
+        else snprintf(s->stop, sizeof s->stop, "%.300s: %s", s->path, msg);
+        s->stop_kind = kind;
+    }
+    return raise_stop(L, s);
+}
+
+static void check_limits(lua_State *L, eng_script *s)
+{
+    if (s->stop_kind != STOP_NONE) raise_stop(L, s);
+    if (s->deadline <= 0.0) return; // no host call runs (a finaliser in lua_close)
+    if (now_s() > s->deadline) {
+        if (s->frame_used > 0.01 * s->budget_s)
+            scr_stop(L, s, STOP_BUDGET, "%s ran past the frame's budget of %g s (the frame's callbacks and timers share "
+                     "it; %.3g s went before this one; an endless loop?)", s->running, s->budget_s, s->frame_used);
+        scr_stop(L, s, STOP_BUDGET, "%s ran longer than its budget of %g s (an endless loop?)", s->running, s->budget_s);
+    }
+    if (s->out_of_memory || s->memory + s->c_memory > SCR_MEMORY_LIMIT)
+        scr_stop(L, s, STOP_MEMORY, "%s used more than the script's %d MiB of memory (Lua's objects and the edits, "
+                 "handles and timers the engine keeps for it)", s->running, (int)(SCR_MEMORY_LIMIT >> 20));
+}
 
 static void budget_hook(lua_State *L, lua_Debug *ar)
 {
     (void)ar;
-    eng_script *s = registry_script(L);
-    if (s->deadline > 0.0 && now_s() > s->deadline)
-        scr_raise(L, "%s ran longer than its budget of %g s (an endless loop?)", s->running ? s->running : "the script",
-                  s->budget_s);
+    eng_script *s = scr_state_script(L);
+    check_limits(L, s);
+    int want = hook_interval(s);
+    if (lua_gethookcount(L) != want) lua_sethook(L, budget_hook, LUA_MASKCOUNT, want);
+}
+
+void scr_tick(lua_State *L, eng_script *s, size_t units)
+{
+    if (s->stop_kind != STOP_NONE) raise_stop(L, s);
+    s->ticks += units;
+    if (s->ticks < TICK_QUANTUM) return;
+    s->ticks = 0;
+    check_limits(L, s);
+}
+
+size_t scr_memory_room(const eng_script *s)
+{
+    size_t used = s->memory + s->c_memory;
+    return used >= SCR_MEMORY_LIMIT ? 0 : SCR_MEMORY_LIMIT - used;
+}
+
+void scr_charge(lua_State *L, eng_script *s, const char *fn, size_t bytes)
+{
+    if (bytes > scr_memory_room(s))
+        scr_raise(L, "%s: this would take the script past its memory limit of %d MiB (%.1f MiB held by Lua objects, "
+                  "%.1f MiB by the engine for the script: queued edits, bodies' shapes, handles, timers; %.1f MiB more "
+                  "asked for)", fn, (int)(SCR_MEMORY_LIMIT >> 20), (double)s->memory / 1048576.0,
+                  (double)s->c_memory / 1048576.0, (double)bytes / 1048576.0);
+    s->c_memory += bytes;
+}
+
+void scr_uncharge(eng_script *s, size_t bytes)
+{
+    assert(bytes <= s->c_memory);
+    s->c_memory = bytes <= s->c_memory ? s->c_memory - bytes : 0; // never wraps round to "over the limit"
 }
 
 static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
@@ -170,7 +277,7 @@ static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
         s->memory -= osize;
         return NULL;
     }
-    if (nsize > osize && s->memory + (nsize - osize) > LUA_MEMORY_LIMIT) {
+    if (nsize > osize && s->memory + s->c_memory + (nsize - osize) > SCR_MEMORY_LIMIT + MEMORY_HEADROOM) {
         s->out_of_memory = true;
         return NULL;
     }
@@ -179,46 +286,101 @@ static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
     return p;
 }
 
-static int traceback(lua_State *L)
+// ---- protected calls ---------------------------------------------------------------------------
+
+// True when the message's first line holds a "file:line:" (it may follow a chunk name with
+// colons of its own: [string "a:b()"]:1:).
+static bool has_position(const char *msg)
+{
+    for (const char *p = msg; *p && *p != '\n'; p++) {
+        if (*p != ':' || p[1] < '0' || p[1] > '9') continue;
+        const char *q = p + 1;
+        while (*q >= '0' && *q <= '9') q++;
+        if (*q == ':') return true;
+    }
+    return false;
+}
+
+// The message handler of every call into the script: the message with the file:line of the
+// innermost Lua function when it has none (error objects that are not strings, errors of C
+// functions called through pcall, "C stack overflow"), then a traceback.
+static int message_handler(lua_State *L)
 {
     const char *msg = lua_tostring(L, 1);
-    if (!msg) msg = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+    if (!msg) msg = lua_pushfstring(L, "(error object is a %s value, not a string)", luaL_typename(L, 1));
+    char where[600];
+    if (!has_position(msg) && *scr_where(L, where, sizeof where)) msg = lua_pushfstring(L, "%s%s", where, msg);
     luaL_traceback(L, L, msg, 1);
     return 1;
 }
 
-// Calls the function below the nargs arguments on the stack with `nresults` results left
-// on the stack on success.
-static eng_script_status run(eng_script *s, int nargs, int nresults, const char *what)
+// Calls the function below its nargs arguments on the stack, protected, under what is left
+// of the budget. On failure eng_script_error holds "file:line: message" and a traceback.
+static eng_script_status run(eng_script *s, int nargs, const char *what)
 {
     lua_State *L = s->L;
     int base = lua_gettop(L) - nargs;
-    lua_pushcfunction(L, traceback);
+    lua_pushcfunction(L, message_handler);
     lua_insert(L, base);
     s->running = what;
-    s->deadline = now_s() + s->budget_s;
+    double start = now_s(), left = s->budget_s - s->frame_used;
+    s->deadline = start + (left > 0.0 ? left : 0.0);
     s->out_of_memory = false;
-    int rc = lua_pcall(L, nargs, nresults, base);
+    s->ticks = 0;
+    int rc = lua_pcall(L, nargs, 0, base);
+    s->frame_used += now_s() - start;
     s->deadline = 0.0;
-    s->running = NULL;
+    const char *msg = rc != LUA_OK ? lua_tostring(L, -1) : NULL;
+    eng_script_status st = rc == LUA_OK ? ENG_SCRIPT_OK : ENG_SCRIPT_ERROR;
+    if (s->stop_kind != STOP_NONE) { // the error that left may be a later raise of the stop
+        bool same = msg && strncmp(msg, s->stop, strlen(s->stop)) == 0;
+        snprintf(s->error, sizeof s->error, "%s", same ? msg : s->stop);
+        st = s->stop_kind == STOP_CHECK ? ENG_SCRIPT_CHECK_FAILED : ENG_SCRIPT_ERROR;
+    } else if (rc == LUA_ERRMEM || (rc != LUA_OK && s->out_of_memory)) {
+        snprintf(s->error, sizeof s->error, "%s: %s used more than the script's %d MiB of memory (%s)", s->path, what,
+                 (int)(SCR_MEMORY_LIMIT >> 20), msg ? msg : "not enough memory");
+    } else if (rc != LUA_OK) {
+        if (!msg) msg = "(no message)";
+        if (has_position(msg)) snprintf(s->error, sizeof s->error, "%s", msg);
+        else snprintf(s->error, sizeof s->error, "%s: %s%s", s->path, rc == LUA_ERRERR ? "error in the error handler: " : "", msg);
+    }
+    if (rc != LUA_OK) lua_pop(L, 1);
     lua_remove(L, base);
-    if (rc == LUA_OK) return ENG_SCRIPT_OK;
-    if (rc == LUA_ERRMEM || s->out_of_memory)
-        snprintf(s->error, sizeof s->error, "%s: %s used more than the script's %zu MiB of memory (%s)", s->path, what,
-                 LUA_MEMORY_LIMIT >> 20, lua_tostring(L, -1) ? lua_tostring(L, -1) : "not enough memory");
-    else
-        snprintf(s->error, sizeof s->error, "%s", lua_tostring(L, -1) ? lua_tostring(L, -1) : "(unknown error)");
-    lua_pop(L, 1);
-    return s->check_failed ? ENG_SCRIPT_CHECK_FAILED : ENG_SCRIPT_ERROR;
+    s->running = NULL;
+    s->stop_kind = STOP_NONE;
+    s->stop[0] = 0;
+    s->out_of_memory = false;
+    lua_sethook(L, budget_hook, LUA_MASKCOUNT, hook_interval(s));
+    return st;
 }
 
-eng_script *eng_script_create(const eng_logger *log, double budget_s)
+eng_script_def eng_default_script_def(void)
 {
-    if (!(budget_s > 0.0 && budget_s <= 3600.0)) return NULL;
+    eng_script_def d;
+    memset(&d, 0, sizeof d);
+    d.log = eng_default_logger();
+    d.budget_s = 5.0;
+    d.trusted = false;
+    return d;
+}
+
+// The libraries and the API, in a protected call (they allocate).
+static int open_state(lua_State *L)
+{
+    eng_script *s = lua_touserdata(L, 1);
+    scr_open_libraries(L, s->trusted);
+    register_api(s);
+    return 0;
+}
+
+eng_script *eng_script_create(const eng_script_def *def)
+{
+    if (!def || !(def->budget_s > 0.0 && def->budget_s <= 3600.0)) return NULL;
     eng_script *s = calloc(1, sizeof *s);
     if (!s) return NULL;
-    s->log = log ? *log : eng_default_logger();
-    s->budget_s = budget_s;
+    s->log = def->log;
+    s->budget_s = def->budget_s;
+    s->trusted = def->trusted;
     s->config = eng_default_scene_config();
     s->host.dt = 1.0 / 60.0;
     s->L = lua_newstate(limited_alloc, s);
@@ -226,28 +388,37 @@ eng_script *eng_script_create(const eng_logger *log, double budget_s)
         free(s);
         return NULL;
     }
-    luaL_openlibs(s->L);
+    *(eng_script **)lua_getextraspace(s->L) = s; // every coroutine copies it
+    lua_pushcfunction(s->L, open_state);
     lua_pushlightuserdata(s->L, s);
-    lua_setfield(s->L, LUA_REGISTRYINDEX, REGISTRY_KEY);
-    register_api(s);
-    lua_sethook(s->L, budget_hook, LUA_MASKCOUNT, 10000);
+    if (lua_pcall(s->L, 1, 0, 0) != LUA_OK) { // out of memory: no Lua state
+        lua_close(s->L);
+        free(s);
+        return NULL;
+    }
+    lua_sethook(s->L, budget_hook, LUA_MASKCOUNT, hook_interval(s));
     return s;
 }
 
 void eng_script_destroy(eng_script *s)
 {
     if (!s) return;
+    // The Lua state first, while everything its handles name still exists: the finalisers of
+    // a trusted script run in lua_close, and `closing` makes the API refuse them.
+    s->closing = true;
+    lua_close(s->L);
+    s->L = NULL;
     for (uint32_t i = 0; i < s->obj_count; i++) {
         obj *o = &s->objs[i];
         if (o->state == OBJ_FREE || o->kind != OBJ_BODY) continue;
         if (s->host.scene && o->u.body.node.index1) eng_node_destroy(s->host.scene, o->u.body.node);
         if (s->host.meshes && o->u.body.mesh.index1) eng_mesh_destroy(s->host.meshes, o->u.body.mesh);
-        scr_body_free_data(&o->u.body);
+        scr_body_free_data(s, &o->u.body);
     }
     scr_clear_commands(s);
-    lua_close(s->L);
     free(s->commands);
     free(s->objs);
+    free(s->timers);
     free(s->cache);
     free(s->events);
     free(s);
@@ -256,12 +427,17 @@ void eng_script_destroy(eng_script *s)
 static eng_script_status load_chunk(eng_script *s, int rc)
 {
     if (rc != LUA_OK) {
-        snprintf(s->error, sizeof s->error, "%s", lua_tostring(s->L, -1) ? lua_tostring(s->L, -1) : "(load error)");
+        const char *msg = lua_tostring(s->L, -1) ? lua_tostring(s->L, -1) : "(load error)";
+        if (strstr(msg, "attempt to load a binary chunk"))
+            snprintf(s->error, sizeof s->error, "%s:1: the script is a precompiled (binary) chunk: a scene script must "
+                     "be Lua source text", s->path);
+        else if (has_position(msg)) snprintf(s->error, sizeof s->error, "%s", msg);
+        else snprintf(s->error, sizeof s->error, "%s: %s", s->path, msg);
         lua_pop(s->L, 1);
         return ENG_SCRIPT_ERROR;
     }
     s->in_main_chunk = true;
-    eng_script_status st = run(s, 0, 0, "the script's main chunk");
+    eng_script_status st = run(s, 0, "the script's main chunk");
     s->in_main_chunk = false;
     return st;
 }
@@ -269,13 +445,20 @@ static eng_script_status load_chunk(eng_script *s, int rc)
 eng_script_status eng_script_load(eng_script *s, const char *path)
 {
     snprintf(s->path, sizeof s->path, "%s", path);
-    FILE *f = fopen(path, "rb");
+    struct stat st;
+    FILE *f = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? fopen(path, "rb") : NULL;
     if (!f) {
-        snprintf(s->error, sizeof s->error, "%s: cannot open the script file", path);
+        snprintf(s->error, sizeof s->error, "%s: cannot open the script file%s", path,
+                 stat(path, &st) == 0 && !S_ISREG(st.st_mode) ? " (not a regular file)" : "");
         return ENG_SCRIPT_ERROR;
     }
     fclose(f);
-    return load_chunk(s, luaL_loadfile(s->L, path));
+    if ((long long)st.st_size > SCR_MAX_SCRIPT_BYTES) {
+        snprintf(s->error, sizeof s->error, "%s: the script is %lld bytes; a scene script may be at most %lld MiB", path,
+                 (long long)st.st_size, SCR_MAX_SCRIPT_BYTES >> 20);
+        return ENG_SCRIPT_ERROR;
+    }
+    return load_chunk(s, luaL_loadfilex(s->L, path, "t"));
 }
 
 eng_script_status eng_script_load_string(eng_script *s, const char *chunk_name, const char *code)
@@ -283,7 +466,7 @@ eng_script_status eng_script_load_string(eng_script *s, const char *chunk_name, 
     snprintf(s->path, sizeof s->path, "%s", chunk_name);
     char name[520];
     snprintf(name, sizeof name, "@%s", chunk_name);
-    return load_chunk(s, luaL_loadbuffer(s->L, code, strlen(code), name));
+    return load_chunk(s, luaL_loadbufferx(s->L, code, strlen(code), name, "t"));
 }
 
 const char *eng_script_error(const eng_script *s) { return s->error; }
@@ -310,42 +493,74 @@ bool eng_script_set_param(eng_script *s, const char *name, double value, char *e
 }
 
 // ---- callbacks --------------------------------------------------------------------------
+//
+// Everything the host does in the Lua state happens inside run's protected call: the
+// lookup (raw, so no __index of _G runs), the arguments (a string may not fit in memory)
+// and the call.
 
-static bool get_callback(eng_script *s, const char *name)
+typedef struct callback_call {
+    const char *name;       // the global's name
+    int nargs;
+    struct { char type; double number; const char *string; } args[4]; // 'n', 'i' or 's'
+    bool want_result, result;
+} callback_call;
+
+static int call_callback(lua_State *L)
 {
-    lua_getglobal(s->L, name);
-    if (lua_isfunction(s->L, -1)) return true;
-    lua_pop(s->L, 1);
-    return false;
+    callback_call *c = lua_touserdata(L, 1);
+    lua_pushglobaltable(L);
+    lua_pushstring(L, c->name);
+    if (lua_rawget(L, -2) == LUA_TNIL) return 0; // not defined
+    if (lua_type(L, -1) != LUA_TFUNCTION) {
+        if (luaL_getmetafield(L, -1, "__call") == LUA_TNIL)
+            return luaL_error(L, "%s must be a function or a table with a __call metamethod (got a %s value): the "
+                              "runner calls the global %s", c->name, luaL_typename(L, -1), c->name);
+        lua_pop(L, 1);
+    }
+    for (int i = 0; i < c->nargs; i++) {
+        if (c->args[i].type == 's') lua_pushstring(L, c->args[i].string);
+        else if (c->args[i].type == 'i') lua_pushinteger(L, (lua_Integer)c->args[i].number);
+        else lua_pushnumber(L, c->args[i].number);
+    }
+    lua_call(L, c->nargs, c->want_result ? 1 : 0);
+    if (c->want_result) c->result = lua_toboolean(L, -1);
+    return 0;
+}
+
+static eng_script_status callback(eng_script *s, callback_call *c)
+{
+    if (strcmp(c->name, "on_start") != 0 && strcmp(c->name, "on_reload") != 0) s->loaded = true; // the load is over
+    lua_pushcfunction(s->L, call_callback);
+    lua_pushlightuserdata(s->L, c);
+    return run(s, 1, c->name);
+}
+
+typedef struct timer_call {
+    int fn;                 // registry reference to the timer's function
+    double time;
+} timer_call;
+
+static int call_timer(lua_State *L)
+{
+    timer_call *c = lua_touserdata(L, 1);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, c->fn);
+    lua_pushnumber(L, c->time);
+    lua_call(L, 1, 0);
+    return 0;
+}
+
+static eng_script_status run_timer(eng_script *s, int fn, double time)
+{
+    timer_call c = { fn, time };
+    lua_pushcfunction(s->L, call_timer);
+    lua_pushlightuserdata(s->L, &c);
+    return run(s, 1, "a timer callback");
 }
 
 eng_script_status eng_script_on_start(eng_script *s)
 {
-    if (!get_callback(s, "on_start")) return ENG_SCRIPT_OK;
-    return run(s, 0, 0, "on_start");
-}
-
-// Fires the timers due at `time`, earliest first (a repeating timer as often as it is
-// due, so a period shorter than the frame step still fires the right number of times).
-static eng_script_status fire_timers(eng_script *s, double time)
-{
-    for (int fired = 0; fired < 100000; fired++) {
-        uint32_t best = UINT32_MAX;
-        for (uint32_t i = 0; i < s->obj_count; i++) {
-            obj *o = &s->objs[i];
-            if (o->state != OBJ_LIVE || o->kind != OBJ_TIMER || o->u.timer.due > time + 1e-9) continue;
-            if (best == UINT32_MAX || o->u.timer.due < s->objs[best].u.timer.due) best = i;
-        }
-        if (best == UINT32_MAX) return ENG_SCRIPT_OK;
-        obj *o = &s->objs[best];
-        lua_rawgeti(s->L, LUA_REGISTRYINDEX, o->u.timer.fn);
-        lua_pushnumber(s->L, time);
-        if (o->u.timer.period > 0) o->u.timer.due += o->u.timer.period;
-        else scr_obj_release(s, best); // one-shot: done before it runs (it may make new timers)
-        eng_script_status st = run(s, 1, 0, "a timer callback");
-        if (st != ENG_SCRIPT_OK) return st;
-    }
-    return ENG_SCRIPT_OK;
+    callback_call c = { .name = "on_start" };
+    return callback(s, &c);
 }
 
 eng_script_status eng_script_on_step(eng_script *s, double dt, double time)
@@ -360,62 +575,44 @@ eng_script_status eng_script_on_step(eng_script *s, double dt, double time)
                 break;
             }
     }
-    eng_script_status st = ENG_SCRIPT_OK;
-    if (get_callback(s, "on_step")) {
-        lua_pushnumber(s->L, dt);
-        lua_pushnumber(s->L, time);
-        st = run(s, 2, 0, "on_step");
-    }
-    if (st == ENG_SCRIPT_OK) st = fire_timers(s, time);
+    callback_call c = { .name = "on_step", .nargs = 2, .args = { { 'n', dt, NULL }, { 'n', time, NULL } } };
+    eng_script_status st = callback(s, &c);
+    if (st == ENG_SCRIPT_OK) st = scr_fire_timers(s, time, run_timer);
     return st;
 }
 
 eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action)
 {
-    if (!get_callback(s, "on_key")) return ENG_SCRIPT_OK;
-    lua_pushstring(s->L, key);
-    lua_pushstring(s->L, action);
-    return run(s, 2, 0, "on_key");
+    callback_call c = { .name = "on_key", .nargs = 2, .args = { { 's', 0, key }, { 's', 0, action } } };
+    return callback(s, &c);
 }
 
 eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y, bool *consumed)
 {
-    if (consumed) *consumed = false;
-    if (!get_callback(s, "on_mouse")) return ENG_SCRIPT_OK;
-    lua_pushinteger(s->L, button);
-    lua_pushstring(s->L, action);
-    lua_pushnumber(s->L, x);
-    lua_pushnumber(s->L, y);
-    eng_script_status st = run(s, 4, 1, "on_mouse");
-    if (st == ENG_SCRIPT_OK) {
-        if (consumed) *consumed = lua_toboolean(s->L, -1);
-        lua_pop(s->L, 1);
-    }
+    callback_call c = { .name = "on_mouse", .nargs = 4, .want_result = true,
+                        .args = { { 'i', button, NULL }, { 's', 0, action }, { 'n', x, NULL }, { 'n', y, NULL } } };
+    eng_script_status st = callback(s, &c);
+    if (consumed) *consumed = st == ENG_SCRIPT_OK && c.result;
     return st;
 }
 
 eng_script_status eng_script_on_mouse_move(eng_script *s, double x, double y, double dx, double dy)
 {
-    if (!get_callback(s, "on_mouse_move")) return ENG_SCRIPT_OK;
-    lua_pushnumber(s->L, x);
-    lua_pushnumber(s->L, y);
-    lua_pushnumber(s->L, dx);
-    lua_pushnumber(s->L, dy);
-    return run(s, 4, 0, "on_mouse_move");
+    callback_call c = { .name = "on_mouse_move", .nargs = 4,
+                        .args = { { 'n', x, NULL }, { 'n', y, NULL }, { 'n', dx, NULL }, { 'n', dy, NULL } } };
+    return callback(s, &c);
 }
 
 eng_script_status eng_script_on_scroll(eng_script *s, double dx, double dy)
 {
-    if (!get_callback(s, "on_scroll")) return ENG_SCRIPT_OK;
-    lua_pushnumber(s->L, dx);
-    lua_pushnumber(s->L, dy);
-    return run(s, 2, 0, "on_scroll");
+    callback_call c = { .name = "on_scroll", .nargs = 2, .args = { { 'n', dx, NULL }, { 'n', dy, NULL } } };
+    return callback(s, &c);
 }
 
 eng_script_status eng_script_on_reload(eng_script *s)
 {
-    if (!get_callback(s, "on_reload")) return ENG_SCRIPT_OK;
-    return run(s, 0, 0, "on_reload");
+    callback_call c = { .name = "on_reload" };
+    return callback(s, &c);
 }
 
 // ---- key names ------------------------------------------------------------------------------

@@ -92,12 +92,27 @@ typedef enum eng_script_status {
 
 typedef struct eng_script eng_script;
 
-/// `budget_s`: the longest a callback (or the script's main chunk) may run before it is
-/// stopped with an error (an endless loop), in seconds, (0, 3600].
-eng_script *eng_script_create(const eng_logger *log, double budget_s);
-/// Frees the Lua state and everything the script made in the host's scene graph and mesh
-/// store (call with the GL context current). Bodies in the phys_world are left to the
-/// world's owner (destroying the world frees them).
+/// How a script runs (eng_default_script_def fills it in).
+typedef struct eng_script_def {
+    eng_logger log;
+    /// The longest the calls of one frame may run together before the script is stopped
+    /// with an error (an endless loop), in seconds, (0, 3600]: on_key, on_mouse, ..., on_step
+    /// and the timers of a frame share it; so do the main chunk, on_start and on_reload.
+    /// Default 5.
+    double budget_s;
+    /// false (the default): the sandbox (docs/lua-api.md, "What a script can and cannot
+    /// do"). true: every standard library (io, os, package, debug); for scripts one trusts.
+    bool trusted;
+} eng_script_def;
+
+eng_script_def eng_default_script_def(void);
+
+/// NULL when def->budget_s is outside (0, 3600] or memory runs out.
+eng_script *eng_script_create(const eng_script_def *def);
+/// Closes the Lua state (a trusted script's finalisers run then; the API refuses them), then
+/// frees everything the script made in the host's scene graph and mesh store (call with the
+/// GL context current). Bodies in the phys_world are left to the world's owner (destroying
+/// the world frees them).
 void eng_script_destroy(eng_script *s);
 
 /// Loads and runs the file's main chunk (which describes the scene). On error the message
@@ -121,15 +136,18 @@ eng_script_status eng_script_apply(eng_script *s);
 int eng_script_pending(const eng_script *s);
 
 /// Feeds the input the script injected (seiche.inject_*) since the last call to the
-/// host's eng_input, as if it came from the window. Call at the start of a frame,
-/// after eng_input_begin_frame, so the camera and the callbacks see it that frame.
+/// host's eng_input, as if it came from the window. Call at the start of every frame,
+/// after eng_input_begin_frame, so the camera and the callbacks see it that frame: it also
+/// starts the frame's time budget, and ends the load (from then on a script may inject a
+/// reset or reload key).
 void eng_script_deliver_input(eng_script *s);
 
 /// Moves the scene nodes of the script's bodies to their bodies' poses (before drawing).
 void eng_script_sync_nodes(eng_script *s);
 
-/// Callbacks; a missing one is not an error. eng_script_on_step also fires the timers
-/// that are due at `time`.
+/// Callbacks, looked up as raw globals (no __index metamethod of _G runs); a missing one is
+/// not an error, a value that cannot be called is. A function or a table with a __call
+/// metamethod is called. eng_script_on_step also fires the timers that are due at `time`.
 eng_script_status eng_script_on_start(eng_script *s);
 eng_script_status eng_script_on_step(eng_script *s, double dt, double time);
 eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action);

@@ -15,8 +15,14 @@ command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char
     if (s->command_count == s->command_cap) {
         int cap = s->command_cap ? 2 * s->command_cap : 32;
         if (cap > (1 << 22)) scr_raise(L, "%s: more than %d edits queued in one frame", fn, 1 << 22);
+        // The queue counts against the script's memory limit (4M edits would be 1.2 GB).
+        size_t more = (size_t)(cap - s->command_cap) * sizeof(command);
+        scr_charge(L, s, fn, more);
         command *c = realloc(s->commands, (size_t)cap * sizeof *c);
-        if (!c) scr_raise(L, "%s: out of memory", fn);
+        if (!c) {
+            scr_uncharge(s, more);
+            scr_raise(L, "%s: out of memory", fn);
+        }
         s->commands = c;
         s->command_cap = cap;
     }
@@ -24,15 +30,15 @@ command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char
     memset(c, 0, sizeof *c);
     c->type = type;
     c->fn = fn;
-    luaL_where(L, 1);
-    snprintf(c->where, sizeof c->where, "%s", lua_tostring(L, -1));
-    lua_pop(L, 1);
+    scr_where(L, c->where, sizeof c->where);
     return c;
 }
 
-static void free_command(command *c)
+static void free_command(eng_script *s, command *c)
 {
     if (c->type == CMD_PARTICLES) {
+        size_t bytes = (c->u.particles.pos ? 1 : 0) + (c->u.particles.vel ? 1 : 0);
+        scr_uncharge(s, bytes * 3 * (size_t)c->u.particles.n * sizeof(float));
         free(c->u.particles.pos);
         free(c->u.particles.vel);
         c->u.particles.pos = c->u.particles.vel = NULL;
@@ -41,7 +47,7 @@ static void free_command(command *c)
 
 void scr_clear_commands(eng_script *s)
 {
-    for (int i = 0; i < s->command_count; i++) free_command(&s->commands[i]);
+    for (int i = 0; i < s->command_count; i++) free_command(s, &s->commands[i]);
     s->command_count = 0;
 }
 
@@ -409,6 +415,7 @@ eng_script_status eng_script_apply(eng_script *s)
     scr_clear_commands(s);
     s->have_pending_params = false;
     if (s->command_cap > 4096) { // give back the memory of a burst
+        scr_uncharge(s, (size_t)s->command_cap * sizeof(command));
         free(s->commands);
         s->commands = NULL;
         s->command_cap = 0;
@@ -431,6 +438,9 @@ eng_script_status eng_script_apply(eng_script *s)
 
 void eng_script_deliver_input(eng_script *s)
 {
+    // A frame begins: loading is over, and the frame's calls get a fresh budget.
+    s->loaded = true;
+    s->frame_used = 0.0;
     for (int i = 0; i < s->event_count && s->host.input; i++) eng_input_inject(s->host.input, &s->events[i]);
     s->event_count = 0;
 }

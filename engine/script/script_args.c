@@ -16,18 +16,21 @@ const char *const scr_shape_name[SHAPE_COUNT] = { "box", "sphere", "capsule", "c
 const char *const scr_body_kind_name[3] = { "static", "kinematic", "dynamic" }; // = phys_body_type
 
 // The script of a binding: an upvalue of every function (lmathlib style).
-eng_script *scr_get_script(lua_State *L) { return lua_touserdata(L, lua_upvalueindex(1)); }
+eng_script *scr_get_script(lua_State *L)
+{
+    eng_script *s = lua_touserdata(L, lua_upvalueindex(1));
+    if (s->closing) luaL_error(L, "the scene is closing: a finaliser cannot use the seiche API or its handles");
+    return s;
+}
 
 int scr_raise(lua_State *L, const char *fmt, ...)
 {
-    char msg[1536];
+    char msg[1536], where[600];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    luaL_where(L, 1);
-    lua_pushstring(L, msg);
-    lua_concat(L, 2);
+    lua_pushfstring(L, "%s%s", scr_where(L, where, sizeof where), msg);
     return lua_error(L);
 }
 
@@ -422,8 +425,13 @@ uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind)
         if (s->obj_count == s->obj_cap) {
             uint32_t cap = s->obj_cap ? 2 * s->obj_cap : 32;
             if (cap > (1u << 20)) scr_raise(L, "seiche: more than %u live objects (emitters, sinks, bodies, timers)", 1u << 20);
+            size_t more = (size_t)(cap - s->obj_cap) * sizeof(obj);
+            scr_charge(L, s, "seiche: a new object", more);
             obj *o = realloc(s->objs, (size_t)cap * sizeof *o);
-            if (!o) scr_raise(L, "seiche: out of memory");
+            if (!o) {
+                scr_uncharge(s, more);
+                scr_raise(L, "seiche: out of memory");
+            }
             memset(o + s->obj_cap, 0, (size_t)(cap - s->obj_cap) * sizeof *o);
             s->objs = o;
             s->obj_cap = cap;
@@ -440,8 +448,15 @@ uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind)
     return slot;
 }
 
-void scr_body_free_data(body_rec *b)
+size_t scr_body_data_bytes(const body_rec *b)
 {
+    return (size_t)b->point_count * 3 * sizeof(float) + (size_t)b->index_count * sizeof(uint32_t) +
+           (size_t)b->part_count * sizeof(body_part);
+}
+
+void scr_body_free_data(eng_script *s, body_rec *b)
+{
+    if (b->points || b->indices || b->parts) scr_uncharge(s, scr_body_data_bytes(b));
     free(b->points);
     free(b->indices);
     free(b->parts);
@@ -456,7 +471,7 @@ void scr_obj_release(eng_script *s, uint32_t slot)
     obj *o = &s->objs[slot];
     if (o->ref != LUA_NOREF) luaL_unref(s->L, LUA_REGISTRYINDEX, o->ref);
     if (o->kind == OBJ_TIMER && o->u.timer.fn != LUA_NOREF) luaL_unref(s->L, LUA_REGISTRYINDEX, o->u.timer.fn);
-    if (o->kind == OBJ_BODY) scr_body_free_data(&o->u.body);
+    if (o->kind == OBJ_BODY) scr_body_free_data(s, &o->u.body);
     uint32_t gen = o->generation;
     memset(o, 0, sizeof *o);
     o->generation = gen;
@@ -494,7 +509,7 @@ obj *scr_check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_
                   kind == OBJ_EMITTER ? "an" : "a", scr_kind_name[kind], scr_describe(L, 1, got, sizeof got), strchr(fn, ':') + 1);
     }
     obj *o = scr_obj_at(s, h->slot, h->generation);
-    if (!o) scr_raise(L, "%s: attempt to use a destroyed %s", fn, scr_kind_name[kind]);
+    if (!o || o->kind != kind) scr_raise(L, "%s: attempt to use a destroyed %s", fn, scr_kind_name[kind]);
     if (slot_out) *slot_out = h->slot;
     return o;
 }
@@ -506,7 +521,8 @@ int scr_is_valid(lua_State *L)
     bool ok = false;
     for (int k = 0; k < OBJ_KIND_COUNT && !ok; k++) {
         handle *h = luaL_testudata(L, 1, scr_kind_meta[k]);
-        if (h) ok = scr_obj_at(s, h->slot, h->generation) != NULL;
+        obj *o = h ? scr_obj_at(s, h->slot, h->generation) : NULL;
+        ok = o && o->kind == (obj_kind)k;
     }
     lua_pushboolean(L, ok);
     return 1;
@@ -521,6 +537,7 @@ static int m_tostring(lua_State *L)
         handle *h = luaL_testudata(L, 1, scr_kind_meta[k]);
         if (!h) continue;
         obj *o = scr_obj_at(s, h->slot, h->generation);
+        if (o && o->kind != (obj_kind)k) o = NULL;
         if (!o) lua_pushfstring(L, "%s #%d (destroyed)", scr_kind_name[k], (int)h->slot + 1);
         else if (k == OBJ_BODY)
             lua_pushfstring(L, "body #%d (%s %s%s)", (int)h->slot + 1, scr_body_kind_name[o->u.body.def.type],

@@ -2,8 +2,13 @@
 // queued world edits (commands), and the prototypes of the helpers the files below share.
 //
 // The files of the Lua host (script.h is its public face, docs/lua-api.md its manual):
-//   script.c          the Lua state, its time budget and memory limit, protected calls with a
-//                     traceback, loading the script, callbacks and timers; registers every area
+//   script.c          the Lua state, its time budget and memory limit (how they hold: the
+//                     comment above budget_hook), protected calls with a traceback, loading
+//                     the script, callbacks; registers every area
+//   script_sandbox.c  the libraries a script gets: the sandbox's allow-list, or all with --trusted
+//   script_strlib.c   string.find/match/gmatch/gsub/rep with a work counter (scr_tick)
+//   script_tablib.c   table.concat/insert/remove/move/sort with a work counter
+//   script_timers.c   timers: a heap by due time, fired after on_step
 //   script_args.c     argument readers that name fn, field, value and rule (scr_opt_*, scr_req_*,
 //                     scr_arg_*, scr_check_*), vectors, handles and their metamethods
 //   script_apply.c    the queues: world edits (scr_push_command, eng_script_apply) and input
@@ -97,7 +102,7 @@ typedef struct obj {
         struct { pbf_emitter_def def; pbf_emitter_id id; bool full_rate; } emitter;
         struct { float min[3], max[3]; pbf_sink_id id; } sink;
         body_rec body;
-        struct { double due, period; int fn; uint64_t fired; } timer;
+        struct { double due, period; int fn; } timer;
         struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
     } u;
 } obj;
@@ -143,17 +148,42 @@ typedef struct command {
     } u;
 } command;
 
+/// The most memory a script may hold: its Lua state and what the C side keeps for it (queued
+/// edits, handles, bodies' shapes, timers).
+#define SCR_MEMORY_LIMIT ((size_t)512 << 20)
+/// The largest script or module file, bytes.
+#define SCR_MAX_SCRIPT_BYTES ((long long)64 << 20)
+/// The most timer calls one frame may make.
+#define SCR_MAX_TIMER_CALLS 100000
+
+/// Why the running call is being stopped (scr_stop): a stop cannot be caught by pcall.
+typedef enum scr_stop_kind { STOP_NONE = 0, STOP_BUDGET, STOP_MEMORY, STOP_CHECK } scr_stop_kind;
+
+typedef struct timer_entry {
+    double due;             // s, simulated
+    uint32_t slot, gen;     // the timer; stale once its slot was released or reused
+} timer_entry;
+
 struct eng_script {
     lua_State *L;
     eng_logger log;
-    double budget_s;
-    double deadline;        // monotonic seconds; 0 when no callback runs
+    bool trusted;           // --trusted: every standard library
+    bool closing;           // eng_script_destroy is closing the Lua state: the API refuses
+    bool loaded;            // the load (main chunk, on_start, on_reload) is over: a frame began
+    double budget_s;        // for the main chunk with on_start and on_reload, and for each frame
+    double frame_used;      // s of the budget used by this frame's (or the load's) calls so far
+    double deadline;        // monotonic seconds; 0 when no call runs
     const char *running;    // name of the running callback, for messages
     size_t memory;          // bytes held by the Lua state
-    bool out_of_memory;
+    size_t c_memory;        // bytes the C side holds for the script (counted with `memory`)
+    bool out_of_memory;     // the allocator refused a block
+    size_t ticks;           // work units since the clock was last read (scr_tick)
+    scr_stop_kind stop_kind;
+    char stop[1024];        // the stop's message, raised again at every instruction
+    timer_entry *timers;    // a binary heap by (due, slot)
+    uint32_t timer_count, timer_cap;
     char path[512];
     char error[8192];
-    bool check_failed;
     bool quit;
     bool scene_called;
     bool in_main_chunk;
@@ -200,11 +230,55 @@ void scr_open_body(scr_api *api);     // wrap_body.c
 void scr_open_interact(scr_api *api); // wrap_interact.c
 void scr_open_query(scr_api *api);    // wrap_query.c
 
+// ---- limits (script.c) --------------------------------------------------------------------
+
+/// Counts `units` of work done in C (a step of pattern matching, an element moved): every
+/// 2^16 units the clock and the memory are looked at and the call stops when over.
+void scr_tick(lua_State *L, eng_script *s, size_t units);
+/// Stops the running call: raises "file:line: message" now and again at every Lua
+/// instruction and every scr_tick until the host's protected call returns, so no pcall
+/// in the script can swallow it.
+int scr_stop(lua_State *L, eng_script *s, scr_stop_kind kind, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+/// Bytes the script may still allocate under SCR_MEMORY_LIMIT.
+size_t scr_memory_room(const eng_script *s);
+/// Counts `bytes` the C side keeps for the script against its memory limit; raises naming
+/// fn when they do not fit. scr_uncharge gives them back.
+void scr_charge(lua_State *L, eng_script *s, const char *fn, size_t bytes);
+void scr_uncharge(eng_script *s, size_t bytes);
+
+// ---- libraries (script_sandbox.c, script_strlib.c, script_tablib.c) ---------------------------
+
+void scr_open_libraries(lua_State *L, bool trusted);
+void scr_open_bounded_string(lua_State *L);
+void scr_open_bounded_table(lua_State *L);
+
+// ---- timers (script_timers.c) ------------------------------------------------------------------
+
+/// Makes room in the heap for one more firing (raises when the memory limit says no), so
+/// that scr_timer_schedule cannot fail.
+void scr_timer_reserve(lua_State *L, eng_script *s);
+/// Adds the timer's next firing (its `due`) to the heap.
+void scr_timer_schedule(eng_script *s, uint32_t slot);
+/// Fires the timers due at `time`, earliest first, each through `call` (a protected call).
+eng_script_status scr_fire_timers(eng_script *s, double time,
+                                  eng_script_status (*call)(eng_script *s, int fn_ref, double time));
+
 // ---- arguments (script_args.c) -----------------------------------------------------------
 
 enum { OPEN_LO = 1, OPEN_HI = 2, WHOLE = 4 };
 
+/// The script of a binding (its upvalue 1); raises while the script is closing (a finaliser
+/// that runs in lua_close cannot use the API).
 eng_script *scr_get_script(lua_State *L);
+/// The script of any function, from the Lua state's extra space.
+static inline eng_script *scr_state_script(lua_State *L) { return *(eng_script **)lua_getextraspace(L); }
+/// "file:line:" of the innermost Lua function running (the caller of a binding, also when
+/// pcall stands between), or "" when none runs.
+const char *scr_where(lua_State *L, char *buf, size_t size);
 // Raises a Lua error with the caller's file:line, formatted by printf rules (luaL_error's
 // own formatter knows no %g).
 int scr_raise(lua_State *L, const char *fmt, ...)
@@ -251,7 +325,9 @@ void scr_set_num(lua_State *L, const char *k, double v);
 
 obj *scr_obj_at(eng_script *s, uint32_t slot, uint32_t gen);
 uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind);
-void scr_body_free_data(body_rec *b);
+/// The bytes of a body's shape data (points, indices, parts), as charged to the script.
+size_t scr_body_data_bytes(const body_rec *b);
+void scr_body_free_data(eng_script *s, body_rec *b);
 void scr_obj_release(eng_script *s, uint32_t slot);
 void scr_push_handle(lua_State *L, eng_script *s, uint32_t slot);
 obj *scr_check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_out);

@@ -286,6 +286,11 @@ static int l_body(lua_State *L)
                       (double)b.def.density, shape_volume(&b), m);
     }
 
+    // The shape's data counts against the script's memory: refused before anything is made.
+    size_t data_bytes = (parts ? (size_t)b.part_count * sizeof(body_part) : 0) +
+                        (pts ? (size_t)b.point_count * 3 * sizeof(float) + (size_t)b.index_count * sizeof(uint32_t) : 0);
+    scr_charge(L, s, fn, data_bytes);
+    scr_uncharge(s, data_bytes);
     uint32_t slot = scr_obj_new(L, s, OBJ_BODY);
     obj *o = &s->objs[slot];
     if (!has_color) {
@@ -296,24 +301,22 @@ static int l_body(lua_State *L)
     c->slot = slot;
     c->gen = o->generation;
     b.parts = NULL;
-    if (parts) {
-        b.parts = malloc((size_t)b.part_count * sizeof *b.parts);
-        if (!b.parts) {
-            s->command_count--;
-            scr_obj_release(s, slot);
-            scr_raise(L, "seiche.body: out of memory");
-        }
-        memcpy(b.parts, parts, (size_t)b.part_count * sizeof *b.parts);
-    }
+    if (parts) b.parts = malloc((size_t)b.part_count * sizeof *b.parts);
     if (pts) {
         b.points = malloc((size_t)b.point_count * 3 * sizeof(float));
         b.indices = b.index_count ? malloc((size_t)b.index_count * sizeof(uint32_t)) : NULL;
-        if (!b.points || (b.index_count && !b.indices)) {
-            scr_body_free_data(&b);
-            s->command_count--;
-            scr_obj_release(s, slot);
-            scr_raise(L, "seiche.body: out of memory");
-        }
+    }
+    if ((parts && !b.parts) || (pts && (!b.points || (b.index_count && !b.indices)))) {
+        free(b.parts);
+        free(b.points);
+        free(b.indices);
+        s->command_count--;
+        scr_obj_release(s, slot);
+        scr_raise(L, "seiche.body: out of memory");
+    }
+    s->c_memory += data_bytes; // given back by scr_body_free_data
+    if (parts) memcpy(b.parts, parts, (size_t)b.part_count * sizeof *b.parts);
+    if (pts) {
         memcpy(b.points, pts, (size_t)b.point_count * 3 * sizeof(float));
         if (b.index_count) memcpy(b.indices, idx, (size_t)b.index_count * sizeof(uint32_t));
     }

@@ -128,14 +128,6 @@ static int l_sphere(lua_State *L)
     return 0;
 }
 
-static float *copy_floats(lua_State *L, const char *fn, const float *src, size_t count)
-{
-    float *p = malloc(count * sizeof(float) + 4);
-    if (!p) scr_raise(L, "%s: out of memory", fn);
-    memcpy(p, src, count * sizeof(float));
-    return p;
-}
-
 static int l_particles(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
@@ -159,16 +151,27 @@ static int l_particles(lua_State *L)
     } else {
         check_velocity_field(L, 1, "seiche.particles", "velocity", v);
     }
-    // The command first (scr_push_command may raise), then the arrays it owns.
+    // The arrays count against the script's memory: refused before anything is made. Then the
+    // command (scr_push_command may raise), then the arrays it owns.
+    bool has_vel = vel || v[0] != 0 || v[1] != 0 || v[2] != 0;
+    size_t bytes = (has_vel ? 2 : 1) * 3 * (size_t)n * sizeof(float);
+    scr_charge(L, s, "seiche.particles", bytes);
+    scr_uncharge(s, bytes);
     command *c = scr_push_command(L, s, CMD_PARTICLES, "seiche.particles");
-    c->u.particles.pos = copy_floats(L, "seiche.particles", pos, 3 * (size_t)n);
-    if (vel || v[0] != 0 || v[1] != 0 || v[2] != 0) {
-        float *q = malloc(3 * (size_t)n * sizeof(float) + 1);
-        if (!q) scr_raise(L, "seiche.particles: out of memory");
-        for (uint32_t i = 0; i < n; i++) memcpy(q + 3 * i, vel ? vel + 3 * i : v, 3 * sizeof(float));
-        c->u.particles.vel = q;
+    float *p = malloc(3 * (size_t)n * sizeof(float) + 4), *q = has_vel ? malloc(3 * (size_t)n * sizeof(float) + 4) : NULL;
+    if (!p || (has_vel && !q)) {
+        free(p);
+        free(q);
+        s->command_count--;
+        return scr_raise(L, "seiche.particles: out of memory");
     }
+    memcpy(p, pos, 3 * (size_t)n * sizeof(float));
+    if (has_vel)
+        for (uint32_t i = 0; i < n; i++) memcpy(q + 3 * i, vel ? vel + 3 * i : v, 3 * sizeof(float));
+    c->u.particles.pos = p;
+    c->u.particles.vel = q;
     c->u.particles.n = n;
+    s->c_memory += bytes; // given back when the command is done (free_command)
     return 0;
 }
 

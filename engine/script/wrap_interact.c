@@ -17,13 +17,16 @@ static int new_timer(lua_State *L, const char *fn, bool repeat)
     char got[64];
     if (!lua_isfunction(L, 2))
         scr_raise(L, "%s: argument #2 'callback' must be a function (got %s)", fn, scr_describe(L, 2, got, sizeof got));
+    scr_timer_reserve(L, s);
     uint32_t slot = scr_obj_new(L, s, OBJ_TIMER);
     obj *o = &s->objs[slot];
+    o->u.timer.fn = LUA_NOREF; // until luaL_ref (which may run out of memory) gives one
     lua_pushvalue(L, 2);
     o->u.timer.fn = luaL_ref(L, LUA_REGISTRYINDEX);
     o->u.timer.due = s->host.time + d;
     o->u.timer.period = repeat ? d : 0.0;
     o->state = OBJ_LIVE; // timers are the script's own: nothing to queue
+    scr_timer_schedule(s, slot);
     scr_push_handle(L, s, slot);
     return 1;
 }
@@ -246,6 +249,12 @@ static int l_inject_key(lua_State *L)
     const char *fn = "seiche.inject_key";
     int code = check_key_name(L, 1, fn);
     int action = read_action(L, 2, fn);
+    // A reset or reload asked for while the scene loads would load it again, and again: the
+    // frame counter would restart for ever and --frames never end the run.
+    if (!s->loaded && action == ENG_PRESS && (code == GLFW_KEY_R || code == GLFW_KEY_F5))
+        scr_raise(L, "%s: a %s (\"%s\") cannot be asked for while the scene loads (in the main chunk, on_start or "
+                  "on_reload): inject it from on_step or a timer", fn, code == GLFW_KEY_R ? "reset" : "reload",
+                  code == GLFW_KEY_R ? "r" : "f5");
     eng_event *e = push_event(L, s, fn);
     e->type = ENG_EVENT_KEY;
     e->key = code;

@@ -151,10 +151,8 @@ static int l_check(lua_State *L)
     luaL_checkany(L, 1);
     if (lua_toboolean(L, 1)) return 0;
     const char *msg = lua_isnoneornil(L, 2) ? "(no message)" : luaL_tolstring(L, 2, NULL);
-    s->check_failed = true;
-    luaL_where(L, 1);
-    lua_pushfstring(L, "%scheck failed: %s", lua_tostring(L, -1), msg);
-    return lua_error(L);
+    // A stop, not an ordinary error: pcall(seiche.check, false) cannot hide a failed check.
+    return scr_stop(L, s, STOP_CHECK, "check failed: %s", msg);
 }
 
 static int l_quit(lua_State *L)

@@ -2,6 +2,7 @@
 -- of the axle, so the wheel turns clockwise seen from the camera (angular velocity along
 -- -z), about its axle only, its centre fixed.
 -- frames: 50
+-- trusted: runs the shipped scripts/scenes/mill_wheel.lua as it is (dofile), then adds checks
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
 dofile(here .. "/../../scripts/scenes/mill_wheel.lua")
 

@@ -1,6 +1,7 @@
 -- scripts/scenes/dam_break.lua as it ships: released at t = 0, the water front reaches
 -- the far wall (1.6 m away) within 0.5 s; no particle leaves the domain or turns NaN.
 -- frames: 30
+-- trusted: runs the shipped scripts/scenes/dam_break.lua as it is (dofile), then adds checks
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
 dofile(here .. "/../../scripts/scenes/dam_break.lua")
 

@@ -2,6 +2,7 @@
 -- water; after 0.6 s the cork ball (250 kg/m^3) rides at the surface while the stone
 -- (2500 kg/m^3) is already well below it, and every body is still in the tank.
 -- frames: 36
+-- trusted: runs the shipped scripts/scenes/floating_objects.lua as it is (dofile), then adds checks
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
 dofile(here .. "/../../scripts/scenes/floating_objects.lua")
 

@@ -2,6 +2,7 @@
 -- falls into it (after 0.6 s all but a few splashes are below 0.65 m), no particle is lost and
 -- the pool's density stays within 10 % of rest.
 -- frames: 36
+-- trusted: runs the shipped scripts/scenes/prefilled_drop.lua as it is (dofile), then adds checks
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
 dofile(here .. "/../../scripts/scenes/prefilled_drop.lua")
 

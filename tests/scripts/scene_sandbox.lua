@@ -2,6 +2,7 @@
 -- pressing the left button on a body grabs it and dragging the pointer up lifts it out
 -- of the water, releasing lets it go, key x removes every body.
 -- frames: 32
+-- trusted: runs the shipped scripts/scenes/sandbox.lua as it is (dofile), then adds checks
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
 dofile(here .. "/../../scripts/scenes/sandbox.lua")
 

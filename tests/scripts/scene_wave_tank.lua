@@ -1,6 +1,7 @@
 -- scripts/scenes/wave_tank.lua as it ships: the paddle follows x = 0.06 + 0.05 sin(2 pi
 -- 0.7 t) exactly, and the water in front of it rises and falls with it.
 -- frames: 36
+-- trusted: runs the shipped scripts/scenes/wave_tank.lua as it is (dofile), then adds checks
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
 dofile(here .. "/../../scripts/scenes/wave_tank.lua")
 
