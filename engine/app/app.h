@@ -35,6 +35,8 @@ typedef struct eng_app_options {
     double budget_s;             ///< longest a callback may run, s; 0: 5 headless, 2 in a window
     bool watch;                  ///< window: reload the script when its file changes (default true)
     bool ui;                     ///< window: the on-screen panel and error box (default true)
+    const char *render;          ///< how the water is drawn: "surface" (NULL: the default),
+                                 ///< "spheres", "density" or "speed" (eng_fluid_mode_parse)
 } eng_app_options;
 
 eng_app_options eng_default_app_options(void);
