@@ -31,8 +31,8 @@ eng_fluid_look eng_default_fluid_look(void)
 {
     eng_fluid_look k = {
         .mode = ENG_FLUID_SURFACE,
-        .absorption = { 2.4f, 0.75f, 0.32f },
-        .scatter = { 0.02f, 0.16f, 0.32f },
+        .absorption = { 3.0f, 1.0f, 0.45f },
+        .scatter = { 0.02f, 0.13f, 0.28f },
         .refraction = 1.0f,
         .reflection = 0.02f,
         .specular = 2.0f,

@@ -100,8 +100,8 @@ typedef struct eng_fluid_look {
     eng_fluid_view view;    ///< surface: a debug view instead of the shaded water
 } eng_fluid_look;
 
-/// Surface mode, water absorbing (2.4, 0.75, 0.32)/m, half-resolution surface textures,
-/// smoothing over 3 particle radii, density map 0.9..1.1 rho0, speed map 0..2 m/s, shadows.
+/// Surface mode, water absorbing (3, 1, 0.45)/m, half-resolution surface textures,
+/// smoothing over 6 particle radii, density map 0.9..1.1 rho0, speed map 0..2 m/s, shadows.
 eng_fluid_look eng_default_fluid_look(void);
 
 typedef struct eng_renderer_def {

@@ -9,7 +9,7 @@
 //   1. thickness: every particle adds the ray's chord through it (additive, tested
 //      against fluid_ds, not writing it)                       -> thick
 //   2. depth: sphere impostors, the nearest wins (writes fluid_ds)  -> depth (eye depth, m)
-//   3. smoothing along x, then y: the narrow-range filter on the depth, a Gaussian on the
+//   3. smoothing along y, then x: the narrow-range filter on the depth, a Gaussian on the
 //      thickness                                  -> smooth[0], smooth_thick[0] -> [1], [1]
 //   4. composite, full size, into the context's framebuffer: scene colour and depth where
 //      there is no water in front, else the shaded water and its depth.
@@ -87,16 +87,16 @@ bool eng_surface_targets(eng_renderer *r, int w, int h)
     s->fluid_ds = eng_render_texture(GL_DEPTH_COMPONENT32F, fw, fh, GL_NEAREST, "eng.surface.fluid_depth_test");
     s->depth = eng_render_texture(GL_R32F, fw, fh, GL_NEAREST, "eng.surface.depth");
     s->thick = eng_render_texture(GL_R16F, fw, fh, GL_LINEAR, "eng.surface.thickness");
-    s->smooth[0] = eng_render_texture(GL_R32F, fw, fh, GL_NEAREST, "eng.surface.smooth_x");
+    s->smooth[0] = eng_render_texture(GL_R32F, fw, fh, GL_NEAREST, "eng.surface.smooth_y");
     s->smooth[1] = eng_render_texture(GL_R32F, fw, fh, GL_NEAREST, "eng.surface.smoothed");
-    s->smooth_thick[0] = eng_render_texture(GL_R16F, fw, fh, GL_LINEAR, "eng.surface.thickness_x");
+    s->smooth_thick[0] = eng_render_texture(GL_R16F, fw, fh, GL_LINEAR, "eng.surface.thickness_y");
     s->smooth_thick[1] = eng_render_texture(GL_R16F, fw, fh, GL_LINEAR, "eng.surface.thickness_smoothed");
     s->scene_fbo = eng_render_framebuffer(&s->scene_color, 1, s->scene_depth, "eng.surface.scene_fbo");
     s->depth_fbo = eng_render_framebuffer(&s->depth, 1, s->fluid_ds, "eng.surface.depth_fbo");
     s->thick_fbo = eng_render_framebuffer(&s->thick, 1, s->fluid_ds, "eng.surface.thickness_fbo");
     for (int i = 0; i < 2; i++) {
         const GLuint both[2] = { s->smooth[i], s->smooth_thick[i] };
-        s->smooth_fbo[i] = eng_render_framebuffer(both, 2, 0, i == 0 ? "eng.surface.smooth_x_fbo" : "eng.surface.smoothed_fbo");
+        s->smooth_fbo[i] = eng_render_framebuffer(both, 2, 0, i == 0 ? "eng.surface.smooth_y_fbo" : "eng.surface.smoothed_fbo");
     }
     if (!s->scene_fbo || !s->depth_fbo || !s->thick_fbo || !s->smooth_fbo[0] || !s->smooth_fbo[1]) {
         eng_log(&r->def.logger, ENG_LOG_ERROR,
@@ -176,7 +176,7 @@ static void pass_smooth(eng_renderer *r, float radius, GLuint out[2])
     mat4 proj;
     eng_camera_projection(&r->cam, r->aspect, proj);
     float world_radius = k->smoothing * radius;
-    int max_px = (int)lroundf(0.03f * (float)s->fh);
+    int max_px = (int)lroundf(0.06f * (float)s->fh);
     if (max_px < 2) max_px = 2;
     if (max_px > 64) max_px = 64;
     glDisable(GL_DEPTH_TEST);
@@ -184,7 +184,7 @@ static void pass_smooth(eng_renderer *r, float radius, GLuint out[2])
     glUniform1f(r->smooth_world_radius, world_radius);
     glUniform1f(r->smooth_px_per_m, 0.5f * (float)s->fh * proj[1][1]);
     glUniform1i(r->smooth_max_px, max_px);
-    glUniform1f(r->smooth_range, fmaxf(4.0f * radius, 2.0f * world_radius));
+    glUniform1f(r->smooth_range, 6.0f * radius); // the narrow range: three particle spacings
     glBindVertexArray(r->empty_vao);
     glViewport(0, 0, s->fw, s->fh);
     const GLuint src[2][2] = { { s->depth, s->thick }, { s->smooth[0], s->smooth_thick[0] } };
@@ -192,7 +192,7 @@ static void pass_smooth(eng_renderer *r, float radius, GLuint out[2])
         glBindFramebuffer(GL_FRAMEBUFFER, s->smooth_fbo[i]);
         bind_texture(ENG_RENDER_TEX_FLUID_DEPTH, src[i][0]);
         bind_texture(ENG_RENDER_TEX_FLUID_THICK, src[i][1]);
-        glUniform2i(r->smooth_step, i == 0 ? 1 : 0, i == 0 ? 0 : 1);
+        glUniform2i(r->smooth_step, i == 0 ? 0 : 1, i == 0 ? 1 : 0); // y, then x (smooth.frag)
         glDrawArrays(GL_TRIANGLES, 0, 3);
     }
     bind_texture(ENG_RENDER_TEX_FLUID_DEPTH, 0);
@@ -219,7 +219,7 @@ static void pass_composite(eng_renderer *r, const GLuint smoothed[2], float radi
     bind_texture(ENG_RENDER_TEX_FLUID_THICK, smoothed[1]);
     glUseProgram(r->composite_prog);
     glUniform2f(r->comp_fluid_size, (float)s->fw, (float)s->fh);
-    glUniform1f(r->comp_layer, fmaxf(4.0f * radius, 2.0f * k->smoothing * radius));
+    glUniform1f(r->comp_layer, 6.0f * radius);
     glUniform3fv(r->comp_absorption, 1, k->absorption);
     glUniform3fv(r->comp_scatter, 1, k->scatter);
     glUniform1f(r->comp_refraction, k->refraction);

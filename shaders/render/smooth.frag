@@ -1,18 +1,20 @@
 #version 430 core
-// Surface pass 3, smoothing (separable: run along x, then along y).
+// Surface pass 3, smoothing (separable: run along y, then along x).
 // The depth: the narrow-range filter (Truong & Yuksel, "A Narrow-Range Filter for
 // Screen-Space Fluid Rendering", I3D 2018). Around each pixel's depth z0, neighbours
 // farther than z0 + range are another layer (water behind) and ignored, nearer than
 // z0 - range are clamped to it, the rest averaged with Gaussian weights; pixels without
-// water stay without. The thickness: a plain Gaussian over the same footprint (the sum of
-// the spheres' chords is speckled at the particles' scale). The radius is a world length
-// projected at z0, capped in pixels.
+// water stay without. The thickness: a plain Gaussian over the water in the same footprint
+// (the sum of the spheres' chords is speckled at the particles' scale; pixels without
+// water do not thin the edges). The radius is a world length projected at z0, capped in
+// pixels. Run along y first: what the second pass leaves is streaks along its direction,
+// and along x they lie with the water line instead of across it.
 #include "render_shared.glsl"
 
 layout(binding = ENG_RENDER_TEX_FLUID_DEPTH) uniform sampler2D u_depth; // eye depth m, 0 = none
 layout(binding = ENG_RENDER_TEX_FLUID_THICK) uniform sampler2D u_thick; // m
 
-uniform ivec2 u_step;         // (1, 0) or (0, 1)
+uniform ivec2 u_step;         // (0, 1), then (1, 0)
 uniform float u_world_radius; // m
 uniform float u_px_per_m;     // pixels one metre covers 1 m from the eye
 uniform int u_max_px;         // the radius in pixels at most
@@ -50,8 +52,14 @@ void main()
             sum += w * max(zb, lo);
             wsum += w;
         }
-        tsum += w * (texelFetch(u_thick, a, 0).r + texelFetch(u_thick, b, 0).r);
-        twsum += 2.0 * w;
+        if (za > 0.0) {
+            tsum += w * texelFetch(u_thick, a, 0).r;
+            twsum += w;
+        }
+        if (zb > 0.0) {
+            tsum += w * texelFetch(u_thick, b, 0).r;
+            twsum += w;
+        }
     }
     o_depth = sum / wsum;
     o_thick = tsum / twsum;
