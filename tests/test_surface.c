@@ -10,7 +10,7 @@
 //    the water reflects the sky, the normals face up on top and towards the eye in
 //    front, the water's depth is written
 //    (a body in front hides it, depth reads back as the water's), bodies cast shadows,
-//    the water casts a tinted one.
+//    the water casts a tinted one, fast drops show as spray.
 // SEICHE_UPDATE_REFERENCES=1 rewrites the reference images (look at them before committing).
 #include "tests/support.h"
 
@@ -46,6 +46,11 @@ static const float ONE[3] = { 2.0f, 0.5f, 2.0f };
 #define SY0 0.25f
 #define SY1 0.65f
 #define SZ -0.10f
+// Spray: DROPS drops in a row at y DY, z DZ from x DX0, 3 m/s, at half the rest density.
+#define DROPS 6
+#define DX0 -0.10f
+#define DY 0.62f
+#define DZ 0.25f
 // A floating 3x3x3 cluster above the block, a layer of its own in front of its top.
 #define CX -0.58f
 #define CY 0.45f
@@ -97,6 +102,8 @@ static int make_particles(float *p, int max)
         p[4 * n + 2] = CZ + (float)(k / 9 - 1) * s;
         p[4 * n + 3] = 0.5f;
     }
+    for (int k = 0; k < DROPS && n < max; k++, n++)
+        p[4 * n + 0] = DX0 + 0.06f * (float)k, p[4 * n + 1] = DY, p[4 * n + 2] = DZ, p[4 * n + 3] = 1.0f;
     return n;
 }
 
@@ -157,8 +164,9 @@ static int setup(void **state)
     glGenBuffers(1, &f.ssbo);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, f.ssbo);
     glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)f.count * 16, p, GL_STATIC_DRAW);
-    // Velocities: still water at rest density (volume = mass / rho0).
+    // Velocities: still water at rest density (volume = mass / rho0); the drops (last) fly.
     for (int i = 0; i < f.count; i++) p[4 * i] = p[4 * i + 1] = p[4 * i + 2] = 0.0f, p[4 * i + 3] = 0.064f / 1000.0f;
+    for (int i = f.count - DROPS; i < f.count; i++) p[4 * i] = 3.0f, p[4 * i + 3] = 2.0f * 0.064f / 1000.0f;
     glGenBuffers(1, &f.vel);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, f.vel);
     glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)f.count * 16, p, GL_STATIC_DRAW);
@@ -614,6 +622,28 @@ static void bodies_cast_shadows_and_the_water_a_tinted_one(void **state)
     assert_true(luma(in) > 0.6 * luma(out)); // not an opaque shadow
 }
 
+static void fast_lonely_drops_show_as_spray(void **state)
+{
+    fixture *f = *state;
+    static unsigned char spray[W * H * 4], none[W * H * 4];
+    eng_fluid_look look = eng_default_fluid_look();
+    render(f, &look, true, spray);
+    look.spray = 0.0f;
+    render(f, &look, true, none);
+    double sum = 0.0;
+    for (int k = 0; k < DROPS; k++) {
+        int x, y;
+        double a[3], b[3];
+        project(&f->cam, DX0 + 0.06f * (float)k, DY, DZ, &x, &y, NULL);
+        mean_rgb(spray, x, y, 0, a);
+        mean_rgb(none, x, y, 0, b);
+        if (k == 0) print_rgb("drop with spray", x, y, a), print_rgb("drop without", x, y, b);
+        sum += luma(a) - luma(b);
+    }
+    print_message("spray brightens the drops by %.1f levels on average\n", sum / DROPS);
+    assert_true(sum / DROPS > 25.0);
+}
+
 static void every_pass_is_timed(void **state)
 {
     fixture *f = *state;
@@ -622,7 +652,7 @@ static void every_pass_is_timed(void **state)
     eng_gpu_timer *t = eng_renderer_gpu_timer(f->r);
     eng_gpu_timer_wait(t);
     static const char *const passes[] = { "shadow", "scene", "surface_thickness", "surface_depth", "surface_smooth",
-                                          "surface_composite", "frame" };
+                                          "surface_composite", "surface_spray", "frame" };
     for (size_t i = 0; i < sizeof passes / sizeof passes[0]; i++) {
         double ms = eng_gpu_timer_ms(t, passes[i]);
         print_message("%-18s %8.3f ms (%dx%d, %d particles, llvmpipe or whatever GL this is)\n", passes[i], ms, W, H,
@@ -669,6 +699,7 @@ int main(void)
         cmocka_unit_test(normals_face_up_on_top_and_towards_the_eye_in_front),
         cmocka_unit_test(the_water_writes_its_depth_and_bodies_in_front_hide_it),
         cmocka_unit_test(bodies_cast_shadows_and_the_water_a_tinted_one),
+        cmocka_unit_test(fast_lonely_drops_show_as_spray),
         cmocka_unit_test(every_pass_is_timed),
         cmocka_unit_test(fluid_looks_out_of_range_are_refused_naming_the_field),
     };

@@ -56,4 +56,6 @@ mutate "no opaque shadows" frame.glsl \
     "vis *= 1.0 / 9.0;" "vis = 1.0;"
 mutate "no water in the shadow map" frame.glsl \
     "return vis * exp(-u_water_light.rgb * inside);" "return vec3(vis);"
+mutate "no spray" spray.frag \
+    "o_color = vec4(fog(c, pw), u_spray * v_alpha * edge);" "o_color = vec4(0.0);"
 exit $status

@@ -38,6 +38,8 @@ eng_fluid_look eng_default_fluid_look(void)
         .specular = 2.0f,
         .shininess = 900.0f,
         .smoothing = 6.0f,
+        .spray = 0.6f,
+        .spray_speed = 1.5f,
         .resolution = 0.5f,
         .density_range = { 0.9f, 1.1f },
         .speed_max = 2.0f,
@@ -166,6 +168,10 @@ bool eng_render_check_look(const eng_logger *log, char *err, size_t err_size, co
     if (!check_range(log, err, err_size, FIELD("specular"), k->specular, 0.0f, 8.0f)) return false;
     if (!check_range(log, err, err_size, FIELD("shininess"), k->shininess, 1.0f, 8192.0f)) return false;
     if (!check_range(log, err, err_size, FIELD("smoothing"), k->smoothing, 0.0f, 16.0f)) return false;
+    if (!check_range(log, err, err_size, FIELD("spray"), k->spray, 0.0f, 1.0f)) return false;
+    if (!(k->spray_speed > 0.0f && k->spray_speed <= 1000.0f))
+        return fail(log, err, err_size, "%s must be in (0, 1000] m/s (got %g)", FIELD("spray_speed"),
+                    (double)k->spray_speed);
     if (!check_range(log, err, err_size, FIELD("resolution"), k->resolution, 0.25f, 1.0f)) return false;
     if (!check_range(log, err, err_size, FIELD("density_range[0]"), k->density_range[0], 1e-3f, 10.0f)) return false;
     if (!(k->density_range[1] > k->density_range[0] && k->density_range[1] <= 10.0f))

@@ -45,6 +45,7 @@ typedef struct particle_prog {
     GLint radius, count, fill, light_view, light_proj, light_near;
     GLint color_mode, color_range, particle_mass, inv_rest_density, color_low, color_mid, color_high;
     GLint specular, shininess;
+    GLint spray, spray_speed, spray_density;
 } particle_prog;
 
 typedef struct queued_mesh {
@@ -88,7 +89,7 @@ typedef struct surface_targets {
 struct eng_renderer {
     eng_renderer_def def;
     mesh_prog mesh, mesh_shadow;
-    particle_prog spheres, fluid_depth, fluid_thick, fluid_shadow;
+    particle_prog spheres, fluid_depth, fluid_thick, fluid_shadow, fluid_spray;
     GLuint smooth_prog, composite_prog;
     GLint smooth_step, smooth_world_radius, smooth_px_per_m, smooth_max_px, smooth_range;
     GLint comp_fluid_size, comp_layer, comp_absorption, comp_scatter, comp_refraction, comp_reflection,

@@ -123,6 +123,9 @@ static bool build_particles(eng_renderer *r, particle_prog *pp, const char *frag
     pp->color_high = glGetUniformLocation(p, "u_color_high");
     pp->specular = glGetUniformLocation(p, "u_specular");
     pp->shininess = glGetUniformLocation(p, "u_shininess");
+    pp->spray = glGetUniformLocation(p, "u_spray");
+    pp->spray_speed = glGetUniformLocation(p, "u_spray_speed");
+    pp->spray_density = glGetUniformLocation(p, "u_spray_density");
     return true;
 }
 
@@ -143,7 +146,9 @@ static bool build_programs(eng_renderer *r, char *err, size_t err_size)
            build_particles(r, &r->fluid_thick, "render/fluid_thickness.frag", NULL, "render/fluid_thickness", err,
                            err_size) &&
            build_particles(r, &r->fluid_shadow, "render/shadow_fluid.frag", "#define LIGHT_PASS 1\n",
-                           "render/shadow_fluid", err, err_size);
+                           "render/shadow_fluid", err, err_size) &&
+           build_particles(r, &r->fluid_spray, "render/spray.frag", "#define SPRAY 1\n", "render/spray", err,
+                           err_size);
 }
 
 eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t err_size)
@@ -205,7 +210,7 @@ void eng_renderer_destroy(eng_renderer *r)
 {
     if (!r) return;
     GLuint progs[] = { r->mesh.prog, r->mesh_shadow.prog, r->spheres.prog, r->fluid_depth.prog,
-                       r->fluid_thick.prog, r->fluid_shadow.prog };
+                       r->fluid_thick.prog, r->fluid_shadow.prog, r->fluid_spray.prog };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++)
         if (progs[i]) glDeleteProgram(progs[i]);
     eng_surface_destroy(r);

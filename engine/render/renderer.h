@@ -21,6 +21,7 @@
 //   surface_smooth     the narrow-range filter on that depth, a Gaussian on the thickness
 //   surface_composite  refraction, absorption, Fresnel reflection, highlight, shadow; the
 //                      water's depth written, so that what is drawn later sorts with it
+//   surface_spray      fast drops with few neighbours as soft white discs over it
 //   particles          (sphere modes) lit impostors into the context's framebuffer
 // No pass reads anything back to the CPU. Each is timed with the renderer's eng_gpu_timer
 // under the names above, and "frame" for all of it.
@@ -93,6 +94,9 @@ typedef struct eng_fluid_look {
     float specular;         ///< surface: strength of the sun's highlight, 0..8
     float shininess;        ///< surface: its Blinn-Phong exponent, 1..8192
     float smoothing;        ///< surface: smoothing radius in particle radii, 0..16 (0: none)
+    float spray;            ///< surface: opacity of spray drawn over the water, 0..1 (0: none):
+                            ///< drops faster than spray_speed with few neighbours (needs velocities)
+    float spray_speed;      ///< surface: m/s where spray starts (full at twice that), (0, 1000]
     float resolution;       ///< surface: size of the water's textures against the target, 0.25..1
     float density_range[2]; ///< density mode: rho/rho0 at the blue and the red end, 0 < [0] < [1] <= 10
     float speed_max;        ///< speed mode: m/s at the red end, (0, 1000]
@@ -101,7 +105,7 @@ typedef struct eng_fluid_look {
 } eng_fluid_look;
 
 /// Surface mode, water absorbing (3, 1, 0.45)/m, half-resolution surface textures,
-/// smoothing over 6 particle radii, density map 0.9..1.1 rho0, speed map 0..2 m/s, shadows.
+/// smoothing over 6 particle radii, spray from 1.5 m/s at 0.6 opacity, density map 0.9..1.1 rho0, speed map 0..2 m/s, shadows.
 eng_fluid_look eng_default_fluid_look(void);
 
 typedef struct eng_renderer_def {

@@ -13,6 +13,9 @@
 //      thickness                                  -> smooth[0], smooth_thick[0] -> [1], [1]
 //   4. composite, full size, into the context's framebuffer: scene colour and depth where
 //      there is no water in front, else the shaded water and its depth.
+//   5. spray: fast particles with few neighbours, soft white discs blended over it (the
+//      fluid's velocity buffer gives speed and density; nothing without it).
+// Passes 1, 2 and 5 draw the particles from the fluid's buffers (eng_render_bind_fluid).
 // Every pass writes framebuffer attachments that a later pass samples once that
 // framebuffer is no longer bound: GL orders framebuffer writes before later texture
 // fetches, so no glMemoryBarrier is needed between them (barriers cover image stores,
@@ -234,6 +237,41 @@ static void pass_composite(eng_renderer *r, const GLuint smoothed[2], float radi
     eng_render_timer_end(r, t);
 }
 
+// Spray over the composite, into the context's framebuffer: depth-tested against the
+// water's and the scene's depth, not written; blended over.
+static void pass_spray(eng_renderer *r)
+{
+    const eng_fluid_look *k = &r->def.fluid;
+    bool any = false;
+    for (int i = 0; i < r->fluid_count; i++) any = any || r->fluids[i].d.velocities;
+    if (!(k->spray > 0.0f) || !any) return;
+    int t = eng_render_timer_begin(r, "surface_spray");
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    const particle_prog *p = &r->fluid_spray;
+    glUseProgram(p->prog);
+    glUniform1f(p->spray, k->spray);
+    glUniform1f(p->spray_speed, k->spray_speed);
+    glUniform1f(p->spray_density, 0.7f);
+    glBindVertexArray(r->empty_vao);
+    for (int i = 0; i < r->fluid_count; i++) {
+        const queued_fluid *f = &r->fluids[i];
+        if (!f->d.velocities) continue;
+        eng_render_bind_fluid(p, f);
+        glUniform1f(p->particle_mass, f->d.particle_mass);
+        glUniform1f(p->inv_rest_density, 1.0f / f->d.rest_density);
+        eng_render_draw_fluid_instances(f);
+    }
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    eng_render_timer_end(r, t);
+}
+
 void eng_surface_render(eng_renderer *r)
 {
     // One radius sizes the filter: the first fluid's (fluids of other sizes still draw).
@@ -243,4 +281,5 @@ void eng_surface_render(eng_renderer *r)
     GLuint smoothed[2];
     pass_smooth(r, radius, smoothed);
     pass_composite(r, smoothed, radius);
+    pass_spray(r);
 }

@@ -9,6 +9,9 @@
 //                shader declares (depth_greater) so that early depth tests stay on
 //   LIGHT_PASS   the light's orthographic view (the shadow map)
 //   COLOR_MODES  also the colour of the sphere modes: initial height, density or speed
+//   SPRAY        only spray: particles faster than u_spray_speed whose density is below
+//                u_spray_density rho0 (few neighbours: drops in the air); v_alpha rises
+//                with the speed. The others are dropped here.
 // The fragment shader ray-casts the sphere inside the quad.
 #include "frame.glsl"
 
@@ -24,14 +27,21 @@ uniform mat4 u_light_view; // world -> the light's view (looking down -z)
 uniform mat4 u_light_proj; // the light's view -> clip (orthographic)
 #endif
 
-#ifdef COLOR_MODES
+#if defined(COLOR_MODES) || defined(SPRAY)
 layout(std430, binding = ENG_RENDER_VELOCITY_SSBO_BINDING) readonly buffer Velocities {
     vec4 velocities[]; // xyz: m/s, w: the particle's volume m^3 (mass / density)
 };
-uniform int u_color_mode;         // ENG_RENDER_COLOR_*
-uniform vec2 u_color_range;       // the values at the map's ends: rho / rho0, or m/s
 uniform float u_particle_mass;    // kg: density = mass / volume
 uniform float u_inv_rest_density; // 1 / rho0, m^3/kg
+#endif
+#ifdef SPRAY
+uniform float u_spray_speed;   // m/s
+uniform float u_spray_density; // rho / rho0 below which a particle counts as isolated
+flat out float v_alpha;
+#endif
+#ifdef COLOR_MODES
+uniform int u_color_mode;         // ENG_RENDER_COLOR_*
+uniform vec2 u_color_range;       // the values at the map's ends: rho / rho0, or m/s
 uniform vec3 u_color_low;         // height map: colour at parameter 0
 uniform vec3 u_color_mid;         // at 0.5
 uniform vec3 u_color_high;        // at 1
@@ -81,6 +91,9 @@ void skip()
 #ifdef COLOR_MODES
     v_color = vec3(0.0);
 #endif
+#ifdef SPRAY
+    v_alpha = 0.0;
+#endif
 }
 
 void main()
@@ -90,6 +103,16 @@ void main()
         return;
     }
     vec4 p = particles[gl_InstanceID];
+#ifdef SPRAY
+    vec4 vel = velocities[gl_InstanceID];
+    float speed = length(vel.xyz);
+    float ratio = vel.w > 0.0 ? u_particle_mass / vel.w * u_inv_rest_density : 1.0;
+    if (speed < u_spray_speed || ratio > u_spray_density) {
+        skip();
+        return;
+    }
+    v_alpha = clamp((speed - u_spray_speed) / u_spray_speed, 0.0, 1.0);
+#endif
     vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     float r2 = u_radius * u_radius;
 #ifdef LIGHT_PASS
@@ -117,6 +140,10 @@ void main()
     // Along the eye ray through q, to the depth of the sphere's nearest point: the same
     // pixels, a nearer depth. (The eye is at the origin; q.z = c.z < 0.)
     q *= max(-c.z - u_radius, 1e-4) / -c.z;
+#endif
+#ifdef SPRAY
+    // A radius in front of the drop's own water surface, which the composite wrote.
+    q *= max(-c.z - 2.0 * u_radius, 1e-4) / -c.z;
 #endif
     gl_Position = u_proj * vec4(q, 1.0);
 #endif
