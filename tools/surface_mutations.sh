@@ -57,5 +57,5 @@ mutate "no opaque shadows" frame.glsl \
 mutate "no water in the shadow map" frame.glsl \
     "return vis * exp(-u_water_light.rgb * inside);" "return vec3(vis);"
 mutate "no spray" spray.frag \
-    "o_color = vec4(fog(c, pw), u_spray * v_alpha * edge);" "o_color = vec4(0.0);"
+    "o_color = vec4(fog(c, pw), u_spray * v_alpha * edge * edge);" "o_color = vec4(0.0);"
 exit $status

@@ -24,5 +24,5 @@ void main()
     vec3 pw = (u_inv_view * vec4(v_center, 1.0)).xyz;
     vec3 lit = u_ambient.rgb + u_light_color.rgb * light_visibility(pw, normalize(u_light_dir.xyz));
     vec3 c = vec3(0.92, 0.96, 1.0) * lit;
-    o_color = vec4(fog(c, pw), u_spray * v_alpha * edge);
+    o_color = vec4(fog(c, pw), u_spray * v_alpha * edge * edge);
 }
