@@ -130,7 +130,8 @@ int main(int argc, char **argv)
             i++;
         } else if (strcmp(a, "--render") == 0) {
             eng_fluid_mode mode;
-            if (!eng_fluid_mode_parse(v, &mode)) return bad("--render must be one of surface|spheres|density|speed (got '%s')%s", v, "");
+            if (!eng_fluid_mode_parse(v, &mode))
+                return bad("--render must be one of surface|spheres|density|speed (got '%s')%s", v, "");
             o.render = v;
             i++;
         } else if (strcmp(a, "--shaders") == 0) {
