@@ -21,7 +21,7 @@ setup:
 
 # premake lists source files explicitly and embeds the shaders (build/gen/): regenerate
 # when a source directory or a shader changes.
-build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed demos/embed_glfw tests
+build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed demos/embed_glfw demos/render_bench tests
 	premake4 --file=premake5.lua gmake
 	@# ar only adds members: a renamed or removed source would leave its old object in a
 	@# library, and a renamed test would leave its old program for run.sh to run. The file

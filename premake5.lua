@@ -150,6 +150,7 @@ program("seiche", "demos/seiche")
 program("seiche-bench", "demos/bench")
 program("seiche-embed", "demos/embed")
 program("seiche-embed-glfw", "demos/embed_glfw")
+program("seiche-render-bench", "demos/render_bench")
 
 -- One cmocka program per tests/test_*.c.
 for _, f in ipairs(os.matchfiles("tests/test_*.c")) do

@@ -405,7 +405,8 @@ int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wa
 /// each step: ask again after every step.
 typedef struct pbf_gpu_buffers {
     unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1]
-    unsigned velocities;  ///< SSBO of vec4: xyz m/s
+    unsigned velocities;  ///< SSBO of vec4: xyz m/s, w the particle's volume m^3 (mass_density / density
+                          ///< of the step's last density pass; 0 for particles added since the step)
     unsigned draw_indirect; ///< DrawArraysIndirectCommand {4, particles, 0, 0}, written on the GPU
     uint32_t count;       ///< pbf_world_particle_count (draw with draw_indirect, not this)
 } pbf_gpu_buffers;

@@ -1,7 +1,7 @@
 // The renderer, headless at 160x120 on whatever GL the machine has (llvmpipe in CI): a
-// known scene's pixels are where and what they should be, particle impostors drawn from
-// an SSBO + indirect buffer land at the projected place with correct depth, screenshots
-// are real PNG files, meshes and the GPU timer behave.
+// known scene's pixels are where and what they should be, particle impostors (the spheres
+// mode) drawn from an SSBO + indirect buffer land at the projected place with correct
+// depth, screenshots are real PNG files, meshes and the GPU timer behave.
 #include "tests/support.h"
 
 #include <epoxy/gl.h>
@@ -37,6 +37,8 @@ static int setup(void **state)
     char dir[1024], err[2048];
     rd.shader_dir = support_source_path("shaders", dir, sizeof dir);
     rd.logger = support_capture_logger(&f.log);
+    // These tests pin the sphere impostors; the surface mode has tests/test_surface.c.
+    rd.fluid.mode = ENG_FLUID_SPHERES;
     f.r = eng_renderer_create(&rd, err, sizeof err);
     if (!f.r) fail_msg("renderer: %s", err);
     eng_mesh_store_def md = eng_default_mesh_store_def();

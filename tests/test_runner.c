@@ -234,6 +234,28 @@ static void metrics_and_screenshot_are_written(void **state)
     assert_memory_equal(sig, "\x89PNG\r\n\x1a\n", 8);
 }
 
+static void render_option_picks_the_water_look_and_names_the_modes(void **state)
+{
+    (void)state;
+    const char *png[2] = { "/tmp/seiche_test_runner_surface.png", "/tmp/seiche_test_runner_density.png" };
+    const char *mode[2] = { "surface", "density" };
+    static char img[2][65536];
+    for (int i = 0; i < 2; i++) {
+        unlink(png[i]);
+        run_result r;
+        run(&r, NULL, (const char *const[]){ "--headless", "--frames", "3", "--size", "160x120", "--render", mode[i],
+                                            "--screenshot", png[i], GOOD, NULL });
+        assert_int_equal(r.status, 0);
+        slurp(png[i], img[i], sizeof img[i]);
+        assert_true(strlen(img[i]) > 4);
+    }
+    assert_true(memcmp(img[0], img[1], sizeof img[0]) != 0); // the two looks differ
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--render", "foam", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--render must be one of surface|spheres|density|speed (got 'foam')"));
+}
+
 static void record_writes_a_video(void **state)
 {
     (void)state;
@@ -267,6 +289,7 @@ int main(void)
         cmocka_unit_test(no_compute_context_exits_3),
         cmocka_unit_test(hash_is_printed_and_repeats),
         cmocka_unit_test(metrics_and_screenshot_are_written),
+        cmocka_unit_test(render_option_picks_the_water_look_and_names_the_modes),
         cmocka_unit_test(record_writes_a_video),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

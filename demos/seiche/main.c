@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "engine/app/app.h"
+#include "engine/render/renderer.h"
 #include "fluid/pbf.h"
 
 static void usage(FILE *f)
@@ -27,6 +28,8 @@ static void usage(FILE *f)
             "  --record FILE.mp4     frames to video through ffmpeg\n"
             "  --hash                print a hash of the final simulation state\n"
             "  --size WxH            framebuffer size in pixels (default 1280x720)\n"
+            "  --render MODE         how the water is drawn: surface (default), spheres (coloured by\n"
+            "                        initial height), density or speed (colour maps)\n"
             "  --shaders DIR         read shaders from DIR (default: those built into the program;\n"
             "                        SEICHE_SHADER_DIR sets DIR too)\n"
             "  --budget SECONDS      longest a script callback may run, (0, 3600] (default 5 headless,\n"
@@ -40,7 +43,8 @@ static void usage(FILE *f)
             "  --version             print the version and exit\n"
             "  --help                this text\n"
             "keys in a window: space pause, n single step, r reset, F5 reload (on_reload), c camera\n"
-            "mode, F1 panel, Esc quit; orbit with the left mouse button, zoom with the wheel.\n"
+            "mode, v water look (surface, spheres, density, speed), F1 panel, Esc quit; orbit with\n"
+            "the left mouse button, zoom with the wheel.\n"
             "Saving the script reloads it. The Lua API: docs/lua-api.md; this command: docs/runner.md.\n"
             "exit status: 0 ok, 1 a check in the script failed, 2 usage or script error,\n"
             "             3 no OpenGL 4.3 compute context, 4 the solver diverged,\n"
@@ -71,7 +75,8 @@ int main(int argc, char **argv)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         bool takes = strcmp(a, "--frames") == 0 || strcmp(a, "--dt") == 0 || strcmp(a, "--set") == 0 ||
                      strcmp(a, "--metrics") == 0 || strcmp(a, "--screenshot") == 0 || strcmp(a, "--record") == 0 ||
-                     strcmp(a, "--size") == 0 || strcmp(a, "--shaders") == 0 || strcmp(a, "--budget") == 0;
+                     strcmp(a, "--size") == 0 || strcmp(a, "--shaders") == 0 || strcmp(a, "--budget") == 0 ||
+                     strcmp(a, "--render") == 0;
         if (takes && !v) return bad("option %s needs a value%s", a, "");
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
@@ -128,6 +133,12 @@ int main(int argc, char **argv)
             i++;
         } else if (strcmp(a, "--record") == 0) {
             o.record_path = v;
+            i++;
+        } else if (strcmp(a, "--render") == 0) {
+            eng_fluid_mode mode;
+            if (!eng_fluid_mode_parse(v, &mode))
+                return bad("--render must be one of surface|spheres|density|speed (got '%s')%s", v, "");
+            o.render = v;
             i++;
         } else if (strcmp(a, "--shaders") == 0) {
             o.shader_dir = v;

@@ -117,6 +117,17 @@ static void update_walls(app *a)
     for (int i = 0; i < WALL_COUNT; i++) eng_node_set_visible(a->scene, in->walls[i], vis[i]);
 }
 
+// The shadow map covers the container and the domain (where the water can be).
+static void shadow_bounds(app *a, const eng_scene_config *c)
+{
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) {
+        lo[k] = c->has_domain ? c->domain_min[k] : c->container_min[k];
+        hi[k] = c->has_domain ? c->domain_max[k] : c->container_max[k];
+    }
+    if (c->has_container || c->has_domain) eng_renderer_set_shadow_bounds(a->renderer, lo, hi);
+}
+
 static void render(app *a)
 {
     eng_renderer_begin(a->renderer, a->ctx, &a->camera);
@@ -127,11 +138,10 @@ static void render(app *a)
     eng_scene_update(a->scene);
     eng_renderer_draw_scene(a->renderer, a->scene, a->meshes);
     if (a->inst.world) {
-        pbf_gpu_buffers b = pbf_world_gpu_buffers(a->inst.world);
-        const eng_look *k = &eng_script_config(a->inst.script)->look;
-        if (b.count > 0)
-            eng_renderer_draw_particles(a->renderer, &a->camera, b.positions, b.draw_indirect,
-                                        pbf_world_params(a->inst.world)->particle_radius, &k->water);
+        const eng_scene_config *c = eng_script_config(a->inst.script);
+        shadow_bounds(a, c);
+        eng_fluid_draw d = eng_fluid_draw_of(a->inst.world, &c->look.water);
+        if (pbf_world_particle_count(a->inst.world) > 0) eng_renderer_draw_fluid(a->renderer, &d);
     }
     eng_renderer_end(a->renderer);
 }
@@ -214,6 +224,12 @@ static void runner_key(app *a, const eng_event *e, int *status)
         eng_camera_set_mode(&a->camera, a->camera.mode == ENG_CAMERA_ORBIT ? ENG_CAMERA_FLY : ENG_CAMERA_ORBIT);
         break;
     case GLFW_KEY_F1: a->show_panel = !a->show_panel; break;
+    case GLFW_KEY_V: {
+        eng_fluid_mode m = (eng_fluid_mode)((eng_renderer_fluid_mode(a->renderer) + 1) % ENG_FLUID_MODE_COUNT);
+        eng_renderer_set_fluid_mode(a->renderer, m);
+        eng_log(&a->log, ENG_LOG_INFO, "render: %s", eng_fluid_mode_name(m));
+        break;
+    }
     case GLFW_KEY_R:
     case GLFW_KEY_F5: {
         int st = app_load_scene(a, e->key == GLFW_KEY_F5);
@@ -318,6 +334,11 @@ int eng_app_run(const eng_app_options *o)
     a->renderer_def = eng_default_renderer_def();
     a->renderer_def.shader_dir = a->shader_dir[0] ? a->shader_dir : NULL;
     a->renderer_def.logger = a->log;
+    if (o->render && !eng_fluid_mode_parse(o->render, &a->renderer_def.fluid.mode)) {
+        fprintf(stderr, "seiche: --render must be one of %s (got '%s')\n", eng_fluid_mode_names(), o->render);
+        shutdown_app(a);
+        return ENG_EXIT_USAGE;
+    }
     a->renderer = eng_renderer_create(&a->renderer_def, err, sizeof err);
     if (!a->renderer) {
         fprintf(stderr, "seiche: %s\n", err);

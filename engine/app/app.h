@@ -37,6 +37,8 @@ typedef struct eng_app_options {
     bool watch;                  ///< window: reload the script when its file changes (default true)
     bool ui;                     ///< window: the on-screen panel and error box (default true)
     bool trusted;                ///< the script gets every standard Lua library (default false: the sandbox)
+    const char *render;          ///< how the water is drawn: "surface" (NULL: the default),
+                                 ///< "spheres", "density" or "speed" (eng_fluid_mode_parse)
 } eng_app_options;
 
 eng_app_options eng_default_app_options(void);

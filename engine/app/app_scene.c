@@ -297,6 +297,7 @@ static void apply_look(app *a, const eng_look *k)
     if (a->have_applied_look && memcmp(k, &a->applied_look, sizeof *k) == 0) return;
     if (a->renderer && (k->ground != a->renderer_def.ground || k->ground_height != a->renderer_def.ground_height)) {
         eng_renderer_def rd = a->renderer_def;
+        rd.fluid = eng_renderer_fluid_look(a->renderer); // the mode the user picked stays
         rd.ground = k->ground;
         rd.ground_height = k->ground_height;
         char err[1024];

@@ -1,5 +1,7 @@
-// Forward renderer: scene meshes, ground, particle impostors. See renderer.h.
-#include "engine/render/renderer.h"
+// The renderer: defs and checks, the frame (queued draws, then the passes in order), scene
+// meshes and sphere impostors. The shadow map is in shadow.c, the water surface in
+// surface.c. See renderer.h.
+#include "engine/render/render_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -9,230 +11,181 @@
 #include "fluid/pbf_glsl.h"
 #include "shaders/render/render_shared.glsl"
 
-// Mirror of the std140 block `Frame` in shaders/render/frame.glsl.
-typedef struct eng_frame_block {
-    float view[16];
-    float proj[16];
-    float inv_view[16];
-    float camera_pos[4];
-    float light_dir[4];
-    float light_color[4];
-    float ambient[4];
-    float sky_color[4];
-    float fog[4];
-} eng_frame_block;
-_Static_assert(sizeof(eng_frame_block) == 3 * 64 + 6 * 16, "eng_frame_block must match the std140 block Frame");
+// ---- GL helpers (shared with shadow.c and surface.c) -------------------------------
 
-typedef struct mesh_pass {
-    GLuint prog;
-    GLint model, normal_model, color, specular, shininess, checker_cell;
-} mesh_pass;
-
-typedef struct particle_pass {
-    GLuint prog;
-    GLuint vao; // empty: the vertex shader reads the SSBO
-    GLint radius, count, color_low, color_mid, color_high, specular, shininess;
-} particle_pass;
-
-struct eng_renderer {
-    eng_renderer_def def;
-    mesh_pass mesh;
-    particle_pass particles;
-    GLuint frame_ubo;
-    eng_mesh_store *own_meshes; // the ground plane
-    eng_mesh_id ground;
-    eng_gpu_timer *timer;
-    // Per frame.
-    bool in_frame;
-    eng_context *ctx;
-    eng_camera cam;
-    float aspect;
-    int t_frame;
-    bool warned_stale_mesh;
-};
-
-eng_renderer_def eng_default_renderer_def(void)
+void eng_render_label(GLenum kind, GLuint name, const char *label)
 {
-    eng_renderer_def d;
-    memset(&d, 0, sizeof d);
-    d.shader_dir = NULL;
-    d.logger = eng_default_logger();
-    d.sky_color[0] = 0.62f, d.sky_color[1] = 0.76f, d.sky_color[2] = 0.90f;
-    d.light.direction[0] = 0.35f, d.light.direction[1] = 0.85f, d.light.direction[2] = 0.40f;
-    d.light.color[0] = 0.95f, d.light.color[1] = 0.92f, d.light.color[2] = 0.85f;
-    d.light.ambient[0] = 0.28f, d.light.ambient[1] = 0.30f, d.light.ambient[2] = 0.34f;
-    d.specular = 0.25f;
-    d.shininess = 32.0f;
-    d.ground = true;
-    d.ground_height = 0.0f;
-    d.ground_size = 200.0f;
-    d.ground_cell = 1.0f;
-    d.ground_color[0] = 0.58f, d.ground_color[1] = 0.58f, d.ground_color[2] = 0.56f;
-    d.fog_start = 40.0f;
-    d.fog_end = 100.0f;
-    return d;
+    if (name) glObjectLabel(kind, name, -1, label);
 }
 
-eng_particle_style eng_default_particle_style(void)
-{
-    eng_particle_style s = {
-        .color_low = { 0.04f, 0.22f, 0.62f },
-        .color_mid = { 0.10f, 0.66f, 0.86f },
-        .color_high = { 0.86f, 0.96f, 1.00f },
-        .specular = 0.6f,
-        .shininess = 64.0f,
-    };
-    return s;
-}
-
-// ---- input checks ------------------------------------------------------------------
-
-static bool fail(const eng_logger *log, char *err, size_t err_size, const char *fmt, const char *field, double got)
-{
-    char msg[256];
-    snprintf(msg, sizeof msg, fmt, field, got);
-    eng_log(log, ENG_LOG_ERROR, "%s", msg);
-    if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
-    return false;
-}
-
-static bool check_rgb(const eng_logger *log, char *err, size_t err_size, const char *field, const float c[3], float hi)
-{
-    for (int k = 0; k < 3; k++) {
-        if (!(c[k] >= 0.0f && c[k] <= hi)) {
-            char f[96];
-            snprintf(f, sizeof f, "%.80s[%d]", field, k);
-            return fail(log, err, err_size, hi > 1.0f ? "%s must be 0..4 (got %g)" : "%s must be 0..1 (got %g)", f,
-                        (double)c[k]);
-        }
-    }
-    return true;
-}
-
-static bool check_light(const eng_logger *log, char *err, size_t err_size, const char *field, const eng_light *l)
-{
-    const float *d = l->direction;
-    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    char f[96];
-    snprintf(f, sizeof f, "%s.direction", field);
-    if (!(len > 1e-6f) || !isfinite(len))
-        return fail(log, err, err_size, "%s must be a finite non-zero vector (got length %g)", f, (double)len);
-    snprintf(f, sizeof f, "%s.color", field);
-    if (!check_rgb(log, err, err_size, f, l->color, 4.0f)) return false;
-    snprintf(f, sizeof f, "%s.ambient", field);
-    return check_rgb(log, err, err_size, f, l->ambient, 1.0f);
-}
-
-static bool check_def(const eng_renderer_def *d, char *err, size_t err_size)
-{
-    const eng_logger *log = &d->logger;
-    if (d->shader_dir && !d->shader_dir[0]) {
-        const char *msg = "eng_renderer_def.shader_dir must be NULL (the embedded shaders) or name the shader "
-                          "directory (got \"\")";
-        eng_log(log, ENG_LOG_ERROR, "%s", msg);
-        if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
-        return false;
-    }
-    if (!check_rgb(log, err, err_size, "eng_renderer_def.sky_color", d->sky_color, 1.0f)) return false;
-    if (!check_light(log, err, err_size, "eng_renderer_def.light", &d->light)) return false;
-    if (!(d->specular >= 0.0f && d->specular <= 1.0f))
-        return fail(log, err, err_size, "%s must be 0..1 (got %g)", "eng_renderer_def.specular", (double)d->specular);
-    if (!(d->shininess >= 1.0f && d->shininess <= 1024.0f))
-        return fail(log, err, err_size, "%s must be 1..1024 (got %g)", "eng_renderer_def.shininess",
-                    (double)d->shininess);
-    if (!isfinite(d->ground_height))
-        return fail(log, err, err_size, "%s must be finite m (got %g)", "eng_renderer_def.ground_height",
-                    (double)d->ground_height);
-    if (!(d->ground_size > 0.0f && isfinite(d->ground_size)))
-        return fail(log, err, err_size, "%s must be > 0 m (got %g)", "eng_renderer_def.ground_size",
-                    (double)d->ground_size);
-    if (!(d->ground_cell > 0.0f && isfinite(d->ground_cell)))
-        return fail(log, err, err_size, "%s must be > 0 m (got %g)", "eng_renderer_def.ground_cell",
-                    (double)d->ground_cell);
-    if (!check_rgb(log, err, err_size, "eng_renderer_def.ground_color", d->ground_color, 1.0f)) return false;
-    if (!(d->fog_start >= 0.0f && isfinite(d->fog_start)))
-        return fail(log, err, err_size, "%s must be >= 0 m (got %g)", "eng_renderer_def.fog_start",
-                    (double)d->fog_start);
-    if (!(d->fog_end > d->fog_start && isfinite(d->fog_end)))
-        return fail(log, err, err_size, "%s must be > fog_start (m) (got %g)", "eng_renderer_def.fog_end",
-                    (double)d->fog_end);
-    return true;
-}
-
-static bool check_style(const eng_logger *log, const eng_particle_style *s)
-{
-    if (!check_rgb(log, NULL, 0, "eng_particle_style.color_low", s->color_low, 1.0f)) return false;
-    if (!check_rgb(log, NULL, 0, "eng_particle_style.color_mid", s->color_mid, 1.0f)) return false;
-    if (!check_rgb(log, NULL, 0, "eng_particle_style.color_high", s->color_high, 1.0f)) return false;
-    if (!(s->specular >= 0.0f && s->specular <= 1.0f))
-        return fail(log, NULL, 0, "%s must be 0..1 (got %g)", "eng_particle_style.specular", (double)s->specular);
-    if (!(s->shininess >= 1.0f && s->shininess <= 1024.0f))
-        return fail(log, NULL, 0, "%s must be 1..1024 (got %g)", "eng_particle_style.shininess", (double)s->shininess);
-    return true;
-}
-
-// ---- creation ----------------------------------------------------------------------
-
-static GLuint build(const eng_renderer_def *d, const char *vert, const char *frag, char *err, size_t err_size)
+GLuint eng_render_build(const eng_renderer_def *d, const char *vert, const char *frag, const char *defines,
+                        const char *label, char *err, size_t err_size)
 {
     pbf_glsl_stage stages[2] = { { GL_VERTEX_SHADER, vert }, { GL_FRAGMENT_SHADER, frag } };
     char msg[4096];
     pbf_glsl_source src = eng_render_sources();
     if (d->shader_dir) src.dir = d->shader_dir;
-    GLuint prog = pbf_glsl_build_from(&src, stages, 2, NULL, msg, sizeof msg);
+    GLuint prog = pbf_glsl_build_from(&src, stages, 2, defines, msg, sizeof msg);
     if (!prog) {
         eng_log(&d->logger, ENG_LOG_ERROR, "renderer: %s", msg);
         if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
+        return 0;
     }
+    eng_render_label(GL_PROGRAM, prog, label);
     return prog;
+}
+
+GLuint eng_render_texture(GLenum internal_format, int w, int h, GLenum filter, const char *label)
+{
+    GLuint t = 0;
+    GLint prev = 0; // the active unit's texture: a lit pass may be reading it
+    glGetIntegerv(GL_TEXTURE_BINDING_2D, &prev);
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexStorage2D(GL_TEXTURE_2D, 1, internal_format, w, h);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, (GLint)filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, (GLint)filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, (GLuint)prev);
+    eng_render_label(GL_TEXTURE, t, label);
+    return t;
+}
+
+GLuint eng_render_framebuffer(const GLuint *colors, int color_count, GLuint depth, const char *label)
+{
+    GLuint fb = 0;
+    GLenum bufs[4];
+    glGenFramebuffers(1, &fb);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb);
+    for (int i = 0; i < color_count; i++) {
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, colors[i], 0);
+        bufs[i] = GL_COLOR_ATTACHMENT0 + (GLenum)i;
+    }
+    if (depth) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+    if (color_count > 0) glDrawBuffers(color_count, bufs);
+    else glDrawBuffer(GL_NONE);
+    glReadBuffer(color_count > 0 ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+    GLenum st = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (st != GL_FRAMEBUFFER_COMPLETE) {
+        glDeleteFramebuffers(1, &fb);
+        return 0;
+    }
+    eng_render_label(GL_FRAMEBUFFER, fb, label);
+    return fb;
+}
+
+int eng_render_timer_begin(eng_renderer *r, const char *name)
+{
+    int t = eng_gpu_timer_begin(r->timer, name);
+    if (r->flush_timestamps) glFlush();
+    return t;
+}
+
+void eng_render_timer_end(eng_renderer *r, int section)
+{
+    if (section < 0) return;
+    eng_gpu_timer_end(r->timer, section);
+    if (r->flush_timestamps) glFlush();
+}
+
+// ---- creation ----------------------------------------------------------------------
+
+static void mesh_locations(mesh_prog *m)
+{
+    GLuint p = m->prog;
+    m->model = glGetUniformLocation(p, "u_model");
+    m->normal_model = glGetUniformLocation(p, "u_normal_model");
+    m->color = glGetUniformLocation(p, "u_color");
+    m->specular = glGetUniformLocation(p, "u_specular");
+    m->shininess = glGetUniformLocation(p, "u_shininess");
+    m->checker_cell = glGetUniformLocation(p, "u_checker_cell");
+}
+
+static bool build_particles(eng_renderer *r, particle_prog *pp, const char *frag, const char *defines,
+                            const char *label, char *err, size_t err_size)
+{
+    GLuint p = pp->prog = eng_render_build(&r->def, "render/particles.vert", frag, defines, label, err, err_size);
+    if (!p) return false;
+    pp->radius = glGetUniformLocation(p, "u_radius");
+    pp->count = glGetUniformLocation(p, "u_count");
+    pp->fill = glGetUniformLocation(p, "u_fill");
+    pp->light_view = glGetUniformLocation(p, "u_light_view");
+    pp->light_proj = glGetUniformLocation(p, "u_light_proj");
+    pp->light_near = glGetUniformLocation(p, "u_light_near");
+    pp->color_mode = glGetUniformLocation(p, "u_color_mode");
+    pp->color_range = glGetUniformLocation(p, "u_color_range");
+    pp->particle_mass = glGetUniformLocation(p, "u_particle_mass");
+    pp->inv_rest_density = glGetUniformLocation(p, "u_inv_rest_density");
+    pp->color_low = glGetUniformLocation(p, "u_color_low");
+    pp->color_mid = glGetUniformLocation(p, "u_color_mid");
+    pp->color_high = glGetUniformLocation(p, "u_color_high");
+    pp->specular = glGetUniformLocation(p, "u_specular");
+    pp->shininess = glGetUniformLocation(p, "u_shininess");
+    pp->spray = glGetUniformLocation(p, "u_spray");
+    pp->spray_speed = glGetUniformLocation(p, "u_spray_speed");
+    pp->spray_density = glGetUniformLocation(p, "u_spray_density");
+    return true;
+}
+
+static bool build_programs(eng_renderer *r, char *err, size_t err_size)
+{
+    const eng_renderer_def *d = &r->def;
+    r->mesh.prog = eng_render_build(d, "render/mesh.vert", "render/mesh.frag", NULL, "render/mesh", err, err_size);
+    if (!r->mesh.prog) return false;
+    mesh_locations(&r->mesh);
+    r->mesh_shadow.prog = eng_render_build(d, "render/mesh.vert", "render/depth_only.frag", "#define SHADOW_PASS 1\n",
+                                           "render/mesh_shadow", err, err_size);
+    if (!r->mesh_shadow.prog) return false;
+    mesh_locations(&r->mesh_shadow);
+    return build_particles(r, &r->spheres, "render/particles.frag", "#define COLOR_MODES 1\n", "render/particles",
+                           err, err_size) &&
+           build_particles(r, &r->fluid_depth, "render/fluid_depth.frag", "#define NEAR_QUAD 1\n",
+                           "render/fluid_depth", err, err_size) &&
+           build_particles(r, &r->fluid_thick, "render/fluid_thickness.frag", NULL, "render/fluid_thickness", err,
+                           err_size) &&
+           build_particles(r, &r->fluid_shadow, "render/shadow_fluid.frag", "#define LIGHT_PASS 1\n",
+                           "render/shadow_fluid", err, err_size) &&
+           build_particles(r, &r->fluid_spray, "render/spray.frag", "#define SPRAY 1\n", "render/spray", err,
+                           err_size);
 }
 
 eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t err_size)
 {
     if (err && err_size > 0) err[0] = 0;
-    if (!check_def(def, err, err_size)) return NULL;
+    if (!eng_render_check_def(def, err, err_size)) return NULL;
     GLint vertex_ssbos = 0;
     glGetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &vertex_ssbos);
-    if (vertex_ssbos < 1) {
-        fail(&def->logger, err, err_size, "%s: GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS is %g; particle impostors need 1",
-             "renderer", (double)vertex_ssbos);
+    if (vertex_ssbos < 2) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "renderer: GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS is %d; particle impostors need 2",
+                 (int)vertex_ssbos);
+        eng_log(&def->logger, ENG_LOG_ERROR, "%s", msg);
+        if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
         return NULL;
     }
     eng_renderer *r = calloc(1, sizeof *r);
     if (!r) return NULL;
     r->def = *def;
     r->t_frame = -1;
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    r->flush_timestamps = renderer && strstr(renderer, "llvmpipe");
 
-    r->mesh.prog = build(def, "render/mesh.vert", "render/mesh.frag", err, err_size);
-    if (r->mesh.prog) r->particles.prog = build(def, "render/particles.vert", "render/particles.frag", err, err_size);
-    if (!r->mesh.prog || !r->particles.prog) {
+    if (!build_programs(r, err, err_size) || !eng_shadow_create(r, err, err_size) ||
+        !eng_surface_create(r, err, err_size)) {
         eng_renderer_destroy(r);
         return NULL;
     }
-    GLuint p = r->mesh.prog;
-    r->mesh.model = glGetUniformLocation(p, "u_model");
-    r->mesh.normal_model = glGetUniformLocation(p, "u_normal_model");
-    r->mesh.color = glGetUniformLocation(p, "u_color");
-    r->mesh.specular = glGetUniformLocation(p, "u_specular");
-    r->mesh.shininess = glGetUniformLocation(p, "u_shininess");
-    r->mesh.checker_cell = glGetUniformLocation(p, "u_checker_cell");
-    p = r->particles.prog;
-    r->particles.radius = glGetUniformLocation(p, "u_radius");
-    r->particles.count = glGetUniformLocation(p, "u_count");
-    r->particles.color_low = glGetUniformLocation(p, "u_color_low");
-    r->particles.color_mid = glGetUniformLocation(p, "u_color_mid");
-    r->particles.color_high = glGetUniformLocation(p, "u_color_high");
-    r->particles.specular = glGetUniformLocation(p, "u_specular");
-    r->particles.shininess = glGetUniformLocation(p, "u_shininess");
-    glGenVertexArrays(1, &r->particles.vao);
-    glBindVertexArray(r->particles.vao);
-    glObjectLabel(GL_VERTEX_ARRAY, r->particles.vao, -1, "eng.particles_vao");
+    glGenVertexArrays(1, &r->empty_vao);
+    glBindVertexArray(r->empty_vao);
+    eng_render_label(GL_VERTEX_ARRAY, r->empty_vao, "eng.empty_vao");
     glBindVertexArray(0);
 
     glGenBuffers(1, &r->frame_ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, r->frame_ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof(eng_frame_block), NULL, GL_DYNAMIC_DRAW);
-    glObjectLabel(GL_BUFFER, r->frame_ubo, -1, "eng.frame_ubo");
+    eng_render_label(GL_BUFFER, r->frame_ubo, "eng.frame_ubo");
     glBindBuffer(GL_UNIFORM_BUFFER, 0);
 
     eng_mesh_store_def md = eng_default_mesh_store_def();
@@ -256,12 +209,17 @@ eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t
 void eng_renderer_destroy(eng_renderer *r)
 {
     if (!r) return;
-    if (r->mesh.prog) glDeleteProgram(r->mesh.prog);
-    if (r->particles.prog) glDeleteProgram(r->particles.prog);
-    if (r->particles.vao) glDeleteVertexArrays(1, &r->particles.vao);
+    GLuint progs[] = { r->mesh.prog, r->mesh_shadow.prog, r->spheres.prog, r->fluid_depth.prog,
+                       r->fluid_thick.prog, r->fluid_shadow.prog, r->fluid_spray.prog };
+    for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++)
+        if (progs[i]) glDeleteProgram(progs[i]);
+    eng_surface_destroy(r);
+    eng_shadow_destroy(r);
+    if (r->empty_vao) glDeleteVertexArrays(1, &r->empty_vao);
     if (r->frame_ubo) glDeleteBuffers(1, &r->frame_ubo);
     eng_mesh_store_destroy(r->own_meshes);
     eng_gpu_timer_destroy(r->timer);
+    free(r->meshes);
     free(r);
 }
 
@@ -269,67 +227,74 @@ eng_gpu_timer *eng_renderer_gpu_timer(eng_renderer *r) { return r->timer; }
 
 bool eng_renderer_set_light(eng_renderer *r, const eng_light *light)
 {
-    if (!check_light(&r->def.logger, NULL, 0, "light", light)) return false;
+    if (!eng_render_check_light(&r->def.logger, NULL, 0, "light", light)) return false;
     r->def.light = *light;
     return true;
 }
 
 bool eng_renderer_set_sky(eng_renderer *r, const float sky_color[3])
 {
-    if (!check_rgb(&r->def.logger, NULL, 0, "sky_color", sky_color, 1.0f)) return false;
+    if (!eng_render_check_rgb(&r->def.logger, NULL, 0, "sky_color", sky_color, 1.0f)) return false;
     memcpy(r->def.sky_color, sky_color, sizeof r->def.sky_color);
     return true;
 }
 
-// ---- a frame -----------------------------------------------------------------------
-
-static void write_frame(eng_renderer *r, const eng_camera *cam)
+bool eng_renderer_set_fluid_look(eng_renderer *r, const eng_fluid_look *look)
 {
-    eng_frame_block b;
-    memset(&b, 0, sizeof b);
-    mat4 view, proj, inv;
-    eng_camera_view(cam, view);
-    eng_camera_projection(cam, r->aspect, proj);
-    glm_mat4_inv(view, inv);
-    memcpy(b.view, view, sizeof b.view);
-    memcpy(b.proj, proj, sizeof b.proj);
-    memcpy(b.inv_view, inv, sizeof b.inv_view);
-    memcpy(b.camera_pos, cam->position, 3 * sizeof(float));
-    const float *d = r->def.light.direction;
-    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (int k = 0; k < 3; k++) b.light_dir[k] = d[k] / len;
-    memcpy(b.light_color, r->def.light.color, 3 * sizeof(float));
-    memcpy(b.ambient, r->def.light.ambient, 3 * sizeof(float));
-    memcpy(b.sky_color, r->def.sky_color, 3 * sizeof(float));
-    b.fog[0] = r->def.fog_start;
-    b.fog[1] = r->def.fog_end;
-    glBindBuffer(GL_UNIFORM_BUFFER, r->frame_ubo);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof b, &b);
-    glBindBuffer(GL_UNIFORM_BUFFER, 0);
-    glBindBufferBase(GL_UNIFORM_BUFFER, ENG_RENDER_FRAME_UBO_BINDING, r->frame_ubo);
+    if (!look) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_set_fluid_look: look must not be NULL");
+        return false;
+    }
+    if (!eng_render_check_look(&r->def.logger, NULL, 0, "eng_fluid_look", look)) return false;
+    r->def.fluid = *look;
+    return true;
 }
 
-static void draw_gpu_mesh(eng_renderer *r, const eng_mesh_gpu *g, mat4 model, const float color[3],
-                          float checker_cell)
+eng_fluid_look eng_renderer_fluid_look(const eng_renderer *r) { return r->def.fluid; }
+
+bool eng_renderer_set_fluid_mode(eng_renderer *r, eng_fluid_mode mode)
 {
-    mat3 m3, inv;
-    glm_mat4_pick3(model, m3);
-    glm_mat3_inv(m3, inv);
-    glm_mat3_transpose(inv);
-    glUniformMatrix4fv(r->mesh.model, 1, GL_FALSE, (const float *)model);
-    glUniformMatrix3fv(r->mesh.normal_model, 1, GL_FALSE, (const float *)inv);
-    glUniform3fv(r->mesh.color, 1, color);
-    glUniform1f(r->mesh.checker_cell, checker_cell);
-    glBindVertexArray(g->vao);
-    glDrawElements(GL_TRIANGLES, g->index_count, GL_UNSIGNED_INT, (const void *)0);
+    if ((int)mode < 0 || mode >= ENG_FLUID_MODE_COUNT) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_set_fluid_mode: mode must be 0..%d (%s) (got %d)",
+                ENG_FLUID_MODE_COUNT - 1, eng_fluid_mode_names(), (int)mode);
+        return false;
+    }
+    r->def.fluid.mode = mode;
+    return true;
 }
 
-static void use_mesh_pass(eng_renderer *r)
+eng_fluid_mode eng_renderer_fluid_mode(const eng_renderer *r) { return r->def.fluid.mode; }
+
+bool eng_renderer_set_shadow_bounds(eng_renderer *r, const float lo[3], const float hi[3])
 {
-    glUseProgram(r->mesh.prog);
-    glUniform1f(r->mesh.specular, r->def.specular);
-    glUniform1f(r->mesh.shininess, r->def.shininess);
+    for (int k = 0; k < 3; k++)
+        if (!(isfinite(lo[k]) && isfinite(hi[k]) && lo[k] < hi[k])) {
+            eng_log(&r->def.logger, ENG_LOG_ERROR,
+                    "eng_renderer_set_shadow_bounds: lo[%d] must be < hi[%d], both finite m (got %g, %g)", k, k,
+                    (double)lo[k], (double)hi[k]);
+            return false;
+        }
+    memcpy(r->shadow.lo, lo, sizeof r->shadow.lo);
+    memcpy(r->shadow.hi, hi, sizeof r->shadow.hi);
+    r->shadow.has_bounds = true;
+    return true;
 }
+
+eng_surface_textures eng_renderer_surface_textures(const eng_renderer *r)
+{
+    eng_surface_textures t;
+    memset(&t, 0, sizeof t);
+    const surface_targets *s = &r->surf;
+    if (!s->drawn) return t;
+    t.depth = s->depth;
+    t.smoothed = r->def.fluid.smoothing > 0.0f ? s->smooth[1] : s->depth;
+    t.thickness = r->def.fluid.smoothing > 0.0f ? s->smooth_thick[1] : s->thick;
+    t.width = s->fw;
+    t.height = s->fh;
+    return t;
+}
+
+// ---- a frame: the queue ------------------------------------------------------------
 
 static bool in_frame(eng_renderer *r, const char *fn)
 {
@@ -354,29 +319,15 @@ void eng_renderer_begin(eng_renderer *r, eng_context *ctx, const eng_camera *cam
     r->in_frame = true;
     r->ctx = ctx;
     r->cam = *cam;
+    r->width = w;
+    r->height = h;
     r->aspect = (float)w / (float)h;
     r->warned_stale_mesh = false;
-    r->t_frame = eng_gpu_timer_begin(r->timer, "frame");
-
-    glBindFramebuffer(GL_FRAMEBUFFER, eng_context_framebuffer(ctx));
-    glViewport(0, 0, w, h);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glClearColor(r->def.sky_color[0], r->def.sky_color[1], r->def.sky_color[2], 1.0f);
-    glClearDepth(1.0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    write_frame(r, cam);
-
-    if (r->def.ground) {
-        use_mesh_pass(r);
-        mat4 model;
-        glm_translate_make(model, (vec3){ 0.0f, r->def.ground_height, 0.0f });
-        glUniform1f(r->mesh.specular, 0.05f);
-        draw_gpu_mesh(r, eng_mesh_get_gpu(r->own_meshes, r->ground), model, r->def.ground_color, r->def.ground_cell);
+    r->scene_count = r->mesh_count = r->fluid_count = 0;
+    if (!r->shadow.has_bounds) {
+        float lo[3], hi[3];
+        for (int k = 0; k < 3; k++) lo[k] = cam->target[k] - 4.0f, hi[k] = cam->target[k] + 4.0f;
+        eng_renderer_set_shadow_bounds(r, lo, hi);
     }
 }
 
@@ -384,38 +335,110 @@ void eng_renderer_draw_mesh(eng_renderer *r, const eng_mesh_store *meshes, eng_m
                             const float color[3])
 {
     if (!in_frame(r, "eng_renderer_draw_mesh")) return;
-    const eng_mesh_gpu *g = eng_mesh_get_gpu(meshes, mesh);
-    if (!g) {
+    if (!eng_mesh_get_gpu(meshes, mesh)) {
         eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_draw_mesh: attempt to use a destroyed mesh (index %u)",
                 (unsigned)mesh.index1);
         return;
     }
-    use_mesh_pass(r);
-    draw_gpu_mesh(r, g, model, color, 0.0f);
+    if (r->mesh_count == r->mesh_cap) {
+        int cap = r->mesh_cap ? 2 * r->mesh_cap : 64;
+        queued_mesh *m = realloc(r->meshes, (size_t)cap * sizeof *m);
+        if (!m) {
+            eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_draw_mesh: out of memory");
+            return;
+        }
+        r->meshes = m;
+        r->mesh_cap = cap;
+    }
+    queued_mesh *q = &r->meshes[r->mesh_count++];
+    q->meshes = meshes;
+    q->mesh = mesh;
+    glm_mat4_copy(model, q->model);
+    memcpy(q->color, color, sizeof q->color);
 }
 
 void eng_renderer_draw_scene(eng_renderer *r, eng_scene *scene, const eng_mesh_store *meshes)
 {
     if (!in_frame(r, "eng_renderer_draw_scene")) return;
-    int t = eng_gpu_timer_begin(r->timer, "scene");
-    use_mesh_pass(r);
-    eng_scene_update(scene);
-    for (eng_node_id n = eng_scene_first(scene); n.index1; n = eng_scene_next(scene, n)) {
-        eng_node_draw d;
-        if (!eng_node_get_draw(scene, n, &d) || !d.visible || d.mesh.index1 == 0) continue;
-        const eng_mesh_gpu *g = eng_mesh_get_gpu(meshes, d.mesh);
-        if (!g) {
-            if (!r->warned_stale_mesh)
-                eng_log(&r->def.logger, ENG_LOG_WARN,
-                        "eng_renderer_draw_scene: node %u refers to a destroyed mesh; not drawn",
-                        (unsigned)(n.index1 - 1));
-            r->warned_stale_mesh = true;
-            continue;
-        }
-        draw_gpu_mesh(r, g, d.world, d.color, 0.0f);
+    if (!scene || !meshes) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_draw_scene: %s must not be NULL", !scene ? "scene" : "meshes");
+        return;
     }
-    glBindVertexArray(0);
-    eng_gpu_timer_end(r->timer, t);
+    if (r->scene_count == MAX_SCENES) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_draw_scene: at most %d scenes a frame", MAX_SCENES);
+        return;
+    }
+    r->scenes[r->scene_count++] = (queued_scene){ scene, meshes };
+}
+
+static bool check_buffer(const eng_logger *log, const char *fn, const char *field, GLuint b, GLenum target,
+                         GLint64 *size)
+{
+    if (!b || !glIsBuffer(b)) {
+        eng_log(log, ENG_LOG_ERROR, "%s: %s must be a GL buffer (got %u)", fn, field, b);
+        return false;
+    }
+    glBindBuffer(target, b);
+    glGetBufferParameteri64v(target, GL_BUFFER_SIZE, size);
+    glBindBuffer(target, 0);
+    return true;
+}
+
+// `legacy`: called as eng_renderer_draw_particles, whose arguments have other names.
+static void queue_fluid(eng_renderer *r, const char *fn, const eng_fluid_draw *d, bool legacy)
+{
+    const eng_logger *log = &r->def.logger;
+    if (!(d->radius > 0.0f && isfinite(d->radius))) {
+        eng_log(log, ENG_LOG_ERROR, "%s: radius must be > 0 m (got %g)", fn, (double)d->radius);
+        return;
+    }
+    GLint64 size = 0, vel_size = 0, cmd_size = 0;
+    if (!check_buffer(log, fn, legacy ? "positions_ssbo" : "positions", d->positions, GL_SHADER_STORAGE_BUFFER,
+                      &size) ||
+        !check_buffer(log, fn, legacy ? "draw_indirect_buffer" : "draw_indirect", d->draw_indirect,
+                      GL_DRAW_INDIRECT_BUFFER, &cmd_size))
+        return;
+    if (d->velocities) {
+        if (!check_buffer(log, fn, "velocities", d->velocities, GL_SHADER_STORAGE_BUFFER, &vel_size)) return;
+        if (!(d->particle_mass > 0.0f && isfinite(d->particle_mass))) {
+            eng_log(log, ENG_LOG_ERROR, "%s: particle_mass must be > 0 kg with velocities (got %g)", fn,
+                    (double)d->particle_mass);
+            return;
+        }
+        if (!(d->rest_density > 0.0f && isfinite(d->rest_density))) {
+            eng_log(log, ENG_LOG_ERROR, "%s: rest_density must be > 0 kg/m^3 with velocities (got %g)", fn,
+                    (double)d->rest_density);
+            return;
+        }
+    }
+    if (cmd_size < 16) {
+        eng_log(log, ENG_LOG_ERROR, "%s: draw_indirect%s must hold a 16-byte DrawArraysIndirectCommand (has %lld bytes)",
+                fn, legacy ? "_buffer" : "", (long long)cmd_size);
+        return;
+    }
+    eng_particle_style style = d->style ? *d->style : eng_default_particle_style();
+    if (d->style && !eng_render_check_style(log, &style)) return;
+    if (r->fluid_count == MAX_FLUIDS) {
+        eng_log(log, ENG_LOG_ERROR, "%s: at most %d fluids a frame", fn, MAX_FLUIDS);
+        return;
+    }
+    queued_fluid *f = &r->fluids[r->fluid_count++];
+    f->d = *d;
+    f->d.style = NULL;
+    f->style = style;
+    GLint64 n = size / 16;
+    if (d->velocities && vel_size / 16 < n) n = vel_size / 16;
+    f->count = (GLint)(n > 0x7fffffff ? 0x7fffffff : n);
+}
+
+void eng_renderer_draw_fluid(eng_renderer *r, const eng_fluid_draw *fluid)
+{
+    if (!in_frame(r, "eng_renderer_draw_fluid")) return;
+    if (!fluid) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "eng_renderer_draw_fluid: fluid must not be NULL");
+        return;
+    }
+    queue_fluid(r, "eng_renderer_draw_fluid", fluid, false);
 }
 
 void eng_renderer_draw_particles(eng_renderer *r, const eng_camera *cam, GLuint positions_ssbo,
@@ -423,65 +446,242 @@ void eng_renderer_draw_particles(eng_renderer *r, const eng_camera *cam, GLuint 
 {
     const char *fn = "eng_renderer_draw_particles";
     if (!in_frame(r, fn)) return;
-    const eng_logger *log = &r->def.logger;
-    if (!(radius > 0.0f && isfinite(radius))) {
-        eng_log(log, ENG_LOG_ERROR, "%s: radius must be > 0 m (got %g)", fn, (double)radius);
+    if (cam && memcmp(cam, &r->cam, sizeof *cam) != 0) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR,
+                "%s: cam must be NULL or the frame's camera (everything is drawn with the camera given to "
+                "eng_renderer_begin)", fn);
         return;
     }
-    if (!positions_ssbo || !glIsBuffer(positions_ssbo)) {
-        eng_log(log, ENG_LOG_ERROR, "%s: positions_ssbo must be a GL buffer (got %u)", fn, positions_ssbo);
-        return;
+    eng_fluid_draw d = eng_default_fluid_draw();
+    d.positions = positions_ssbo;
+    d.draw_indirect = draw_indirect_buffer;
+    d.radius = radius;
+    d.style = style;
+    queue_fluid(r, fn, &d, true);
+}
+
+// ---- a frame: the passes -----------------------------------------------------------
+
+void eng_render_write_frame(eng_renderer *r, int target_width, int target_height)
+{
+    eng_frame_block b;
+    memset(&b, 0, sizeof b);
+    mat4 view, proj, inv;
+    eng_camera_view(&r->cam, view);
+    eng_camera_projection(&r->cam, r->aspect, proj);
+    glm_mat4_inv(view, inv);
+    memcpy(b.view, view, sizeof b.view);
+    memcpy(b.proj, proj, sizeof b.proj);
+    memcpy(b.inv_view, inv, sizeof b.inv_view);
+    memcpy(b.light_viewproj, r->shadow.viewproj, sizeof b.light_viewproj);
+    memcpy(b.camera_pos, r->cam.position, 3 * sizeof(float));
+    const float *d = r->def.light.direction;
+    float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int k = 0; k < 3; k++) b.light_dir[k] = d[k] / len;
+    memcpy(b.light_color, r->def.light.color, 3 * sizeof(float));
+    memcpy(b.ambient, r->def.light.ambient, 3 * sizeof(float));
+    memcpy(b.sky_color, r->def.sky_color, 3 * sizeof(float));
+    b.fog[0] = r->def.fog_start;
+    b.fog[1] = r->def.fog_end;
+    memcpy(b.ground_color, r->def.ground_color, 3 * sizeof(float));
+    const shadow_map *s = &r->shadow;
+    b.shadow[0] = r->def.fluid.shadows ? 1.0f : 0.0f;
+    b.shadow[1] = 1.0f / (float)s->size;
+    b.shadow[2] = s->range;
+    // Receivers look up the map a texel and a half along their normal (no acne on slopes).
+    float texel_m = 2.0f * (s->proj[0][0] > 0.0f ? 1.0f / s->proj[0][0] : 1.0f) / (float)s->size;
+    b.shadow[3] = 1.5f * texel_m;
+    memcpy(b.water_light, r->def.fluid.absorption, 3 * sizeof(float));
+    // A receiver within one particle spacing under the water's front is the surface itself.
+    b.water_light[3] = r->fluid_count > 0 ? 2.0f * r->fluids[0].d.radius : 0.0f;
+    b.viewport[0] = (float)target_width;
+    b.viewport[1] = (float)target_height;
+    b.viewport[2] = 1.0f / (float)target_width;
+    b.viewport[3] = 1.0f / (float)target_height;
+    glBindBuffer(GL_UNIFORM_BUFFER, r->frame_ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof b, &b);
+    glBindBuffer(GL_UNIFORM_BUFFER, 0);
+    glBindBufferBase(GL_UNIFORM_BUFFER, ENG_RENDER_FRAME_UBO_BINDING, r->frame_ubo);
+}
+
+static void draw_gpu_mesh(const mesh_prog *p, const eng_mesh_gpu *g, mat4 model, const float color[3],
+                          float checker_cell)
+{
+    mat3 m3, inv;
+    glm_mat4_pick3(model, m3);
+    glm_mat3_inv(m3, inv);
+    glm_mat3_transpose(inv);
+    glUniformMatrix4fv(p->model, 1, GL_FALSE, (const float *)model);
+    glUniformMatrix3fv(p->normal_model, 1, GL_FALSE, (const float *)inv);
+    glUniform3fv(p->color, 1, color);
+    glUniform1f(p->checker_cell, checker_cell);
+    glBindVertexArray(g->vao);
+    glDrawElements(GL_TRIANGLES, g->index_count, GL_UNSIGNED_INT, (const void *)0);
+}
+
+void eng_render_draw_queued_meshes(eng_renderer *r, const mesh_prog *p)
+{
+    for (int i = 0; i < r->scene_count; i++) {
+        eng_scene *scene = r->scenes[i].scene;
+        eng_scene_update(scene);
+        for (eng_node_id n = eng_scene_first(scene); n.index1; n = eng_scene_next(scene, n)) {
+            eng_node_draw d;
+            if (!eng_node_get_draw(scene, n, &d) || !d.visible || d.mesh.index1 == 0) continue;
+            const eng_mesh_gpu *g = eng_mesh_get_gpu(r->scenes[i].meshes, d.mesh);
+            if (!g) {
+                if (!r->warned_stale_mesh)
+                    eng_log(&r->def.logger, ENG_LOG_WARN,
+                            "eng_renderer_draw_scene: node %u refers to a destroyed mesh; not drawn",
+                            (unsigned)(n.index1 - 1));
+                r->warned_stale_mesh = true;
+                continue;
+            }
+            draw_gpu_mesh(p, g, d.world, d.color, 0.0f);
+        }
     }
-    if (!draw_indirect_buffer || !glIsBuffer(draw_indirect_buffer)) {
-        eng_log(log, ENG_LOG_ERROR, "%s: draw_indirect_buffer must be a GL buffer (got %u)", fn, draw_indirect_buffer);
-        return;
+    for (int i = 0; i < r->mesh_count; i++) {
+        const queued_mesh *q = &r->meshes[i];
+        const eng_mesh_gpu *g = eng_mesh_get_gpu(q->meshes, q->mesh);
+        if (g) draw_gpu_mesh(p, g, (vec4 *)q->model, q->color, 0.0f);
     }
-    eng_particle_style def_style = eng_default_particle_style();
-    if (!style) style = &def_style;
-    else if (!check_style(log, style)) return;
-    GLint64 size = 0, cmd_size = 0;
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, positions_ssbo);
-    glGetBufferParameteri64v(GL_SHADER_STORAGE_BUFFER, GL_BUFFER_SIZE, &size);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draw_indirect_buffer);
-    glGetBufferParameteri64v(GL_DRAW_INDIRECT_BUFFER, GL_BUFFER_SIZE, &cmd_size);
-    if (cmd_size < 16) {
-        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-        eng_log(log, ENG_LOG_ERROR, "%s: draw_indirect_buffer must hold a 16-byte DrawArraysIndirectCommand (has %lld bytes)",
-                fn, (long long)cmd_size);
-        return;
-    }
-    int t = eng_gpu_timer_begin(r->timer, "particles");
-    // The fluid wrote both buffers from compute shaders.
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    bool other_cam = cam && memcmp(cam, &r->cam, sizeof *cam) != 0;
-    if (other_cam) write_frame(r, cam);
-    const particle_pass *p = &r->particles;
-    glUseProgram(p->prog);
-    glUniform1f(p->radius, radius);
-    // Instances past the end of the buffer are dropped in the vertex shader.
-    glUniform1i(p->count, (GLint)(size / 16 > 0x7fffffff ? 0x7fffffff : size / 16));
-    glUniform3fv(p->color_low, 1, style->color_low);
-    glUniform3fv(p->color_mid, 1, style->color_mid);
-    glUniform3fv(p->color_high, 1, style->color_high);
-    glUniform1f(p->specular, style->specular);
-    glUniform1f(p->shininess, style->shininess);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, positions_ssbo);
-    glBindVertexArray(p->vao);
-    glDrawArraysIndirect(GL_TRIANGLE_STRIP, (const void *)0);
     glBindVertexArray(0);
+}
+
+void eng_render_bind_fluid(const particle_prog *p, const queued_fluid *f)
+{
+    const float r = f->d.radius;
+    glUniform1f(p->radius, r);
+    glUniform1i(p->count, f->count);
+    // Lattice volume over sphere volume: (2r)^3 / (4/3 pi r^3) = 6 / pi.
+    glUniform1f(p->fill, 6.0f / 3.14159265f);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, f->d.positions);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_VELOCITY_SSBO_BINDING,
+                     f->d.velocities ? f->d.velocities : f->d.positions);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, f->d.draw_indirect);
+}
+
+void eng_render_draw_fluid_instances(const queued_fluid *f)
+{
+    (void)f;
+    glDrawArraysIndirect(GL_TRIANGLE_STRIP, (const void *)0);
+}
+
+static void draw_ground(eng_renderer *r)
+{
+    if (!r->def.ground) return;
+    mat4 model;
+    glm_translate_make(model, (vec3){ 0.0f, r->def.ground_height, 0.0f });
+    glUniform1f(r->mesh.specular, 0.05f);
+    draw_gpu_mesh(&r->mesh, eng_mesh_get_gpu(r->own_meshes, r->ground), model, r->def.ground_color, r->def.ground_cell);
+    glUniform1f(r->mesh.specular, r->def.specular);
+}
+
+// The opaque scene (ground, nodes, meshes) into the bound framebuffer, cleared to the sky.
+static void draw_opaque(eng_renderer *r)
+{
+    int t = eng_render_timer_begin(r, "scene");
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glClearColor(r->def.sky_color[0], r->def.sky_color[1], r->def.sky_color[2], 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(r->mesh.prog);
+    glUniform1f(r->mesh.specular, r->def.specular);
+    glUniform1f(r->mesh.shininess, r->def.shininess);
+    draw_ground(r);
+    eng_render_draw_queued_meshes(r, &r->mesh);
+    eng_render_timer_end(r, t);
+}
+
+static void draw_spheres(eng_renderer *r)
+{
+    int t = eng_render_timer_begin(r, "particles");
+    const particle_prog *p = &r->spheres;
+    glUseProgram(p->prog);
+    glBindVertexArray(r->empty_vao);
+    for (int i = 0; i < r->fluid_count; i++) {
+        const queued_fluid *f = &r->fluids[i];
+        int mode = r->def.fluid.mode == ENG_FLUID_DENSITY ? ENG_RENDER_COLOR_DENSITY
+                   : r->def.fluid.mode == ENG_FLUID_SPEED ? ENG_RENDER_COLOR_SPEED
+                                                          : ENG_RENDER_COLOR_HEIGHT;
+        if (mode != ENG_RENDER_COLOR_HEIGHT && !f->d.velocities) {
+            if (!r->warned_no_velocities)
+                eng_log(&r->def.logger, ENG_LOG_WARN,
+                        "renderer: the %s mode needs the fluid's velocities (eng_fluid_draw.velocities); "
+                        "colouring by height", eng_fluid_mode_name(r->def.fluid.mode));
+            r->warned_no_velocities = true;
+            mode = ENG_RENDER_COLOR_HEIGHT;
+        }
+        eng_render_bind_fluid(p, f);
+        glUniform1i(p->color_mode, mode);
+        if (mode == ENG_RENDER_COLOR_DENSITY) glUniform2fv(p->color_range, 1, r->def.fluid.density_range);
+        else glUniform2f(p->color_range, 0.0f, r->def.fluid.speed_max);
+        glUniform1f(p->particle_mass, f->d.particle_mass);
+        glUniform1f(p->inv_rest_density, f->d.rest_density > 0.0f ? 1.0f / f->d.rest_density : 0.0f);
+        glUniform3fv(p->color_low, 1, f->style.color_low);
+        glUniform3fv(p->color_mid, 1, f->style.color_mid);
+        glUniform3fv(p->color_high, 1, f->style.color_high);
+        glUniform1f(p->specular, f->style.specular);
+        glUniform1f(p->shininess, f->style.shininess);
+        eng_render_draw_fluid_instances(f);
+    }
+    eng_render_timer_end(r, t);
+}
+
+static void reset_state(eng_renderer *r)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, eng_context_framebuffer(r->ctx));
+    glViewport(0, 0, r->width, r->height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    for (int u = 0; u <= ENG_RENDER_TEX_FLUID_THICK; u++) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        glBindTexture(GL_TEXTURE_2D, 0);
+    }
+    glActiveTexture(GL_TEXTURE0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, 0);
-    if (other_cam) write_frame(r, &r->cam);
-    eng_gpu_timer_end(r->timer, t);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_VELOCITY_SSBO_BINDING, 0);
 }
 
 void eng_renderer_end(eng_renderer *r)
 {
     if (!in_frame(r, "eng_renderer_end")) return;
-    glBindVertexArray(0);
-    glUseProgram(0);
-    if (r->t_frame >= 0) eng_gpu_timer_end(r->timer, r->t_frame);
+    r->t_frame = eng_render_timer_begin(r, "frame");
+    reset_state(r);
+    // The fluid wrote its buffers from compute shaders: positions and velocities are read
+    // as storage blocks, the command as an indirect draw.
+    if (r->fluid_count > 0) glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    bool surface = r->def.fluid.mode == ENG_FLUID_SURFACE && r->fluid_count > 0 &&
+                   eng_surface_targets(r, r->width, r->height);
+    eng_shadow_prepare(r);
+    eng_render_write_frame(r, r->width, r->height);
+    eng_shadow_render(r);
+
+    r->surf.drawn = false;
+    if (surface) {
+        glBindFramebuffer(GL_FRAMEBUFFER, r->surf.scene_fbo);
+        glViewport(0, 0, r->width, r->height);
+        draw_opaque(r);
+        eng_surface_render(r);
+        r->surf.drawn = true;
+    } else {
+        glBindFramebuffer(GL_FRAMEBUFFER, eng_context_framebuffer(r->ctx));
+        glViewport(0, 0, r->width, r->height);
+        draw_opaque(r);
+        if (r->fluid_count > 0) draw_spheres(r);
+    }
+    reset_state(r);
+    eng_render_timer_end(r, r->t_frame);
     r->t_frame = -1;
     eng_gpu_timer_collect(r->timer);
     r->in_frame = false;

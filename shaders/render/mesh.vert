@@ -1,5 +1,6 @@
 #version 430 core
-// Scene meshes: positions and normals to world space.
+// Scene meshes: positions and normals to world space. With SHADOW_PASS defined: positions
+// to the light's clip space, for the shadow map (depth only).
 #include "frame.glsl"
 
 layout(location = ENG_RENDER_ATTRIB_POSITION) in vec3 a_position;
@@ -16,5 +17,9 @@ void main()
     vec4 w = u_model * vec4(a_position, 1.0);
     v_world = w.xyz;
     v_normal = u_normal_model * a_normal;
+#ifdef SHADOW_PASS
+    gl_Position = u_light_viewproj * w;
+#else
     gl_Position = u_proj * (u_view * w);
+#endif
 }

@@ -1,26 +1,18 @@
 #version 430 core
-// Sphere impostor: the eye ray through this fragment meets the sphere or the fragment is
-// discarded; the hit point gives the normal (Phong, the scene's light) and the true depth.
+// Sphere impostor of the sphere modes: the eye ray through this fragment meets the sphere
+// or the fragment is discarded; the hit point gives the normal (the scene's light, its
+// shadows) and the true depth. The colour comes from the vertex shader (COLOR_MODES).
 #include "frame.glsl"
 
 in vec3 v_view_pos;
 flat in vec3 v_center;
-flat in float v_param;
+flat in vec3 v_color;
 
 uniform float u_radius;
-uniform vec3 u_color_low;  // colour at parameter 0
-uniform vec3 u_color_mid;  // at 0.5
-uniform vec3 u_color_high; // at 1
 uniform float u_specular;
 uniform float u_shininess;
 
 out vec4 o_color;
-
-vec3 gradient(float t)
-{
-    t = clamp(t, 0.0, 1.0);
-    return t < 0.5 ? mix(u_color_low, u_color_mid, t * 2.0) : mix(u_color_mid, u_color_high, t * 2.0 - 1.0);
-}
 
 void main()
 {
@@ -36,6 +28,6 @@ void main()
     gl_FragDepth = ((gl_DepthRange.far - gl_DepthRange.near) * ndc_z + gl_DepthRange.near + gl_DepthRange.far) * 0.5;
     vec3 n = normalize(mat3(u_inv_view) * n_view);
     vec3 p = (u_inv_view * vec4(hit, 1.0)).xyz;
-    vec3 c = shade(gradient(v_param), n, p, u_specular, u_shininess);
+    vec3 c = shade(v_color, n, p, u_specular, u_shininess);
     o_color = vec4(fog(c, p), 1.0);
 }

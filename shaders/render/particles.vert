@@ -1,8 +1,18 @@
 #version 430 core
-// Particles as sphere impostors, straight from the fluid's GPU buffer: one camera-facing
-// quad per instance (a 4-vertex triangle strip, no vertex attributes); the centre comes
-// from the SSBO by gl_InstanceID. The quad is grown so that it covers the sphere's whole
-// perspective silhouette; the fragment shader ray-casts the sphere inside it.
+// Particles as sphere impostors, straight from the fluid's GPU buffers: one quad per
+// instance (a 4-vertex triangle strip, no vertex attributes); the centre comes from the
+// SSBO by gl_InstanceID. Every particle pass uses this shader:
+//   (default)    the camera's view; the quad lies in the plane through the centre facing
+//                the eye, grown to cover the sphere's whole perspective silhouette
+//   NEAR_QUAD    the same quad moved along the eye rays to the sphere's nearest depth: the
+//                ray-cast depth is then never nearer than the quad's, which the fragment
+//                shader declares (depth_greater) so that early depth tests stay on
+//   LIGHT_PASS   the light's orthographic view (the shadow map)
+//   COLOR_MODES  also the colour of the sphere modes: initial height, density or speed
+//   SPRAY        only spray: particles faster than u_spray_speed whose density is below
+//                u_spray_density rho0 (few neighbours: drops in the air); v_alpha rises
+//                with the speed. The others are dropped here.
+// The fragment shader ray-casts the sphere inside the quad.
 #include "frame.glsl"
 
 layout(std430, binding = ENG_RENDER_PARTICLE_SSBO_BINDING) readonly buffer Particles {
@@ -10,30 +20,123 @@ layout(std430, binding = ENG_RENDER_PARTICLE_SSBO_BINDING) readonly buffer Parti
 };
 
 uniform float u_radius; // m
-uniform int u_count;    // vec4s in the buffer; instances past it are dropped
+uniform int u_count;    // particles the buffers hold; instances past it are dropped
 
-out vec3 v_view_pos;    // this corner on the quad, view space
-flat out vec3 v_center; // sphere centre, view space
-flat out float v_param; // colour parameter
+#ifdef LIGHT_PASS
+uniform mat4 u_light_view; // world -> the light's view (looking down -z)
+uniform mat4 u_light_proj; // the light's view -> clip (orthographic)
+#endif
+
+// (One name per #ifdef: the strict GL mode reads which blocks are active from the source,
+// and it follows `#ifdef NAME`, not `#if defined(A) || defined(B)`.)
+#ifdef COLOR_MODES
+#define READ_VELOCITIES 1
+#endif
+#ifdef SPRAY
+#define READ_VELOCITIES 1
+#endif
+#ifdef READ_VELOCITIES
+layout(std430, binding = ENG_RENDER_VELOCITY_SSBO_BINDING) readonly buffer Velocities {
+    vec4 velocities[]; // xyz: m/s, w: the particle's volume m^3 (mass / density)
+};
+uniform float u_particle_mass;    // kg: density = mass / volume
+uniform float u_inv_rest_density; // 1 / rho0, m^3/kg
+#endif
+#ifdef SPRAY
+uniform float u_spray_speed;   // m/s
+uniform float u_spray_density; // rho / rho0 below which a particle counts as isolated
+flat out float v_alpha;
+#endif
+#ifdef COLOR_MODES
+uniform int u_color_mode;         // ENG_RENDER_COLOR_*
+uniform vec2 u_color_range;       // the values at the map's ends: rho / rho0, or m/s
+uniform vec3 u_color_low;         // height map: colour at parameter 0
+uniform vec3 u_color_mid;         // at 0.5
+uniform vec3 u_color_high;        // at 1
+flat out vec3 v_color;
+
+vec3 gradient3(vec3 a, vec3 b, vec3 c, float t)
+{
+    t = clamp(t, 0.0, 1.0);
+    return t < 0.5 ? mix(a, b, t * 2.0) : mix(b, c, t * 2.0 - 1.0);
+}
+
+// Dark blue, blue, cyan, yellow, red (a perceptually ordered "speed" map).
+vec3 speed_map(float t)
+{
+    const vec3 k[5] = vec3[5](vec3(0.05, 0.08, 0.35), vec3(0.10, 0.35, 0.90), vec3(0.15, 0.85, 0.90),
+                              vec3(0.98, 0.90, 0.20), vec3(0.90, 0.15, 0.08));
+    float x = clamp(t, 0.0, 1.0) * 4.0;
+    int i = min(int(x), 3);
+    return mix(k[i], k[i + 1], x - float(i));
+}
+
+vec3 particle_color(uint i, float param)
+{
+    if (u_color_mode == ENG_RENDER_COLOR_DENSITY) {
+        float vol = velocities[i].w;
+        float ratio = vol > 0.0 ? u_particle_mass / vol * u_inv_rest_density : 1.0;
+        float t = (ratio - u_color_range.x) / max(u_color_range.y - u_color_range.x, 1e-6);
+        // Under-dense blue, rest density white, compressed red.
+        return gradient3(vec3(0.10, 0.30, 0.95), vec3(0.95, 0.95, 0.95), vec3(0.95, 0.15, 0.10), t);
+    }
+    if (u_color_mode == ENG_RENDER_COLOR_SPEED) {
+        float s = length(velocities[i].xyz);
+        return speed_map((s - u_color_range.x) / max(u_color_range.y - u_color_range.x, 1e-6));
+    }
+    return gradient3(u_color_low, u_color_mid, u_color_high, param);
+}
+#endif
+
+out vec3 v_view_pos;    // this corner on the quad, view space (the light's in LIGHT_PASS)
+flat out vec3 v_center; // sphere centre, same space
+
+void skip()
+{
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume: no fragments
+    v_view_pos = vec3(0.0);
+    v_center = vec3(0.0);
+#ifdef COLOR_MODES
+    v_color = vec3(0.0);
+#endif
+#ifdef SPRAY
+    v_alpha = 0.0;
+#endif
+}
 
 void main()
 {
     if (gl_InstanceID >= u_count) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // outside the clip volume: no fragments
+        skip();
         return;
     }
     vec4 p = particles[gl_InstanceID];
-    vec3 c = (u_view * vec4(p.xyz, 1.0)).xyz;
-    v_center = c;
-    v_param = p.w;
-    vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
-    float d2 = dot(c, c);
-    float r2 = u_radius * u_radius;
-    if (d2 <= r2 * 1.0001 || c.z > -0.0) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // eye inside the sphere or behind: skip
-        v_view_pos = c;
+#ifdef SPRAY
+    vec4 vel = velocities[gl_InstanceID];
+    float speed = length(vel.xyz);
+    float ratio = vel.w > 0.0 ? u_particle_mass / vel.w * u_inv_rest_density : 1.0;
+    if (speed < u_spray_speed || ratio > u_spray_density) {
+        skip();
         return;
     }
+    v_alpha = clamp((speed - u_spray_speed) / u_spray_speed, 0.0, 1.0);
+#endif
+    vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
+    float r2 = u_radius * u_radius;
+#ifdef LIGHT_PASS
+    vec3 c = (u_light_view * vec4(p.xyz, 1.0)).xyz;
+    v_center = c;
+    vec3 q = c + vec3(corner * u_radius * 1.02, 0.0);
+    v_view_pos = q;
+    gl_Position = u_light_proj * vec4(q, 1.0);
+#else
+    vec3 c = (u_view * vec4(p.xyz, 1.0)).xyz;
+    float d2 = dot(c, c);
+    if (d2 <= r2 * 1.0001 || c.z > -0.0) {
+        skip(); // eye inside the sphere or behind it
+        return;
+    }
+    v_center = c;
     // Silhouette cone of half-angle asin(r / d), cut by the plane through the centre
     // facing the eye: radius d r / sqrt(d^2 - r^2), stretched by 1/cos of the off-axis
     // angle (d / |z|). 2 % margin.
@@ -41,5 +144,18 @@ void main()
     float grow = (d / sqrt(d2 - r2)) * (d / -c.z) * 1.02;
     vec3 q = c + vec3(corner * u_radius * grow, 0.0);
     v_view_pos = q;
+#ifdef NEAR_QUAD
+    // Along the eye ray through q, to the depth of the sphere's nearest point: the same
+    // pixels, a nearer depth. (The eye is at the origin; q.z = c.z < 0.)
+    q *= max(-c.z - u_radius, 1e-4) / -c.z;
+#endif
+#ifdef SPRAY
+    // A radius in front of the drop's own water surface, which the composite wrote.
+    q *= max(-c.z - 2.0 * u_radius, 1e-4) / -c.z;
+#endif
     gl_Position = u_proj * vec4(q, 1.0);
+#endif
+#ifdef COLOR_MODES
+    v_color = particle_color(uint(gl_InstanceID), p.w);
+#endif
 }

@@ -1,15 +1,38 @@
-// Constants shared by the renderer's C code (engine/renderer.c includes this file) and its
+// Constants shared by the renderer's C code (engine/render/*.c include this file) and its
 // GLSL. Only #define lines and comments here, so that it compiles as both.
 #ifndef SEICHE_RENDER_SHARED
 #define SEICHE_RENDER_SHARED
 
-// Uniform block binding of the per-frame block (camera, light, sky; see frame.glsl).
+// Uniform block binding of the per-frame block (camera, light, sky, shadow; frame.glsl).
 #define ENG_RENDER_FRAME_UBO_BINDING 0
-// Shader storage binding the particle pass reads positions from (vec4 per particle).
+// Shader storage bindings the particle passes read: positions (vec4 per particle: xyz m,
+// w colour parameter) and velocities (vec4: xyz m/s, w the particle's volume m^3).
 #define ENG_RENDER_PARTICLE_SSBO_BINDING 0
+#define ENG_RENDER_VELOCITY_SSBO_BINDING 1
 
 // Vertex attribute locations of eng_mesh_gpu meshes.
 #define ENG_RENDER_ATTRIB_POSITION 0
 #define ENG_RENDER_ATTRIB_NORMAL 1
+
+// Texture units. The shadow map's three textures stay bound for the whole frame (every
+// lit pass reads them); the surface passes use the units after them.
+#define ENG_RENDER_TEX_SHADOW 0        // opaque depth from the light (sampler2DShadow)
+#define ENG_RENDER_TEX_SHADOW_FRONT 1  // R32F: distance from the light to the first water, m
+#define ENG_RENDER_TEX_SHADOW_THICK 2  // R16F: water thickness along the light ray, m
+#define ENG_RENDER_TEX_SCENE_COLOR 3   // the opaque scene behind the water (RGBA8)
+#define ENG_RENDER_TEX_SCENE_DEPTH 4   // its depth (D32F, window depth 0..1)
+#define ENG_RENDER_TEX_FLUID_DEPTH 5   // eye depth of the water, m (R32F, 0 = no water)
+#define ENG_RENDER_TEX_FLUID_THICK 6   // water thickness along the view ray, m (R16F)
+
+// Colour modes of the sphere impostors (eng_fluid_mode's sphere modes).
+#define ENG_RENDER_COLOR_HEIGHT 0  // the w of each position (initial height)
+#define ENG_RENDER_COLOR_DENSITY 1 // particle_mass / velocity.w against rho0
+#define ENG_RENDER_COLOR_SPEED 2   // |velocity.xyz|
+
+// Debug views of the surface composite (eng_fluid_look.debug_view).
+#define ENG_RENDER_VIEW_SHADED 0
+#define ENG_RENDER_VIEW_DEPTH 1     // smoothed eye depth, grey
+#define ENG_RENDER_VIEW_NORMALS 2   // world normal * 0.5 + 0.5
+#define ENG_RENDER_VIEW_THICKNESS 3 // thickness, grey
 
 #endif
