@@ -134,6 +134,46 @@ static void radius_pair_is_accepted_in_either_order_and_the_kernel_follows(void 
     assert_non_null(strstr(err, "0.5"));
 }
 
+static bool file_has(const char *path, const char *needle)
+{
+    char buf[16384] = "";
+    FILE *f = fopen(path, "r");
+    if (!f) return false;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = 0;
+    fclose(f);
+    return strstr(buf, needle) != NULL;
+}
+
+static void directory_runs_as_one_suite_with_junit_and_tap_and_late_checks_fail(void **state)
+{
+    (void)state;
+    char err[4096];
+    assert_int_equal(system("mkdir -p " TMP "/suite"), 0);
+    FILE *f = fopen(TMP "/suite/a_passes.lua", "w");
+    assert_non_null(f);
+    fprintf(f, "seiche.scene { capacity = 10 }\nfunction on_step() if seiche.frame() == 2 then "
+               "seiche.check(1 + 1 == 2, 'sums') end end\n");
+    fclose(f);
+    f = fopen(TMP "/suite/b_late.lua", "w");
+    assert_non_null(f);
+    fprintf(f, "seiche.scene { capacity = 10 }\nfunction on_step()\n  if seiche.frame() == 500 then\n"
+               "    seiche.check(true, 'after the last frame')\n  end\nend\n");
+    fclose(f);
+    assert_int_equal(run("--frames 5 --junit out.xml --tap out.tap suite", err, sizeof err), 1);
+    assert_non_null(strstr(err, "b_late.lua:4: seiche.check never ran"));
+    assert_true(file_has(TMP "/stdout.txt", "1 passed, 1 failed"));
+    assert_true(file_has(TMP "/out.xml", "<testsuites name=\"seiche\" tests=\"4\" failures=\"2\""));
+    assert_true(file_has(TMP "/out.xml", "a_passes.lua:2: seiche.check (1 passed, 0 failed)"));
+    assert_true(file_has(TMP "/out.xml", "never ran"));
+    assert_true(file_has(TMP "/out.tap", "1..4"));
+    assert_true(file_has(TMP "/out.tap", "not ok 3 - suite/b_late.lua:4: seiche.check never ran"));
+    // One script alone with the same late check: status 1 too, not a silent pass.
+    assert_int_equal(run("--frames 5 suite/b_late.lua", err, sizeof err), 1);
+    // A report file may not overwrite the script.
+    assert_int_equal(run("--frames 5 --junit suite/a_passes.lua suite/a_passes.lua", err, sizeof err), 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -142,6 +182,7 @@ int main(void)
         cmocka_unit_test(output_over_the_script_or_another_output_is_refused),
         cmocka_unit_test(numbers_out_of_range_name_the_flag_and_value),
         cmocka_unit_test(radius_pair_is_accepted_in_either_order_and_the_kernel_follows),
+        cmocka_unit_test(directory_runs_as_one_suite_with_junit_and_tap_and_late_checks_fail),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

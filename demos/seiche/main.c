@@ -1,5 +1,6 @@
 // seiche: the scene runner. Runs a Lua scene script in a window or headless.
 // Command line and exit statuses: docs/runner.md (and `seiche --help`).
+#include <dirent.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -10,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "demos/seiche/report.h"
 #include "engine/app/app.h"
 #include "engine/render/renderer.h"
 #include "fluid/pbf.h"
@@ -18,6 +20,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "usage: seiche [options] SCRIPT.lua\n"
+            "       seiche --headless [options] DIRECTORY   every *.lua in it as one suite, one report\n"
             "  --headless            no window (EGL surfaceless or device platform)\n"
             "  --frames N            run N frames, then exit (headless default: 600)\n"
             "  --dt SECONDS          fixed frame step, [0.00001, 1] (default 1/60)\n"
@@ -26,6 +29,8 @@ static void usage(FILE *f)
             "                        step_ms, <stage>_ms ..., nan, outside, overflow, rho_err_avg\n"
             "  --screenshot FILE.png the last frame\n"
             "  --record FILE.mp4     frames to video through ffmpeg\n"
+            "  --junit FILE.xml      a JUnit XML report: each seiche.check call site and the run\n"
+            "  --tap FILE            the same report as TAP version 13\n"
             "  --hash                print a hash of the final simulation state\n"
             "  --size WxH            framebuffer size in pixels (default 1280x720)\n"
             "  --render MODE         how the water is drawn: surface (default), spheres (coloured by\n"
@@ -59,6 +64,69 @@ static bool same_file(const char *a, const char *b)
     return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+static int bad(const char *fmt, const char *a, const char *b);
+
+static int by_name(const void *x, const void *y) { return strcmp(*(char *const *)x, *(char *const *)y); }
+
+// One script with a report, or every *.lua of a directory in name order as one suite
+// (headless): each runs as its own run; the status is the worst of them.
+static int run_suite(const eng_app_options *base, bool dir, const char *junit, const char *tap)
+{
+    char **scripts = NULL;
+    int count = 0, cap = 0;
+    if (dir) {
+        DIR *d = opendir(base->script);
+        if (!d) return bad("cannot read the directory '%s': %s", base->script, strerror(errno));
+        for (struct dirent *e; (e = readdir(d)) != NULL;) {
+            size_t n = strlen(e->d_name);
+            if (n < 5 || strcmp(e->d_name + n - 4, ".lua") != 0) continue;
+            if (count == cap) {
+                cap = cap ? cap * 2 : 64;
+                char **more = realloc(scripts, (size_t)cap * sizeof *more);
+                if (!more) break;
+                scripts = more;
+            }
+            size_t len = strlen(base->script) + n + 2;
+            scripts[count] = malloc(len);
+            if (!scripts[count]) break;
+            snprintf(scripts[count++], len, "%s/%s", base->script, e->d_name);
+        }
+        closedir(d);
+        qsort(scripts, (size_t)count, sizeof *scripts, by_name);
+        if (count == 0) {
+            free(scripts);
+            return bad("no *.lua scripts in the directory '%s'%s", base->script, "");
+        }
+    }
+    seiche_run *runs = calloc(dir ? (size_t)count : 1u, sizeof *runs);
+    if (!runs) return bad("out of memory%s%s", "", "");
+    if (!dir) count = 1;
+    int worst = 0, failed = 0;
+    for (int i = 0; i < count; i++) {
+        eng_app_options o = *base;
+        o.script = runs[i].script = dir ? scripts[i] : base->script;
+        o.report = &runs[i].report;
+        int st = eng_app_run(&o);
+        if (st > worst) worst = st;
+        failed += st != 0;
+        if (dir) printf("%s  %s (exit %d)\n", st ? "FAILED" : "ok    ", o.script, st);
+    }
+    if (dir) printf("%d passed, %d failed\n", count - failed, failed);
+    char err[1200];
+    if (junit && !seiche_write_junit(junit, runs, count, err, sizeof err)) {
+        fprintf(stderr, "seiche: --junit: %s\n", err);
+        worst = worst > 2 ? worst : 2;
+    }
+    if (tap && !seiche_write_tap(tap, runs, count, err, sizeof err)) {
+        fprintf(stderr, "seiche: --tap: %s\n", err);
+        worst = worst > 2 ? worst : 2;
+    }
+    for (int i = 0; dir && i < count; i++) free(scripts[i]);
+    free(scripts);
+    free(runs);
+    return worst;
+}
+
 static int bad(const char *fmt, const char *a, const char *b)
 {
     fprintf(stderr, "seiche: ");
@@ -70,6 +138,7 @@ static int bad(const char *fmt, const char *a, const char *b)
 int main(int argc, char **argv)
 {
     eng_app_options o = eng_default_app_options();
+    const char *junit = NULL, *tap = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -125,6 +194,12 @@ int main(int argc, char **argv)
             if (!strchr(v, '=')) return bad("--set expects KEY=VALUE (got '%s')%s", v, "");
             o.sets[o.set_count++] = v;
             i++;
+        } else if (strcmp(a, "--junit") == 0) {
+            junit = v;
+            i++;
+        } else if (strcmp(a, "--tap") == 0) {
+            tap = v;
+            i++;
         } else if (strcmp(a, "--metrics") == 0) {
             o.metrics_path = v;
             i++;
@@ -162,13 +237,22 @@ int main(int argc, char **argv)
         }
     }
     if (!o.script) return bad("no script given%s%s", "", "");
-    FILE *f = fopen(o.script, "rb");
-    if (!f) return bad("cannot open script '%s': %s", o.script, strerror(errno));
-    fclose(f);
+    struct stat st;
+    if (stat(o.script, &st) != 0) return bad("cannot open script '%s': %s", o.script, strerror(errno));
+    bool dir = S_ISDIR(st.st_mode);
+    if (dir && (o.metrics_path || o.screenshot_path || o.record_path))
+        return bad("--metrics, --screenshot and --record name one file: they cannot go with a directory of scripts "
+                   "('%s')%s", o.script, "");
+    if (dir && !o.headless) return bad("a directory of scripts runs headless: add --headless ('%s')%s", o.script, "");
+    if (!dir) {
+        FILE *f = fopen(o.script, "rb");
+        if (!f) return bad("cannot open script '%s': %s", o.script, strerror(errno));
+        fclose(f);
+    }
     // No output may overwrite the script or another output.
-    const char *names[4] = { "the script", "--metrics", "--screenshot", "--record" };
-    const char *paths[4] = { o.script, o.metrics_path, o.screenshot_path, o.record_path };
-    for (int i = 1; i < 4; i++)
+    const char *names[6] = { "the script", "--metrics", "--screenshot", "--record", "--junit", "--tap" };
+    const char *paths[6] = { o.script, o.metrics_path, o.screenshot_path, o.record_path, junit, tap };
+    for (int i = 1; i < 6; i++)
         for (int j = 0; j < i; j++)
             if (paths[i] && paths[j] && same_file(paths[i], paths[j])) {
                 fprintf(stderr, "seiche: %s would overwrite %s ('%s'): give each output its own file\n"
@@ -178,5 +262,6 @@ int main(int argc, char **argv)
     // A video whose reader (ffmpeg) stops must not kill the runner: writes fail with EPIPE
     // and are reported instead.
     signal(SIGPIPE, SIG_IGN);
-    return eng_app_run(&o);
+    if (!dir && !junit && !tap) return eng_app_run(&o);
+    return run_suite(&o, dir, junit, tap);
 }

@@ -81,6 +81,8 @@ void app_report(app *a, const char *msg)
 {
     eng_progress_end(&a->progress);
     fprintf(stderr, "%s\n", msg);
+    eng_app_report *r = a->opt->report;
+    if (r && !r->message[0]) snprintf(r->message, sizeof r->message, "%.*s", (int)strcspn(msg, "\n"), msg);
     if (a->opt->headless) return;
     size_t n = strlen(msg);
     if (n >= sizeof a->error_text) n = sizeof a->error_text - 1;
@@ -379,6 +381,7 @@ int eng_app_run(const eng_app_options *o)
         shutdown_app(a);
         return status;
     }
+    a->start_s = now_s();
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
     long idle_frames = 0;
@@ -460,7 +463,14 @@ int eng_app_run(const eng_app_options *o)
             status = ENG_EXIT_USAGE;
         }
     }
+    status = app_finish_checks(a, status);
     if (status == ENG_EXIT_OK) app_print_summary(a);
+    if (o->report) {
+        o->report->status = status;
+        o->report->frames = a->frame;
+        o->report->sim_time = a->time;
+        o->report->wall_s = now_s() - a->start_s;
+    }
     shutdown_app(a);
     return status;
 }

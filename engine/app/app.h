@@ -7,6 +7,9 @@
 #define ENG_APP_H
 
 #include <stdbool.h>
+#include <stdint.h>
+
+#include "engine/script/script.h"
 
 #define ENG_APP_MAX_SETS 64
 
@@ -18,6 +21,20 @@ enum {
     ENG_EXIT_NO_COMPUTE = 3,  ///< no OpenGL 4.3 compute context
     ENG_EXIT_DIVERGED = 4,    ///< the solver diverged: NaN, rho_max over 3 rho0, or particles left the domain
 };
+
+/// What a run came to, for reports (--junit, --tap): filled by eng_app_run when
+/// eng_app_options.report is set.
+typedef struct eng_app_report {
+    int status;             ///< the ENG_EXIT_* status returned
+    char message[1024];     ///< the first line of what ended the run ("" when nothing did)
+    uint64_t frames;
+    double sim_time;        ///< s simulated
+    double wall_s;          ///< s of wall clock
+    eng_check_site checks[ENG_SCRIPT_MAX_CHECK_SITES]; ///< the seiche.check calls that ran
+    int check_count;
+    int never_ran[64];      ///< lines of the script holding a seiche.check that never ran
+    int never_ran_count;
+} eng_app_report;
 
 typedef struct eng_app_options {
     const char *script;          ///< scene script path
@@ -37,6 +54,7 @@ typedef struct eng_app_options {
     bool watch;                  ///< window: reload the script when its file changes (default true)
     bool ui;                     ///< window: the on-screen panel and error box (default true)
     bool trusted;                ///< the script gets every standard Lua library (default false: the sandbox)
+    eng_app_report *report;      ///< NULL, or filled at the end of the run
     const char *render;          ///< how the water is drawn: "surface" (NULL: the default),
                                  ///< "spheres", "density" or "speed" (eng_fluid_mode_parse)
 } eng_app_options;

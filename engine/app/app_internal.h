@@ -74,6 +74,7 @@ typedef struct app {
     uint64_t stats_rows;
     double rho_err_max;   // max over frames of (rho_max / rho0 - 1)
     double step_ms_sum;
+    double start_s;        // monotonic s when the loop began (reports)
     double fps;            // frames per wall-clock second, over the last half second
     double fps_since;      // monotonic s where that window began
     uint64_t fps_frames;
@@ -94,6 +95,7 @@ int app_close_video(app *a, bool quiet);
 int app_close_metrics(app *a, bool quiet);
 void app_print_summary(app *a);
 int app_write_screenshot(app *a);
+int app_finish_checks(app *a, int status);
 void app_report(app *a, const char *msg);
 
 #endif

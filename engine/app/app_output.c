@@ -138,3 +138,49 @@ int app_write_screenshot(app *a)
     }
     return ENG_EXIT_OK;
 }
+
+// True when line `text` calls seiche.check outside a comment.
+static bool calls_check(const char *text)
+{
+    const char *c = strstr(text, "seiche.check");
+    const char *comment = strstr(text, "--");
+    return c && (!comment || c < comment);
+}
+
+// The checks of the run: copied into the report, and every line of the script that calls
+// seiche.check and never ran is a failure of a headless run that otherwise passed ("a check
+// scheduled after the last frame never runs" must not pass silently).
+int app_finish_checks(app *a, int status)
+{
+    eng_app_report *r = a->opt->report;
+    const eng_check_site *sites = NULL;
+    int n = a->inst.script ? eng_script_check_sites(a->inst.script, &sites) : 0;
+    if (r) {
+        r->check_count = n;
+        memcpy(r->checks, sites, (size_t)n * sizeof *sites);
+    }
+    if (!a->inst.script || !a->opt->headless) return status;
+    FILE *f = fopen(a->opt->script, "r");
+    if (!f) return status;
+    char text[4096];
+    int line = 0, missing = 0;
+    char first[1200] = "";
+    while (fgets(text, sizeof text, f)) {
+        line++;
+        if (!calls_check(text)) continue;
+        bool ran = false; // a call spread over lines reports one of its first few
+        for (int i = 0; i < n && !ran; i++)
+            ran = strcmp(sites[i].source, a->opt->script) == 0 && sites[i].line >= line && sites[i].line <= line + 5;
+        if (ran) continue;
+        if (r && r->never_ran_count < (int)(sizeof r->never_ran / sizeof r->never_ran[0]))
+            r->never_ran[r->never_ran_count++] = line;
+        if (missing++ == 0)
+            snprintf(first, sizeof first, "%s:%d: seiche.check never ran (the run ended at frame %llu, %.3f s, first)",
+                     a->opt->script, line, (unsigned long long)a->frame, a->time);
+    }
+    fclose(f);
+    if (missing == 0 || status != ENG_EXIT_OK) return status;
+    app_report(a, first);
+    if (missing > 1) fprintf(stderr, "seiche: %d lines with seiche.check never ran in all\n", missing);
+    return ENG_EXIT_CHECK_FAILED;
+}

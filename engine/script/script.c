@@ -473,6 +473,12 @@ const char *eng_script_error(const eng_script *s) { return s->error; }
 const char *eng_script_path(const eng_script *s) { return s->path; }
 eng_scene_config *eng_script_config(eng_script *s) { return &s->config; }
 void eng_script_set_host(eng_script *s, const eng_script_host *host) { s->host = *host; }
+int eng_script_check_sites(const eng_script *s, const eng_check_site **out)
+{
+    *out = s->checks;
+    return s->check_count;
+}
+
 bool eng_script_quit_requested(const eng_script *s) { return s->quit; }
 int eng_script_pending(const eng_script *s) { return s->command_count; }
 

@@ -162,6 +162,19 @@ eng_script_status eng_script_on_reload(eng_script *s);
 /// True once the script called seiche.quit().
 bool eng_script_quit_requested(const eng_script *s);
 
+/// One place in the scripts that calls seiche.check, and what came of its calls.
+#define ENG_SCRIPT_MAX_CHECK_SITES 128
+typedef struct eng_check_site {
+    char source[256];   ///< the chunk's file ("" for chunks that are not files)
+    int line;           ///< line of the call
+    uint32_t passed, failed;
+    char message[256];  ///< the first failure's message
+} eng_check_site;
+
+/// The seiche.check call sites that ran, in the order first reached (at most
+/// ENG_SCRIPT_MAX_CHECK_SITES; later new sites are not recorded).
+int eng_script_check_sites(const eng_script *s, const eng_check_site **out);
+
 /// Changes a fluid parameter as seiche.set_param would (the parameter panel uses it).
 /// False with a message in err when the name or value is refused.
 bool eng_script_set_param(eng_script *s, const char *name, double value, char *err, size_t err_size);

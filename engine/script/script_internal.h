@@ -185,6 +185,8 @@ struct eng_script {
     char path[512];
     char error[8192];
     bool quit;
+    eng_check_site checks[ENG_SCRIPT_MAX_CHECK_SITES]; // seiche.check call sites (junit, tap)
+    int check_count;
     bool scene_called;
     bool in_main_chunk;
     eng_scene_config config;

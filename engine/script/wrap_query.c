@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 // ---- queries --------------------------------------------------------------------------
 
@@ -145,12 +146,37 @@ static int l_particles_in(lua_State *L)
 
 // ---- test support ----------------------------------------------------------------------
 
+// The record of the calling line's check (NULL when the table is full).
+static eng_check_site *check_site(lua_State *L, eng_script *s)
+{
+    lua_Debug ar;
+    const char *src = "";
+    int line = 0;
+    if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar)) {
+        src = ar.source[0] == '@' ? ar.source + 1 : "";
+        line = ar.currentline;
+    }
+    for (int i = 0; i < s->check_count; i++)
+        if (s->checks[i].line == line && strcmp(s->checks[i].source, src) == 0) return &s->checks[i];
+    if (s->check_count == ENG_SCRIPT_MAX_CHECK_SITES) return NULL;
+    eng_check_site *c = &s->checks[s->check_count++];
+    memset(c, 0, sizeof *c);
+    snprintf(c->source, sizeof c->source, "%s", src);
+    c->line = line;
+    return c;
+}
+
 static int l_check(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
     luaL_checkany(L, 1);
-    if (lua_toboolean(L, 1)) return 0;
+    eng_check_site *site = check_site(L, s);
+    if (lua_toboolean(L, 1)) {
+        if (site) site->passed++;
+        return 0;
+    }
     const char *msg = lua_isnoneornil(L, 2) ? "(no message)" : luaL_tolstring(L, 2, NULL);
+    if (site && site->failed++ == 0) snprintf(site->message, sizeof site->message, "%s", msg);
     // A stop, not an ordinary error: pcall(seiche.check, false) cannot hide a failed check.
     return scr_stop(L, s, STOP_CHECK, "check failed: %s", msg);
 }

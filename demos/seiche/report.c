@@ -1,0 +1,156 @@
+// JUnit XML and TAP reports of scene-script runs. See report.h.
+#include "demos/seiche/report.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+static const char *status_text(int status)
+{
+    switch (status) {
+    case ENG_EXIT_OK: return "ok";
+    case ENG_EXIT_CHECK_FAILED: return "a check failed";
+    case ENG_EXIT_USAGE: return "usage or script error";
+    case ENG_EXIT_NO_COMPUTE: return "no OpenGL 4.3 compute context";
+    case ENG_EXIT_DIVERGED: return "the solver diverged";
+    default: return "GL error";
+    }
+}
+
+static void xml_text(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        switch (*s) {
+        case '&': fputs("&amp;", f); break;
+        case '<': fputs("&lt;", f); break;
+        case '>': fputs("&gt;", f); break;
+        case '"': fputs("&quot;", f); break;
+        case '\'': fputs("&apos;", f); break;
+        default:
+            if ((unsigned char)*s < 0x20 && *s != '\n' && *s != '\t') fputc(' ', f);
+            else fputc(*s, f);
+        }
+    }
+}
+
+// Test cases of one run: its check sites, the checks that never ran, and the run.
+static int case_count(const eng_app_report *r) { return r->check_count + r->never_ran_count + 1; }
+
+static int failures_of(const eng_app_report *r)
+{
+    int n = r->never_ran_count + (r->status != ENG_EXIT_OK);
+    for (int i = 0; i < r->check_count; i++) n += r->checks[i].failed > 0;
+    return n;
+}
+
+static bool finish(FILE *f, const char *path, char *err, size_t err_size)
+{
+    bool bad = ferror(f) != 0;
+    int e = errno;
+    if (fclose(f) != 0 && !bad) {
+        bad = true;
+        e = errno;
+    }
+    if (bad) snprintf(err, err_size, "writing '%s' failed: %s", path, strerror(e));
+    return !bad;
+}
+
+bool seiche_write_junit(const char *path, const seiche_run *runs, int count, char *err, size_t err_size)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        snprintf(err, err_size, "cannot write '%s': %s", path, strerror(errno));
+        return false;
+    }
+    int tests = 0, failures = 0;
+    double time = 0.0;
+    for (int i = 0; i < count; i++) {
+        tests += case_count(&runs[i].report);
+        failures += failures_of(&runs[i].report);
+        time += runs[i].report.wall_s;
+    }
+    fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    fprintf(f, "<testsuites name=\"seiche\" tests=\"%d\" failures=\"%d\" time=\"%.3f\">\n", tests, failures, time);
+    for (int i = 0; i < count; i++) {
+        const eng_app_report *r = &runs[i].report;
+        fprintf(f, "  <testsuite name=\"");
+        xml_text(f, runs[i].script);
+        fprintf(f, "\" tests=\"%d\" failures=\"%d\" time=\"%.3f\">\n", case_count(r), failures_of(r), r->wall_s);
+        for (int k = 0; k < r->check_count; k++) {
+            const eng_check_site *c = &r->checks[k];
+            fprintf(f, "    <testcase classname=\"");
+            xml_text(f, runs[i].script);
+            fprintf(f, "\" name=\"");
+            xml_text(f, c->source[0] ? c->source : runs[i].script);
+            fprintf(f, ":%d: seiche.check (%u passed, %u failed)\" time=\"0\"", c->line, c->passed, c->failed);
+            if (!c->failed) {
+                fprintf(f, "/>\n");
+                continue;
+            }
+            fprintf(f, ">\n      <failure message=\"");
+            xml_text(f, c->message);
+            fprintf(f, "\"/>\n    </testcase>\n");
+        }
+        for (int k = 0; k < r->never_ran_count; k++) {
+            fprintf(f, "    <testcase classname=\"");
+            xml_text(f, runs[i].script);
+            fprintf(f, "\" name=\"");
+            xml_text(f, runs[i].script);
+            fprintf(f, ":%d: seiche.check\" time=\"0\">\n      <failure message=\"never ran: the run ended at frame "
+                       "%llu first\"/>\n    </testcase>\n", r->never_ran[k], (unsigned long long)r->frames);
+        }
+        fprintf(f, "    <testcase classname=\"");
+        xml_text(f, runs[i].script);
+        fprintf(f, "\" name=\"run (%llu frames, %.3f s simulated)\" time=\"%.3f\"", (unsigned long long)r->frames,
+                r->sim_time, r->wall_s);
+        if (r->status == ENG_EXIT_OK) {
+            fprintf(f, "/>\n");
+        } else {
+            fprintf(f, ">\n      <failure type=\"exit %d\" message=\"%s: ", r->status, status_text(r->status));
+            xml_text(f, r->message);
+            fprintf(f, "\"/>\n    </testcase>\n");
+        }
+        fprintf(f, "  </testsuite>\n");
+    }
+    fprintf(f, "</testsuites>\n");
+    return finish(f, path, err, err_size);
+}
+
+// A TAP diagnostic block with the message as a single-quoted YAML scalar.
+static void yaml_message(FILE *f, const char *m)
+{
+    fputs("  ---\n  message: '", f);
+    for (; *m && *m != '\n'; m++) {
+        if (*m == '\'') fputc('\'', f);
+        fputc(*m, f);
+    }
+    fputs("'\n  ...\n", f);
+}
+
+bool seiche_write_tap(const char *path, const seiche_run *runs, int count, char *err, size_t err_size)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        snprintf(err, err_size, "cannot write '%s': %s", path, strerror(errno));
+        return false;
+    }
+    int tests = 0, n = 0;
+    for (int i = 0; i < count; i++) tests += case_count(&runs[i].report);
+    fprintf(f, "TAP version 13\n1..%d\n", tests);
+    for (int i = 0; i < count; i++) {
+        const eng_app_report *r = &runs[i].report;
+        for (int k = 0; k < r->check_count; k++) {
+            const eng_check_site *c = &r->checks[k];
+            fprintf(f, "%s %d - %s:%d: seiche.check (%u passed, %u failed)\n", c->failed ? "not ok" : "ok", ++n,
+                    c->source[0] ? c->source : runs[i].script, c->line, c->passed, c->failed);
+            if (c->failed) yaml_message(f, c->message);
+        }
+        for (int k = 0; k < r->never_ran_count; k++)
+            fprintf(f, "not ok %d - %s:%d: seiche.check never ran (the run ended at frame %llu first)\n", ++n,
+                    runs[i].script, r->never_ran[k], (unsigned long long)r->frames);
+        fprintf(f, "%s %d - %s: run (exit %d, %s)\n", r->status == ENG_EXIT_OK ? "ok" : "not ok", ++n, runs[i].script,
+                r->status, status_text(r->status));
+        if (r->status != ENG_EXIT_OK && r->message[0]) yaml_message(f, r->message);
+    }
+    return finish(f, path, err, err_size);
+}
