@@ -260,7 +260,14 @@ static void handle_input(app *a, int *status)
             runner_key(a, &e, status);
             s = a->inst.script; // a reset replaces the script
             const char *name = eng_key_name(e.key);
-            if (name && s && !a->halted) st = eng_script_on_key(s, name, action);
+            // The fly camera's keys move the camera and do not reach the script.
+            bool camera_key = a->camera.mode == ENG_CAMERA_FLY &&
+                              (e.key == GLFW_KEY_W || e.key == GLFW_KEY_A || e.key == GLFW_KEY_S || e.key == GLFW_KEY_D ||
+                               e.key == GLFW_KEY_Q || e.key == GLFW_KEY_E || e.key == GLFW_KEY_LEFT_SHIFT ||
+                               e.key == GLFW_KEY_RIGHT_SHIFT);
+            double px = 0.0, py = 0.0;
+            eng_input_mouse_position(a->input, &px, &py);
+            if (name && s && !a->halted && !camera_key) st = eng_script_on_key(s, name, action, px, py);
             break;
         }
         case ENG_EVENT_MOUSE_BUTTON: {

@@ -587,9 +587,10 @@ eng_script_status eng_script_on_step(eng_script *s, double dt, double time)
     return st;
 }
 
-eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action)
+eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action, double x, double y)
 {
-    callback_call c = { .name = "on_key", .nargs = 2, .args = { { 's', 0, key }, { 's', 0, action } } };
+    callback_call c = { .name = "on_key", .nargs = 4,
+                        .args = { { 's', 0, key }, { 's', 0, action }, { 'n', x, NULL }, { 'n', y, NULL } } };
     return callback(s, &c);
 }
 

@@ -150,7 +150,7 @@ void eng_script_sync_nodes(eng_script *s);
 /// metamethod is called. eng_script_on_step also fires the timers that are due at `time`.
 eng_script_status eng_script_on_start(eng_script *s);
 eng_script_status eng_script_on_step(eng_script *s, double dt, double time);
-eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action);
+eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action, double x, double y);
 /// `consumed` (may be NULL) is set when on_mouse returned true: the camera should leave
 /// this press (until its release) alone.
 eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y,
