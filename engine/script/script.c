@@ -14,6 +14,9 @@
 
 /// Work units (scr_tick) between two looks at the clock.
 #define TICK_QUANTUM ((size_t)1 << 16)
+/// Bytes allocated between two looks at the clock: an instruction that makes a long string
+/// (s:upper(), s .. t, string.format) is as slow as the string is long.
+#define ALLOC_QUANTUM ((size_t)4 << 20)
 /// Allocations may pass SCR_MEMORY_LIMIT by this much before the allocator refuses them: the
 /// next budget check stops the script with its file:line instead (a refused allocation is a
 /// Lua memory error, which names no line).
@@ -147,7 +150,10 @@ static void register_api(eng_script *s)
 //   on_start and on_reload share the load's.
 // - A count hook (budget_hook) looks at the clock every 1000 VM instructions, more often
 //   while the script holds much memory (one instruction may then touch all of it: comparing
-//   or concatenating long strings), and at every instruction once the script is stopped.
+//   long strings), at the next instruction after every 4 MiB allocated (making a long string
+//   is one instruction too), and at every instruction once the script is stopped. The hook
+//   is per coroutine: the sandbox's coroutine.resume and wrap keep the chain of running ones
+//   (s->threads) so the allocator and a stop reach the one that runs.
 // - C code runs no instructions, so the library functions that can loop long in one call
 //   (patterns, string.rep, table.concat/insert/remove/move/sort) are our own versions that
 //   count their work with scr_tick; every 2^16 units it looks at the clock too.
@@ -193,9 +199,17 @@ const char *scr_where(lua_State *L, char *buf, size_t size)
 static int raise_stop(lua_State *L, eng_script *s)
 {
     lua_sethook(L, budget_hook, LUA_MASKCOUNT, 1);
-    if (L != s->L) lua_sethook(s->L, budget_hook, LUA_MASKCOUNT, 1);
+    lua_sethook(s->L, budget_hook, LUA_MASKCOUNT, 1);
+    for (int i = 0; i < s->thread_depth && i < SCR_MAX_THREADS; i++) lua_sethook(s->threads[i], budget_hook, LUA_MASKCOUNT, 1);
     lua_pushstring(L, s->stop);
     return lua_error(L);
+}
+
+// The running coroutine (or the main thread) runs the hook at its next instruction.
+static void check_soon(eng_script *s)
+{
+    int depth = s->thread_depth < SCR_MAX_THREADS ? s->thread_depth : SCR_MAX_THREADS;
+    lua_sethook(depth > 0 ? s->threads[depth - 1] : s->L, budget_hook, LUA_MASKCOUNT, 1);
 }
 
 int scr_stop(lua_State *L, eng_script *s, scr_stop_kind kind, const char *fmt, ...)
@@ -217,6 +231,7 @@ static void check_limits(lua_State *L, eng_script *s)
 {
     if (s->stop_kind != STOP_NONE) raise_stop(L, s);
     if (s->deadline <= 0.0) return; // no host call runs (a finaliser in lua_close)
+    s->allocated = 0;
     if (now_s() > s->deadline) {
         if (s->frame_used > 0.01 * s->budget_s)
             scr_stop(L, s, STOP_BUDGET, "%s ran past the frame's budget of %g s (the frame's callbacks and timers share "
@@ -282,7 +297,12 @@ static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
         return NULL;
     }
     void *p = realloc(ptr, nsize);
-    if (p) s->memory = s->memory - osize + nsize;
+    if (!p) return NULL;
+    s->memory = s->memory - osize + nsize;
+    if (nsize > osize && s->deadline > 0.0 && (s->allocated += nsize - osize) >= ALLOC_QUANTUM) {
+        s->allocated = 0;
+        check_soon(s); // lua_sethook is safe here: Lua allows it even from a signal handler
+    }
     return p;
 }
 
@@ -327,7 +347,10 @@ static eng_script_status run(eng_script *s, int nargs, const char *what)
     s->deadline = start + (left > 0.0 ? left : 0.0);
     s->out_of_memory = false;
     s->ticks = 0;
+    s->allocated = 0;
+    s->thread_depth = 0;
     int rc = lua_pcall(L, nargs, 0, base);
+    s->thread_depth = 0;
     s->frame_used += now_s() - start;
     s->deadline = 0.0;
     const char *msg = rc != LUA_OK ? lua_tostring(L, -1) : NULL;

@@ -155,6 +155,8 @@ typedef struct command {
 #define SCR_MAX_SCRIPT_BYTES ((long long)64 << 20)
 /// The most timer calls one frame may make.
 #define SCR_MAX_TIMER_CALLS 100000
+/// Coroutines resumed inside one another that the budget keeps track of.
+#define SCR_MAX_THREADS 32
 
 /// Why the running call is being stopped (scr_stop): a stop cannot be caught by pcall.
 typedef enum scr_stop_kind { STOP_NONE = 0, STOP_BUDGET, STOP_MEMORY, STOP_CHECK } scr_stop_kind;
@@ -178,6 +180,9 @@ struct eng_script {
     size_t c_memory;        // bytes the C side holds for the script (counted with `memory`)
     bool out_of_memory;     // the allocator refused a block
     size_t ticks;           // work units since the clock was last read (scr_tick)
+    size_t allocated;       // bytes allocated since the clock was last read
+    lua_State *threads[SCR_MAX_THREADS]; // the coroutines resumed now, innermost last (script_sandbox.c)
+    int thread_depth;       // how many (may pass SCR_MAX_THREADS: those are not kept)
     scr_stop_kind stop_kind;
     char stop[1024];        // the stop's message, raised again at every instruction
     timer_entry *timers;    // a binary heap by (due, slot)
@@ -254,6 +259,8 @@ void scr_uncharge(eng_script *s, size_t bytes);
 
 // ---- libraries (script_sandbox.c, script_strlib.c, script_tablib.c) ---------------------------
 
+/// The libraries of a script (the sandbox, or all of them when trusted); in both, the bounded
+/// string, utf8 and table functions and coroutine.resume/wrap that keep s->threads.
 void scr_open_libraries(lua_State *L, bool trusted);
 void scr_open_bounded_string(lua_State *L);
 void scr_open_bounded_table(lua_State *L);

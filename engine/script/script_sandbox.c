@@ -7,9 +7,10 @@
 // hooks off), xpcall (its handler runs once the stack has unwound, not at the error: a
 // handler runs with hooks off when the error came from the budget hook) and require (Lua
 // modules from the scene's own folder); string (no dump), table, math, utf8, coroutine;
-// os.clock, os.time, os.date and os.difftime. In both modes string.find/match/gmatch/gsub/rep
-// and table.concat/insert/remove/move/sort are the bounded versions (script_strlib.c,
-// script_tablib.c).
+// os.clock, os.time, os.date and os.difftime. In both modes string.find/match/gmatch/gsub/rep,
+// utf8.len/offset and table.concat/insert/remove/move/sort are the bounded versions
+// (script_strlib.c, script_tablib.c), and coroutine.resume/wrap keep the chain of running
+// coroutines for the budget.
 #define _XOPEN_SOURCE 700 // realpath
 #include "engine/script/script_internal.h"
 
@@ -114,6 +115,82 @@ static int sb_xpcall(lua_State *L)
     lua_rotate(L, 3, 2);
     int status = lua_pcallk(L, n - 2, LUA_MULTRET, 0, 2, finish_xpcall);
     return finish_xpcall(L, status, 2);
+}
+
+// ---- coroutine.resume and wrap: Lua's, keeping the chain of running coroutines -------------
+//
+// The budget's hook is per coroutine; the allocator and a stop set it on the one that runs
+// (script.c), which only these two functions know.
+
+static int resume(lua_State *L, lua_State *co, int narg)
+{
+    eng_script *s = scr_state_script(L);
+    if (!lua_checkstack(co, narg)) {
+        lua_pushliteral(L, "too many arguments to resume");
+        return -1;
+    }
+    lua_xmove(L, co, narg);
+    int depth = s->thread_depth, nres;
+    if (depth < SCR_MAX_THREADS) s->threads[depth] = co;
+    s->thread_depth = depth + 1;
+    int status = lua_resume(co, L, narg, &nres); // errors in co end here: no longjmp past the pop
+    s->thread_depth = depth;
+    if (status == LUA_OK || status == LUA_YIELD) {
+        if (!lua_checkstack(L, nres + 1)) {
+            lua_pop(co, nres);
+            lua_pushliteral(L, "too many results to resume");
+            return -1;
+        }
+        lua_xmove(co, L, nres);
+        return nres;
+    }
+    lua_xmove(co, L, 1); // the error
+    return -1;
+}
+
+static int co_resume(lua_State *L)
+{
+    lua_State *co = lua_tothread(L, 1);
+    luaL_argexpected(L, co, 1, "thread");
+    int r = resume(L, co, lua_gettop(L) - 1);
+    if (r < 0) {
+        lua_pushboolean(L, 0);
+        lua_insert(L, -2);
+        return 2;
+    }
+    lua_pushboolean(L, 1);
+    lua_insert(L, -(r + 1));
+    return r + 1;
+}
+
+static int co_wrapped(lua_State *L)
+{
+    lua_State *co = lua_tothread(L, lua_upvalueindex(1));
+    int r = resume(L, co, lua_gettop(L));
+    if (r < 0) {
+        int status = lua_status(co);
+        if (status != LUA_OK && status != LUA_YIELD) { // an error in the coroutine: close it
+            lua_resetthread(co);
+            lua_xmove(co, L, 1);
+        }
+        if (status != LUA_ERRMEM && lua_type(L, -1) == LUA_TSTRING) {
+            luaL_where(L, 1);
+            lua_insert(L, -2);
+            lua_concat(L, 2);
+        }
+        return lua_error(L);
+    }
+    return r;
+}
+
+static int co_wrap(lua_State *L)
+{
+    luaL_checktype(L, 1, LUA_TFUNCTION);
+    lua_State *co = lua_newthread(L);
+    lua_pushvalue(L, 1);
+    lua_xmove(L, co, 1);
+    lua_pushcclosure(L, co_wrapped, 1);
+    return 1;
 }
 
 // ---- require: Lua modules from the scene's folder -----------------------------------------------
@@ -303,4 +380,8 @@ void scr_open_libraries(lua_State *L, bool trusted)
     else open_sandbox(L);
     scr_open_bounded_string(L);
     scr_open_bounded_table(L);
+    static const luaL_Reg co[] = { { "resume", co_resume }, { "wrap", co_wrap }, { NULL, NULL } };
+    lua_getglobal(L, LUA_COLIBNAME);
+    luaL_setfuncs(L, co, 0);
+    lua_pop(L, 1);
 }

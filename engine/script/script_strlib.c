@@ -1,7 +1,9 @@
 // The string functions whose cost a C call can hide from the time budget, written again with
 // a work counter: string.find, match, gmatch and gsub (Lua 5.4 patterns: a pattern like
 // string.rep("a*", 30) .. "b" backtracks for hours inside one call, where the count hook
-// never fires) and string.rep (string.rep("", 1e15) loops 1e15 times and allocates nothing).
+// never fires), string.rep (string.rep("", 1e15) loops 1e15 times and allocates nothing),
+// utf8.len and utf8.offset (a slow scan of a long string that allocates nothing: the
+// allocator cannot see it either, script.c).
 //
 // The behaviour is Lua 5.4's own, message for message (tests/test_sandbox.c compares them
 // with the standard library on a table of cases); the only addition is scr_tick, called for
@@ -89,6 +91,7 @@ static int match_class(int c, int cl)
     case 'u': res = isupper(c); break;
     case 'w': res = isalnum(c); break;
     case 'x': res = isxdigit(c); break;
+    case 'z': res = c == 0; break; // deprecated in 5.2, still in 5.4
     default: return cl == c;
     }
     if (isupper(cl)) res = !res;
@@ -585,11 +588,119 @@ static int str_rep(lua_State *L)
     return 1;
 }
 
+// ---- utf8.len and utf8.offset: a scan of the whole string that allocates nothing -------------
+
+typedef unsigned int utfint;
+#define MAX_UNICODE 0x10FFFFu
+#define MAX_UTF 0x7FFFFFFFu
+#define IS_CONT(p) ((*(p) & 0xC0) == 0x80)
+
+static lua_Integer utf_position(lua_Integer pos, size_t len)
+{
+    if (pos >= 0) return pos;
+    if (0u - (size_t)pos > len) return 0;
+    return (lua_Integer)len + pos + 1;
+}
+
+// The character at s: its end, or NULL when it is no valid UTF-8 (strict: no surrogates, at
+// most U+10FFFF).
+static const char *utf_decode(const char *s, int strict)
+{
+    static const utfint limits[] = { ~(utfint)0, 0x80, 0x800, 0x10000u, 0x200000u, 0x4000000u };
+    unsigned int c = (unsigned char)s[0];
+    utfint res = 0;
+    if (c < 0x80) {
+        res = c;
+    } else {
+        int count = 0;
+        for (; c & 0x40; c <<= 1) {
+            unsigned int cc = (unsigned char)s[++count];
+            if ((cc & 0xC0) != 0x80) return NULL;
+            res = (res << 6) | (cc & 0x3F);
+        }
+        res |= (utfint)(c & 0x7F) << (count * 5);
+        if (count > 5 || res > MAX_UTF || res < limits[count]) return NULL;
+        s += count;
+    }
+    if (strict && (res > MAX_UNICODE || (0xD800u <= res && res <= 0xDFFFu))) return NULL;
+    return s + 1;
+}
+
+static int utf_len(lua_State *L)
+{
+    eng_script *sc = scr_state_script(L);
+    lua_Integer n = 0;
+    size_t len;
+    const char *s = luaL_checklstring(L, 1, &len);
+    lua_Integer posi = utf_position(luaL_optinteger(L, 2, 1), len);
+    lua_Integer posj = utf_position(luaL_optinteger(L, 3, -1), len);
+    int lax = lua_toboolean(L, 4);
+    luaL_argcheck(L, 1 <= posi && --posi <= (lua_Integer)len, 2, "initial position out of bounds");
+    luaL_argcheck(L, --posj < (lua_Integer)len, 3, "final position out of bounds");
+    while (posi <= posj) {
+        const char *s1 = utf_decode(s + posi, !lax);
+        if (!s1) {
+            luaL_pushfail(L);
+            lua_pushinteger(L, posi + 1);
+            return 2;
+        }
+        posi = s1 - s;
+        if ((++n & 4095) == 0) scr_tick(L, sc, 256);
+    }
+    lua_pushinteger(L, n);
+    return 1;
+}
+
+static int utf_offset(lua_State *L)
+{
+    eng_script *sc = scr_state_script(L);
+    size_t len;
+    const char *s = luaL_checklstring(L, 1, &len);
+    lua_Integer n = luaL_checkinteger(L, 2);
+    lua_Integer posi = n >= 0 ? 1 : (lua_Integer)len + 1;
+    posi = utf_position(luaL_optinteger(L, 3, posi), len);
+    luaL_argcheck(L, 1 <= posi && --posi <= (lua_Integer)len, 3, "position out of bounds");
+    lua_Integer steps = 0;
+    if (n == 0) {
+        while (posi > 0 && IS_CONT(s + posi)) {
+            posi--;
+            if ((++steps & 4095) == 0) scr_tick(L, sc, 256);
+        }
+    } else {
+        if (IS_CONT(s + posi)) return luaL_error(L, "initial position is a continuation byte");
+        if (n < 0) {
+            while (n < 0 && posi > 0) {
+                do {
+                    posi--;
+                    if ((++steps & 4095) == 0) scr_tick(L, sc, 256);
+                } while (posi > 0 && IS_CONT(s + posi));
+                n++;
+            }
+        } else {
+            n--;
+            while (n > 0 && posi < (lua_Integer)len) {
+                do {
+                    posi++;
+                    if ((++steps & 4095) == 0) scr_tick(L, sc, 256);
+                } while (IS_CONT(s + posi)); // cannot pass the final '\0'
+                n--;
+            }
+        }
+    }
+    if (n == 0) lua_pushinteger(L, posi + 1);
+    else luaL_pushfail(L);
+    return 1;
+}
+
 void scr_open_bounded_string(lua_State *L)
 {
     static const luaL_Reg fns[] = { { "find", str_find }, { "match", str_match }, { "gmatch", str_gmatch },
                                     { "gsub", str_gsub }, { "rep", str_rep }, { NULL, NULL } };
     lua_getglobal(L, "string");
     luaL_setfuncs(L, fns, 0);
+    lua_pop(L, 1);
+    static const luaL_Reg utf[] = { { "len", utf_len }, { "offset", utf_offset }, { NULL, NULL } };
+    lua_getglobal(L, "utf8");
+    luaL_setfuncs(L, utf, 0);
     lua_pop(L, 1);
 }

@@ -8,6 +8,7 @@
 #include "engine/script/script_internal.h"
 
 #include <limits.h>
+#include <string.h>
 
 enum { TAB_R = 1, TAB_W = 2, TAB_L = 4, TAB_RW = TAB_R | TAB_W };
 
@@ -66,7 +67,7 @@ static int tab_remove(lua_State *L)
     eng_script *s = scr_state_script(L);
     lua_Integer size = checked_length(L, 1, TAB_RW);
     lua_Integer pos = luaL_optinteger(L, 2, size);
-    if (pos != size) luaL_argcheck(L, (lua_Unsigned)pos - 1u <= (lua_Unsigned)size, 2, "position out of bounds");
+    if (pos != size) luaL_argcheck(L, (lua_Unsigned)pos - 1u <= (lua_Unsigned)size, 1, "position out of bounds"); // 1, as Lua 5.4.4
     lua_geti(L, 1, pos);
     for (; pos < size; pos++) {
         lua_geti(L, 1, pos + 1);
@@ -112,7 +113,8 @@ static int tab_move(lua_State *L)
 static void add_field(lua_State *L, luaL_Buffer *b, lua_Integer i)
 {
     lua_geti(L, 1, i);
-    if (!lua_isstring(L, -1)) luaL_error(L, "invalid value (at index %I) in table for 'concat'", i);
+    if (!lua_isstring(L, -1))
+        luaL_error(L, "invalid value (%s) at index %I in table for 'concat'", luaL_typename(L, -1), i);
     luaL_addvalue(b);
 }
 
@@ -167,7 +169,14 @@ static int tab_sort(lua_State *L)
     lua_pushvalue(L, 1);
     lua_pushvalue(L, 2);
     lua_pushcclosure(L, counted_less, 1);
-    lua_call(L, 2, 0);
+    if (lua_pcall(L, 2, 0, 0) != LUA_OK) {
+        // Lua's sort names the line of its caller, which is this function: name the script's.
+        const char *msg = lua_tostring(L, -1);
+        char where[256];
+        if (msg && strcmp(msg, "invalid order function for sorting") == 0)
+            lua_pushfstring(L, "%s%s", scr_where(L, where, sizeof where), msg);
+        return lua_error(L);
+    }
     return 0;
 }
 
