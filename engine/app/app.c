@@ -391,7 +391,7 @@ int eng_app_run(const eng_app_options *o)
     a->start_s = now_s();
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
-    long idle_frames = 0;
+    long loops = 0;
     eng_progress_begin(&a->progress, "frame", frames);
     a->progress.on &= o->headless;
     while (status == ENG_EXIT_OK && !done) {
@@ -425,10 +425,11 @@ int eng_app_run(const eng_app_options *o)
         }
         watch_file(a);
         bool quit = a->inst.script && eng_script_quit_requested(a->inst.script);
-        // Without a scene (it failed to load; a window waits for the fix) --frames counts
-        // the frames drawn, so a run with a broken script still ends.
-        if (!a->inst.script) idle_frames++;
-        done = (frames >= 0 && ((long)a->frame >= frames || idle_frames >= frames)) || quit ||
+        // --frames counts the frames the loop drew, whatever happened in them: paused, reset
+        // (the frame number restarts) or without a scene (a window waits for a fix), the run
+        // still ends.
+        loops++;
+        done = (frames >= 0 && loops >= frames) || quit ||
                eng_context_should_close(a->ctx) || status != ENG_EXIT_OK;
         bool shot = done && o->screenshot_path && (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED);
         if (!o->headless || a->video || shot) {
