@@ -6,13 +6,15 @@
 #   make plots   density and stage-time plots of the two paper scenes (docs/)
 #   make install PREFIX=/usr/local   the library (.so and .a), headers, pkg-config files,
 #                the runner and the scenes (docs/embedding.md); DESTDIR is honoured
+#   make sanitize  the whole suite built with AddressSanitizer and UBSan (build/sanitize/)
+#   make fuzz      the libFuzzer harnesses of tests/fuzz/, FUZZ_SECONDS each (docs/testing.md)
 CONFIG ?= release
 JOBS ?= $(shell nproc)
 SEICHE = build/bin/seiche
 
 PREFIX ?= /usr/local
 
-.PHONY: all setup build demo test bench plots clean install gpu-check
+.PHONY: all setup build demo test bench plots clean install gpu-check sanitize sanitize-build
 
 all: build
 
@@ -26,7 +28,8 @@ build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/g
 	@# ar only adds members: a renamed or removed source would leave its old object in a
 	@# library, and a renamed test would leave its old program for run.sh to run. The file
 	@# list changed, so the libraries and test programs are made afresh.
-	@rm -f build/bin/*.a build/lib/*.so build/bin/test_*
+	@rm -f build/bin/*.a build/lib/*.so build/bin/test_* build/sanitize/bin/*.a build/sanitize/lib/*.so \
+	       build/sanitize/bin/test_*
 	@touch build/Makefile
 
 build: setup build/Makefile
@@ -37,6 +40,15 @@ demo: build
 
 test: build
 	@tests/run.sh
+
+# The suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer: the
+# sanitize configuration of premake5.lua into build/sanitize/, run by tests/sanitize.sh
+# (the sanitizer options and the leak suppressions for Mesa; docs/testing.md).
+sanitize-build: setup build/Makefile
+	$(MAKE) --no-print-directory -C build config=sanitize -j$(JOBS)
+
+sanitize: sanitize-build
+	@tests/sanitize.sh
 
 bench: build
 	build/bin/seiche-bench
