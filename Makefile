@@ -14,7 +14,7 @@ SEICHE = build/bin/seiche
 
 PREFIX ?= /usr/local
 
-.PHONY: all setup build demo test bench plots clean install gpu-check sanitize sanitize-build
+.PHONY: all setup build demo test bench plots clean install gpu-check sanitize sanitize-build fuzz fuzz-build
 
 all: build
 
@@ -38,7 +38,7 @@ build: setup build/Makefile
 demo: build
 	@tools/demo.sh
 
-test: build
+test: build fuzz-build
 	@tests/run.sh
 
 # The suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer: the
@@ -49,6 +49,44 @@ sanitize-build: setup build/Makefile
 
 sanitize: sanitize-build
 	@tests/sanitize.sh
+
+# libFuzzer harnesses (tests/fuzz/, docs/testing.md), built with clang and every sanitizer
+# straight from the sources. make fuzz runs each for FUZZ_SECONDS (FUZZ_ARGS go to libFuzzer)
+# with its corpus in build/fuzz/corpus/NAME; tests/run.sh runs each for a few seconds.
+FUZZ_CC ?= clang-14
+FUZZ_SECONDS ?= 60
+FUZZ_ARGS ?=
+FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-pointer \
+	-fsanitize=fuzzer,address,undefined,float-cast-overflow -fno-sanitize-recover=all \
+	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
+FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api
+FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
+FLUID_SOURCES = $(filter-out fluid/pbf_cpu.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
+FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
+
+build/fuzz/bin/fuzz_params: tests/fuzz/fuzz_params.c $(FLUID_SOURCES) $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lm
+
+build/fuzz/bin/fuzz_glsl_preprocess: tests/fuzz/fuzz_glsl_preprocess.c fluid/pbf_glsl.c $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy
+
+build/fuzz/bin/fuzz_pbf_api: tests/fuzz/fuzz_pbf_api.c $(FLUID_SOURCES) engine/gl/context.c engine/gl/gl_strict.c \
+		engine/core/log.c $(FLUID_HEADERS) build/Makefile
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lglfw -lm
+
+build/gen/shaders_fluid.c: build/Makefile
+	@:
+
+# Without clang (FUZZ_CC) there is nothing to build: tests/run.sh then skips the harnesses.
+fuzz-build: build/Makefile
+	@if command -v $(FUZZ_CC) >/dev/null 2>&1; then $(MAKE) --no-print-directory $(FUZZ_BINS); \
+	else echo "fuzz: $(FUZZ_CC) not found: the fuzz harnesses are not built"; fi
+
+fuzz: fuzz-build
+	@tests/fuzz/run.sh $(FUZZ_SECONDS) $(FUZZ_NAMES) -- $(FUZZ_ARGS)
 
 bench: build
 	build/bin/seiche-bench

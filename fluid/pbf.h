@@ -173,6 +173,7 @@ typedef struct pbf_constants {
                           ///< -k (W / W(dq))^n * scorr_scale, so k reads as a constraint
                           ///< violation (k = 0.1 pushes like a 10 % compression)
 } pbf_constants;
+/// All zeros for a set that pbf_params_validate refuses (or NULL).
 pbf_constants pbf_derive_constants(const pbf_params *params);
 
 typedef void pbf_log_fn(void *user, int level, const char *message); ///< level: 0 debug .. 3 error
@@ -199,7 +200,8 @@ typedef struct pbf_world_def {
 #define PBF_GRID_CELLS_PER_KERNEL 2u
 
 pbf_world_def pbf_default_world_def(void);
-/// A neighbour list length that holds twice a rest neighbourhood for these parameters.
+/// A neighbour list length that holds twice a rest neighbourhood for these parameters, in
+/// [8, 512] whatever the parameters.
 uint32_t pbf_suggest_max_neighbours(const pbf_params *params);
 
 /// GPU memory the world of this def allocates, bytes (particle buffers, neighbour lists,

@@ -61,8 +61,9 @@ uint32_t pbf_suggest_max_neighbours(const pbf_params *p)
     // Twice the neighbours of a rest lattice (compression headroom), a multiple of 8.
     double q = p->kernel_radius / (2.0 * p->particle_radius);
     double n = 2.0 * 4.18879 * q * q * q + 16.0;
-    uint32_t k = ((uint32_t)n + 7u) & ~7u;
-    return k < 8u ? 8u : k > 512u ? 512u : k;
+    if (!(n >= 8.0)) return 8u; // NaN too (a set pbf_params_validate refuses)
+    if (n > 512.0) return 512u;
+    return ((uint32_t)n + 7u) & ~7u;
 }
 
 pbf_world_def pbf_default_world_def(void)
