@@ -288,9 +288,11 @@ uint32_t pbf_world_capacity(const pbf_world *world);
 /// Mass of one particle (rest_density * (2 r)^3), kg.
 float pbf_world_particle_mass(const pbf_world *world);
 
-/// Advances by dt seconds ((0, 1]), in params.substeps substeps. Everything runs on the
-/// GPU; nothing is read back here.
+/// Advances by dt seconds ([PBF_MIN_DT, 1]), in params.substeps substeps. Everything runs
+/// on the GPU; nothing is read back here.
 pbf_result pbf_world_step(pbf_world *world, float dt);
+/// The shortest step, s: a denormal dt would give substeps of length 0 and an infinite 1/dt.
+#define PBF_MIN_DT 1e-6f
 
 /// Called before each substep with the substep's index and length (s): a host that steps
 /// a rigid-body engine in lockstep with the fluid steps it here and sets the colliders'
