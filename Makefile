@@ -6,13 +6,15 @@
 #   make plots   density and stage-time plots of the two paper scenes (docs/)
 #   make install PREFIX=/usr/local   the library (.so and .a), headers, pkg-config files,
 #                the runner and the scenes (docs/embedding.md); DESTDIR is honoured
+#   make sanitize  the whole suite built with AddressSanitizer and UBSan (build/sanitize/)
+#   make fuzz      the libFuzzer harnesses of tests/fuzz/, FUZZ_SECONDS each (docs/testing.md)
 CONFIG ?= release
 JOBS ?= $(shell nproc)
 SEICHE = build/bin/seiche
 
 PREFIX ?= /usr/local
 
-.PHONY: all setup build demo test bench plots clean install gpu-check
+.PHONY: all setup build demo test bench plots clean install gpu-check sanitize sanitize-build fuzz fuzz-build
 
 all: build
 
@@ -26,7 +28,8 @@ build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/g
 	@# ar only adds members: a renamed or removed source would leave its old object in a
 	@# library, and a renamed test would leave its old program for run.sh to run. The file
 	@# list changed, so the libraries and test programs are made afresh.
-	@rm -f build/bin/*.a build/lib/*.so build/bin/test_*
+	@rm -f build/bin/*.a build/lib/*.so build/bin/test_* build/sanitize/bin/*.a build/sanitize/lib/*.so \
+	       build/sanitize/bin/test_*
 	@touch build/Makefile
 
 build: setup build/Makefile
@@ -35,8 +38,55 @@ build: setup build/Makefile
 demo: build
 	@tools/demo.sh
 
-test: build
+test: build fuzz-build
 	@tests/run.sh
+
+# The suite under AddressSanitizer (leaks included) and UndefinedBehaviorSanitizer: the
+# sanitize configuration of premake5.lua into build/sanitize/, run by tests/sanitize.sh
+# (the sanitizer options and the leak suppressions for Mesa; docs/testing.md).
+sanitize-build: setup build/Makefile
+	$(MAKE) --no-print-directory -C build config=sanitize -j$(JOBS)
+
+sanitize: sanitize-build
+	@tests/sanitize.sh
+
+# libFuzzer harnesses (tests/fuzz/, docs/testing.md), built with clang and every sanitizer
+# straight from the sources. make fuzz runs each for FUZZ_SECONDS (FUZZ_ARGS go to libFuzzer)
+# with its corpus in build/fuzz/corpus/NAME; tests/run.sh runs each for a few seconds.
+FUZZ_CC ?= clang-14
+FUZZ_SECONDS ?= 60
+FUZZ_ARGS ?=
+FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-pointer \
+	-fsanitize=fuzzer,address,undefined,float-cast-overflow -fno-sanitize-recover=all \
+	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
+FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api
+FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
+FLUID_SOURCES = $(filter-out fluid/pbf_cpu.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
+FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
+
+build/fuzz/bin/fuzz_params: tests/fuzz/fuzz_params.c $(FLUID_SOURCES) $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lm
+
+build/fuzz/bin/fuzz_glsl_preprocess: tests/fuzz/fuzz_glsl_preprocess.c fluid/pbf_glsl.c $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy
+
+build/fuzz/bin/fuzz_pbf_api: tests/fuzz/fuzz_pbf_api.c $(FLUID_SOURCES) engine/gl/context.c engine/gl/gl_strict.c \
+		engine/core/log.c $(FLUID_HEADERS) build/Makefile
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lglfw -lm
+
+build/gen/shaders_fluid.c: build/Makefile
+	@:
+
+# Without clang (FUZZ_CC) there is nothing to build: tests/run.sh then skips the harnesses.
+fuzz-build: build/Makefile
+	@if command -v $(FUZZ_CC) >/dev/null 2>&1; then $(MAKE) --no-print-directory $(FUZZ_BINS); \
+	else echo "fuzz: $(FUZZ_CC) not found: the fuzz harnesses are not built"; fi
+
+fuzz: fuzz-build
+	@tests/fuzz/run.sh $(FUZZ_SECONDS) $(FUZZ_NAMES) -- $(FUZZ_ARGS)
 
 bench: build
 	build/bin/seiche-bench

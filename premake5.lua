@@ -22,8 +22,13 @@ end
 local common_warnings = { "-Wall", "-Wextra", "-pedantic" }
 local c_warnings = { "-Wmissing-prototypes", "-Wstrict-prototypes" }
 
+-- The sanitizer build (make sanitize, docs/testing.md): AddressSanitizer and
+-- UndefinedBehaviorSanitizer (with float-to-int overflow, which gcc leaves out of
+-- "undefined"), asserts on, into build/sanitize/ so the release programs in build/bin stay.
+local sanitize_flags = { "-fsanitize=address,undefined,float-cast-overflow", "-fno-omit-frame-pointer" }
+
 workspace "seiche"
-   configurations { "release", "debug" }
+   configurations { "release", "debug", "sanitize" }
    location "build"
    targetdir "build/bin"
    objdir "build/obj"
@@ -43,6 +48,15 @@ workspace "seiche"
       symbols "On"
       optimize "Speed"
       defines { "NDEBUG" }
+   filter "configurations:sanitize"
+      symbols "On"
+      optimize "Off"
+      buildoptions { "-O1" }
+      buildoptions(sanitize_flags)
+      linkoptions(sanitize_flags)
+      defines { "SEICHE_SANITIZE=1" }
+      targetdir "build/sanitize/bin"
+      objdir "build/sanitize/obj"
    filter {}
 
 local function c_project(name, k)
@@ -124,6 +138,9 @@ c_project("seiche_fluid_shared", "SharedLib")
    files(fluid_files)
    linkoptions { "-Wl,-soname,libseiche_fluid.so." .. version.MAJOR }
    links { "epoxy", "m" }
+   filter "configurations:sanitize"
+      targetdir "build/sanitize/lib"
+   filter {}
 
 cpp_project("seiche_phys", "StaticLib")
    files { "fluid/bullet/phys*.cpp", "fluid/bullet/phys*.h" }

@@ -173,6 +173,7 @@ typedef struct pbf_constants {
                           ///< -k (W / W(dq))^n * scorr_scale, so k reads as a constraint
                           ///< violation (k = 0.1 pushes like a 10 % compression)
 } pbf_constants;
+/// All zeros for a set that pbf_params_validate refuses (or NULL).
 pbf_constants pbf_derive_constants(const pbf_params *params);
 
 typedef void pbf_log_fn(void *user, int level, const char *message); ///< level: 0 debug .. 3 error
@@ -200,7 +201,8 @@ typedef struct pbf_world_def {
 #define PBF_GRID_CELLS_PER_KERNEL 2u
 
 pbf_world_def pbf_default_world_def(void);
-/// A neighbour list length that holds twice a rest neighbourhood for these parameters.
+/// A neighbour list length that holds twice a rest neighbourhood for these parameters, in
+/// [8, 512] whatever the parameters.
 uint32_t pbf_suggest_max_neighbours(const pbf_params *params);
 
 /// GPU memory the world of this def allocates, bytes (particle buffers, neighbour lists,
@@ -287,9 +289,11 @@ uint32_t pbf_world_capacity(const pbf_world *world);
 /// Mass of one particle (rest_density * (2 r)^3), kg.
 float pbf_world_particle_mass(const pbf_world *world);
 
-/// Advances by dt seconds ((0, 1]), in params.substeps substeps. Everything runs on the
-/// GPU; nothing is read back here.
+/// Advances by dt seconds ([PBF_MIN_DT, 1]), in params.substeps substeps. Everything runs
+/// on the GPU; nothing is read back here.
 pbf_result pbf_world_step(pbf_world *world, float dt);
+/// The shortest step, s: a denormal dt would give substeps of length 0 and an infinite 1/dt.
+#define PBF_MIN_DT 1e-6f
 
 /// Called before each substep with the substep's index and length (s): a host that steps
 /// a rigid-body engine in lockstep with the fluid steps it here and sets the colliders'

@@ -16,10 +16,15 @@
 typedef struct text {
     char *data;
     size_t len, cap;
+    bool too_long; // PBF_GLSL_MAX_SOURCE reached
 } text;
 
 static int text_put(text *t, const char *s, size_t n)
 {
+    if (n > PBF_GLSL_MAX_SOURCE || t->len + n > PBF_GLSL_MAX_SOURCE) {
+        t->too_long = true;
+        return 0;
+    }
     if (t->len + n + 1 > t->cap) {
         size_t cap = t->cap ? t->cap : 4096;
         while (cap < t->len + n + 1) cap *= 2;
@@ -218,6 +223,9 @@ static int expand(pp_state *st, text *out, const char *rel, const char *from, in
         p = eol ? eol + 1 : p + n;
     }
     free(src);
+    if (!ok && !st->err[0] && out->too_long)
+        snprintf(st->err, st->err_size, "%s/%s:%d: error: the shader expands to more than %d bytes (a file included "
+                 "over and over?)", st->shown_root, rel, line, PBF_GLSL_MAX_SOURCE);
     if (!ok && !st->err[0]) snprintf(st->err, st->err_size, "%s/%s: error: out of memory", st->shown_root, rel);
     return ok;
 }
@@ -234,7 +242,11 @@ char *pbf_glsl_preprocess_from(const pbf_glsl_source *src, const char *file, con
                                char *files[PBF_GLSL_MAX_FILES], int *file_count,
                                char *err, size_t err_size)
 {
-    char shown[256];
+    char shown[256], scratch[256];
+    if (!err || !err_size) { // no room for a message: keep it here
+        err = scratch;
+        err_size = sizeof scratch;
+    }
     pp_state st = { src, root_name(src->dir, shown, sizeof shown), defines,
                     files, file_count, err, err_size, 0 };
     text out = { 0 };
@@ -264,7 +276,9 @@ void pbf_glsl_map_log(const char *log, char *const *files, int file_count,
                       const char *shown_root, char *out, size_t out_size)
 {
     size_t len = 0;
+    if (!out || !out_size) return;
     out[0] = 0;
+    if (!log) return;
     for (const char *p = log; *p;) {
         const char *eol = strchr(p, '\n');
         size_t n = eol ? (size_t)(eol - p) : strlen(p);
@@ -274,6 +288,9 @@ void pbf_glsl_map_log(const char *log, char *const *files, int file_count,
             consumed = 0;
             if (sscanf(p, "%d(%d) : %n", &fid, &line, &consumed) < 2 || consumed == 0) consumed = 0;
         }
+        // The blank after ':' in the formats also matches newlines: the message starts
+        // on this line or not at all.
+        if ((size_t)consumed > n) consumed = (int)n;
         if (consumed > 0 && line >= LINE_STRIDE) { // the file from the line (see LINE_STRIDE)
             fid = line / LINE_STRIDE;
             line %= LINE_STRIDE;
@@ -303,7 +320,11 @@ GLuint pbf_glsl_build(const char *shader_dir, const pbf_glsl_stage *stages, int 
 GLuint pbf_glsl_build_from(const pbf_glsl_source *source, const pbf_glsl_stage *stages, int count,
                            const char *defines, char *err, size_t err_size)
 {
-    char shown[256];
+    char shown[256], scratch[256];
+    if (!err || !err_size) {
+        err = scratch;
+        err_size = sizeof scratch;
+    }
     root_name(source->dir, shown, sizeof shown);
     GLuint prog = glCreateProgram();
     GLuint shaders[8] = { 0 };

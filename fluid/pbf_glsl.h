@@ -11,6 +11,9 @@
 
 #define PBF_GLSL_MAX_FILES 32
 #define PBF_GLSL_MAX_INCLUDE_DEPTH 8
+/// Bytes a shader may expand to with its includes (a file included over and over, each
+/// time including others, would otherwise grow exponentially).
+#define PBF_GLSL_MAX_SOURCE (1 << 20)
 
 /// One stage of a program: the GL stage (GL_VERTEX_SHADER, GL_COMPUTE_SHADER, ...) and
 /// the file, relative to the shader directory ("fluid/predict.comp").

@@ -62,6 +62,9 @@ static double spiky_grad_mag(double r, double h)
 pbf_constants pbf_derive_constants(const pbf_params *p)
 {
     pbf_constants c;
+    memset(&c, 0, sizeof c);
+    // Only a valid set has constants: the lattice sums below run over (h / 2r)^3 sites.
+    if (pbf_params_validate(p, NULL, 0) != PBF_OK) return c;
     double h = p->kernel_radius;
     double s = 2.0 * p->particle_radius;
     // Sums over a cubic lattice of spacing s around a particle on a site (self included).

@@ -62,8 +62,9 @@ uint32_t pbf_suggest_max_neighbours(const pbf_params *p)
     // Twice the neighbours of a rest lattice (compression headroom), a multiple of 8.
     double q = p->kernel_radius / (2.0 * p->particle_radius);
     double n = 2.0 * 4.18879 * q * q * q + 16.0;
-    uint32_t k = ((uint32_t)n + 7u) & ~7u;
-    return k < 8u ? 8u : k > 512u ? 512u : k;
+    if (!(n >= 8.0)) return 8u; // NaN too (a set pbf_params_validate refuses)
+    if (n > 512.0) return 512u;
+    return ((uint32_t)n + 7u) & ~7u;
 }
 
 pbf_world_def pbf_default_world_def(void)
@@ -471,6 +472,9 @@ void pbf_world_clear(pbf_world *w)
     w->known_appended = w->appended_total;
     w->known_step = w->step_index;
     pbf_gpu_state st = { 0, 0, 1, 1, 0, 0, 0, 0 };
+    // The count pass of an append (or of a step with sinks) writes both buffers in a
+    // shader: order these uploads after it.
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->state);
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof st, &st);
     uint32_t cmd[4] = { 4, 0, 0, 0 };
@@ -729,8 +733,9 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     if (w->in_step)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: called from inside a step (the substep hook); "
                         "set poses or forces there, step after it returns");
-    if (!(dt > 0.0f && dt <= 1.0f))
-        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
+    if (!(dt >= PBF_MIN_DT && dt <= 1.0f))
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in [%g, 1] s (got %g)", (double)PBF_MIN_DT,
+                        (double)dt);
     const pbf_params *p = &w->params;
     pbf_result er = pbf_emitters_emit(w, dt);
     if (er != PBF_OK) return er;

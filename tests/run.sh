@@ -10,7 +10,14 @@
 # A cmocka test may skip itself (cmocka's skip(), with the reason printed first as a line
 # "SKIPPED: ..."), e.g. one that needs Mesa on another driver: it counts as skipped.
 # Prints one line per test program / script and ends with "N passed, N failed, N skipped".
+#
+# SEICHE_BIN=DIR runs the programs of another build (default build/bin), e.g. the sanitizer
+# build's build/sanitize/bin (make sanitize, through tests/sanitize.sh). When
+# SEICHE_SANITIZER_REPORTS names a directory (the log_path of ASAN_OPTIONS/UBSAN_OPTIONS),
+# a sanitizer report written there while a test ran fails that test, children included.
 cd "$(dirname "$0")/.." || exit 2
+bin=${SEICHE_BIN:-build/bin}
+reports=${SEICHE_SANITIZER_REPORTS:-}
 # The strict GL mode (docs/runner.md) is on unless the caller sets SEICHE_GL_STRICT=0: a
 # missing barrier or a clear-then-upload stops the test that hit it with exit status 5.
 SEICHE_GL_STRICT=${SEICHE_GL_STRICT:-1}
@@ -20,15 +27,35 @@ passed=0
 failed=0
 skipped=0
 failures=""
-log_dir=build/test-logs
+log_dir=${SEICHE_TEST_LOGS:-build/test-logs}
 mkdir -p "$log_dir"
+[ -z "$reports" ] || mkdir -p "$reports"
 
-for t in build/bin/test_*; do
+# sanitizer_reports NAME: 0 when no sanitizer report appeared since the last call; else
+# moves them to $log_dir/NAME.sanitizer, prints their first lines and returns 1.
+sanitizer_reports() {
+    [ -n "$reports" ] || return 0
+    set -- "$1" "$reports"/*
+    [ -e "$2" ] || return 0
+    report_file="$log_dir/$1.sanitizer"
+    shift
+    cat "$@" >"$report_file"
+    rm -f "$@"
+    echo "    sanitizer report ($report_file):"
+    grep -E 'ERROR|runtime error|SUMMARY|^    #[0-9] ' "$report_file" | head -12 | sed 's/^/    /'
+    return 1
+}
+
+for t in "$bin"/test_*; do
     [ -x "$t" ] || continue
     name=$(basename "$t")
     start=$(date +%s)
     if "$t" >"$log_dir/$name.log" 2>&1; then status=ok; else status=FAILED; fi
     secs=$(( $(date +%s) - start ))
+    sanitizer_reports "$name" >"$log_dir/$name.sanitizer-summary" || {
+        status=FAILED
+        echo "[  FAILED  ] 1 test(s): a sanitizer report (see $name.sanitizer)" >>"$log_dir/$name.log"
+    }
     n_pass=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
     n_fail=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
     n_skip=$(sed -n 's/^\[  SKIPPED \] \([0-9]*\) test.*/\1/p' "$log_dir/$name.log" | awk '{s+=$1} END {print s+0}')
@@ -47,7 +74,9 @@ for t in build/bin/test_*; do
         failures="$failures $name"
         echo "FAILED  $name ($n_pass passed, $n_fail failed, ${secs}s): see $log_dir/$name.log"
         sed 's/^/    /' "$log_dir/$name.log" | grep -E 'FAIL|ERROR|error|Assert|assert' | head -20
+        cat "$log_dir/$name.sanitizer-summary"
     fi
+    rm -f "$log_dir/$name.sanitizer-summary"
     # Each skipped test with the reason it printed just before skipping.
     [ "$n_skip" = 0 ] || awk '/^SKIPPED: / { why = substr($0, 10) }
         /^\[  SKIPPED \] / && !/ test\(s\)/ && why != "" { print "    skipped " $4 ": " why; why = "" }' "$log_dir/$name.log"
@@ -89,11 +118,12 @@ for s in tests/scripts/*.lua; do
     fi
     start=$(date +%s)
     # shellcheck disable=SC2086
-    build/bin/seiche --headless --quiet --frames "$frames" $budget_opt "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"
+    "$bin"/seiche --headless --quiet --frames "$frames" $budget_opt "$s" >"$log_dir/script_$name.out" 2>"$log_dir/script_$name.err"
     rc=$?
     secs=$(( $(date +%s) - start ))
     ok=1
     [ "$rc" = "$expect" ] || ok=0
+    sanitizer_reports "script_$name" >>"$log_dir/script_$name.err" || ok=0
     # Each expected stderr text must appear.
     while IFS= read -r want; do
         [ -n "$want" ] || continue
@@ -109,11 +139,12 @@ for s in scripts/scenes/*.lua; do
     [ -f "$s" ] || continue
     name=$(basename "$s" .lua)
     start=$(date +%s)
-    build/bin/seiche --headless --quiet --frames 60 "$s" >"$log_dir/scene_$name.out" 2>"$log_dir/scene_$name.err"
+    "$bin"/seiche --headless --quiet --frames 60 "$s" >"$log_dir/scene_$name.out" 2>"$log_dir/scene_$name.err"
     rc=$?
     secs=$(( $(date +%s) - start ))
     ok=0
     [ "$rc" != 0 ] || ok=1
+    sanitizer_reports "scene_$name" >>"$log_dir/scene_$name.err" || ok=0
     verdict "$ok" scene "$name" "exit 0" "exit $rc" "$secs"
 done
 

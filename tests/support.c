@@ -90,6 +90,22 @@ const char *support_source_path(const char *rel, char *out, size_t size)
     return out;
 }
 
+const char *support_bin_path(const char *name, char *out, size_t size)
+{
+    char exe[1024];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    char *slash = n > 0 ? (exe[n] = 0, strrchr(exe, '/')) : NULL;
+    if (slash) {
+        *slash = 0;
+        snprintf(out, size, "%s/%s", exe, name);
+    } else {
+        char rel[256];
+        snprintf(rel, sizeof rel, "build/bin/%s", name);
+        support_source_path(rel, out, size);
+    }
+    return out;
+}
+
 eng_context *support_headless_context(int width, int height)
 {
     eng_context_def def = eng_default_context_def();

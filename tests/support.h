@@ -40,6 +40,10 @@ const char *support_source_dir(char *out, size_t size);
 /// "<root>/<rel>", e.g. support_source_path("shaders", buf, sizeof buf).
 const char *support_source_path(const char *rel, char *out, size_t size);
 
+/// "<dir of this test program>/<name>": the runner and the other programs built with the
+/// test (build/bin/seiche, or build/sanitize/bin/seiche for the sanitizer build).
+const char *support_bin_path(const char *name, char *out, size_t size);
+
 /// A headless context of the given size; the test fails (with the reason) when none can
 /// be made. Destroy with eng_context_destroy.
 eng_context *support_headless_context(int width, int height);

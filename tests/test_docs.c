@@ -49,7 +49,7 @@ static void every_runner_option_is_documented(void **state)
 {
     (void)state;
     char exe[1200], cmd[1300];
-    support_source_path("build/bin/seiche", exe, sizeof exe);
+    support_bin_path("seiche", exe, sizeof exe);
     snprintf(cmd, sizeof cmd, "'%s' --help", exe);
     char *help = command_output(cmd), *runner = doc("docs/runner.md");
     int missing = 0, seen = 0;
@@ -80,7 +80,7 @@ static void every_metrics_column_is_in_help_and_docs(void **state)
 {
     (void)state;
     char exe[1200], scene[1200], cmd[3000];
-    support_source_path("build/bin/seiche", exe, sizeof exe);
+    support_bin_path("seiche", exe, sizeof exe);
     support_source_path("tests/fixtures/tiny_scene.lua", scene, sizeof scene);
     snprintf(cmd, sizeof cmd, "'%s' --headless --quiet --frames 1 --metrics /tmp/seiche-docs-metrics.csv '%s' && "
              "head -n 1 /tmp/seiche-docs-metrics.csv; rm -f /tmp/seiche-docs-metrics.csv", exe, scene);

@@ -102,6 +102,62 @@ static void compute_shader_built_from_includes_writes_expected_values(void **sta
     glDeleteProgram(prog);
 }
 
+// Found by tests/fuzz/fuzz_glsl_preprocess (regressions/map_log_message_across_lines): the
+// blank after "N:L(C):" matched the newline, so the next log line was printed twice.
+static void map_log_writes_each_log_line_once(void **state)
+{
+    (void)state;
+    char *files[2] = { (char *)"fluid/a.comp", (char *)"fluid/b.glsl" };
+    char out[512];
+    pbf_glsl_map_log("0:3(1): \n\n1:7(2): error: x undeclared\n", files, 2, "shaders", out, sizeof out);
+    assert_string_equal(out, "shaders/fluid/a.comp:3: \nshaders/fluid/b.glsl:7: error: x undeclared");
+}
+
+// Found by tests/fuzz/fuzz_glsl_preprocess (regressions/err_size_zero): err_size 0 (or out_size
+// 0) was written to all the same.
+static void no_room_for_a_message_writes_nothing(void **state)
+{
+    (void)state;
+    pbf_glsl_file table[1] = { { "a.comp", "void main() {}\n" } }; // no #version: an error
+    pbf_glsl_source src = { NULL, table, 1 };
+    char *files[PBF_GLSL_MAX_FILES] = { 0 };
+    int nfiles = 0;
+    char err[4] = "abc", out[4] = "abc";
+    assert_null(pbf_glsl_preprocess_from(&src, "a.comp", NULL, files, &nfiles, err, 0));
+    assert_null(pbf_glsl_preprocess_from(&src, "a.comp", NULL, files, &nfiles, NULL, 0));
+    pbf_glsl_free_files(files, nfiles);
+    pbf_glsl_map_log("0:1(1): error: x\n", files, 0, "shaders", out, 0);
+    pbf_glsl_map_log(NULL, files, 0, "shaders", out, sizeof out);
+    assert_string_equal(err, "abc");
+    assert_string_equal(out, "");
+}
+
+// Nine files, each including the next 40 times, expand to 40^8 copies: refused at
+// PBF_GLSL_MAX_SOURCE with a message instead of running for hours.
+static void include_fan_out_is_refused_not_expanded(void **state)
+{
+    (void)state;
+    static char texts[9][1024];
+    static char names[9][8];
+    pbf_glsl_file table[9];
+    for (int i = 0; i < 9; i++) {
+        snprintf(names[i], sizeof names[i], "f%d", i);
+        snprintf(texts[i], sizeof texts[i], "%s", i == 0 ? "#version 430\n" : "");
+        for (int k = 0; i < 8 && k < 40; k++)
+            snprintf(texts[i] + strlen(texts[i]), sizeof texts[i] - strlen(texts[i]), "#include \"f%d\"\n", i + 1);
+        table[i] = (pbf_glsl_file){ names[i], texts[i] };
+    }
+    pbf_glsl_source src = { NULL, table, 9 };
+    char *files[PBF_GLSL_MAX_FILES] = { 0 };
+    int nfiles = 0;
+    char err[512] = "";
+    char *out = pbf_glsl_preprocess_from(&src, "f0", NULL, files, &nfiles, err, sizeof err);
+    pbf_glsl_free_files(files, nfiles);
+    print_message("%s\n", err);
+    assert_null(out);
+    assert_non_null(strstr(err, "expands to more than"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -110,6 +166,9 @@ int main(void)
         cmocka_unit_test(missing_include_names_the_including_file_and_line),
         cmocka_unit_test(missing_top_level_file_is_named),
         cmocka_unit_test(compute_shader_built_from_includes_writes_expected_values),
+        cmocka_unit_test(map_log_writes_each_log_line_once),
+        cmocka_unit_test(no_room_for_a_message_writes_nothing),
+        cmocka_unit_test(include_fan_out_is_refused_not_expanded),
     };
     return cmocka_run_group_tests(tests, support_gpu_setup, support_gpu_teardown);
 }

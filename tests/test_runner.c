@@ -40,7 +40,7 @@ static void slurp(const char *path, char *buf, size_t size)
 static void run(run_result *r, const char *env, const char *const *args)
 {
     char exe[1024], dir[1024];
-    support_source_path("build/bin/seiche", exe, sizeof exe);
+    support_bin_path("seiche", exe, sizeof exe);
     support_source_dir(dir, sizeof dir);
     const char *out_path = "/tmp/seiche_test_runner.out", *err_path = "/tmp/seiche_test_runner.err";
     pid_t pid = fork();

@@ -18,7 +18,7 @@ static char exe[1100], scene[1100];
 static int setup(void **state)
 {
     (void)state;
-    support_source_path("build/bin/seiche", exe, sizeof exe);
+    support_bin_path("seiche", exe, sizeof exe);
     support_source_path("tests/fixtures/tiny_scene.lua", scene, sizeof scene);
     return system("rm -rf " TMP " && mkdir -p " TMP) == 0 ? 0 : -1;
 }
