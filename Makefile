@@ -61,7 +61,7 @@ FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-poin
 	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
 FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
-FLUID_SOURCES = $(filter-out fluid/pbf_cpu.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
+FLUID_SOURCES = $(filter-out fluid/pbf_cpu%.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
 FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
 
 build/fuzz/bin/fuzz_params: tests/fuzz/fuzz_params.c $(FLUID_SOURCES) $(FLUID_HEADERS)
