@@ -327,6 +327,7 @@ static bool has_position(const char *msg)
 static int message_handler(lua_State *L)
 {
     const char *msg = lua_tostring(L, 1);
+    if (!msg && luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING) msg = lua_tostring(L, -1);
     if (!msg) msg = lua_pushfstring(L, "(error object is a %s value, not a string)", luaL_typename(L, 1));
     char where[600];
     if (!has_position(msg) && *scr_where(L, where, sizeof where)) msg = lua_pushfstring(L, "%s%s", where, msg);
