@@ -194,7 +194,7 @@ static void bad_arguments_name_function_argument_value_and_rule(void **state)
         { "seiche.scene{camera = 5}", "seiche.scene: field 'camera' must be a table {eye, target, fov, mode} (got 5)" },
         { "seiche.set_look{water = 'blue'}", "seiche.set_look: field 'water' must be a table {low, mid, high, specular, shininess} (got \"blue\")" },
         { "seiche.scene{name = ''}", "seiche.scene: field 'name' must be a string of 1 to 63 characters (got \"\")" },
-        { "seiche.scene{}; seiche.scene{}", "seiche.scene: called twice (the first call was at case.lua:1: )" },
+        { "seiche.scene{}; seiche.scene{}", "seiche.scene: called twice (the first call was at case.lua:1)" },
         { "seiche.scene{domain = {min = {0, 0, 0}, max = {1, 1, 1}}, container = {min = {0, 0, 0}, max = {2, 1, 1}}}", "the container's x range [0, 2] must lie inside the domain's [0, 1]" },
         { "seiche.after(1)", "seiche.after: argument #2 'callback' must be a function (got no value)" },
         { "seiche.every(0/0, print)", "seiche.every: argument #1 'period' must be a number in (0, 1000000000] s (got nan)" },

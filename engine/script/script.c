@@ -152,8 +152,8 @@ static void register_api(eng_script *s)
 //   while the script holds much memory (one instruction may then touch all of it: comparing
 //   long strings), at the next instruction after every 4 MiB allocated (making a long string
 //   is one instruction too), and at every instruction once the script is stopped. The hook
-//   is per coroutine: the sandbox's coroutine.resume and wrap keep the chain of running ones
-//   (s->threads) so the allocator and a stop reach the one that runs.
+//   is per coroutine: our coroutine.resume and wrap (script_sandbox.c) keep the chain of
+//   running ones (s->threads), so the allocator and a stop reach the one that runs.
 // - C code runs no instructions, so the library functions that can loop long in one call
 //   (patterns, string.rep, table.concat/insert/remove/move/sort) are our own versions that
 //   count their work with scr_tick; every 2^16 units it looks at the clock too.
@@ -327,6 +327,7 @@ static bool has_position(const char *msg)
 static int message_handler(lua_State *L)
 {
     const char *msg = lua_tostring(L, 1);
+    if (!msg && luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING) msg = lua_tostring(L, -1);
     if (!msg) msg = lua_pushfstring(L, "(error object is a %s value, not a string)", luaL_typename(L, 1));
     char where[600];
     if (!has_position(msg) && *scr_where(L, where, sizeof where)) msg = lua_pushfstring(L, "%s%s", where, msg);

@@ -112,7 +112,9 @@ static int l_scene(lua_State *L)
     scr_check_table_arg(L, 1, "seiche.scene", "name, preset, fluid, gravity, capacity, container, domain, camera, look");
     if (s->host.world || !s->in_main_chunk)
         scr_raise(L, "seiche.scene: the scene is described once, in the script's main chunk (not inside a callback)");
-    if (s->scene_called) scr_raise(L, "seiche.scene: called twice (the first call was at %s)", s->config.scene_where);
+    if (s->scene_called) // scene_where is "file:line: "
+        scr_raise(L, "seiche.scene: called twice (the first call was at %.*s)",
+                  (int)strcspn(s->config.scene_where, " ") - 1, s->config.scene_where);
     static const char *const known[] = { "name", "preset", "fluid", "gravity", "capacity", "container", "domain", "camera",
                                          "look", NULL };
     scr_check_fields(L, 1, "seiche.scene", known);
@@ -189,9 +191,7 @@ static int l_scene(lua_State *L)
         read_look(L, t, "seiche.scene: look", &c->look);
         lua_pop(L, 1);
     }
-    luaL_where(L, 1);
-    snprintf(c->scene_where, sizeof c->scene_where, "%s", lua_tostring(L, -1));
-    lua_pop(L, 1);
+    scr_where(L, c->scene_where, sizeof c->scene_where);
     s->scene_called = true;
     return 0;
 }
