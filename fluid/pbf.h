@@ -252,10 +252,13 @@ typedef struct pbf_emitter_def {
     float direction[3];   ///< direction of the jet (normalised here; not zero)
     float speed;          ///< m/s, (0, 100]
     float rate;           ///< particles/s, [0, pbf_emitter_max_rate]
-    float radius;         ///< m, nozzle radius, [particle_radius, 10 m]
+    float radius;         ///< m, nozzle radius, [particle_radius, 10 m], and a layer of at most
+                          ///< PBF_MAX_EMITTER_POINTS particles (about 578 spacings 2r)
     bool enabled;         ///< off: emits nothing (and owes nothing)
 } pbf_emitter_def;
 pbf_emitter_def pbf_default_emitter_def(void);
+/// Particles in one layer of a nozzle at most (one layer is generated at once).
+#define PBF_MAX_EMITTER_POINTS (1 << 20)
 
 typedef struct pbf_emitter_id {
     uint16_t index1;      ///< slot + 1; 0 is the null id
