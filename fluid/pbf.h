@@ -180,13 +180,15 @@ typedef void pbf_log_fn(void *user, int level, const char *message); ///< level:
 
 typedef struct pbf_world_def {
     pbf_params params;
-    uint32_t capacity;      ///< maximum live particles, [1, 2^26]
+    uint32_t capacity;      ///< maximum live particles, [1, 2^26], and at most 128 x the GL's
+                            ///< GL_MAX_COMPUTE_WORK_GROUP_COUNT (8.4M where that is GL's 65535)
     uint32_t max_neighbours;///< neighbour list length per particle, [8, 512]; 0 is not
                             ///< allowed: the default sizes it from kernel_radius / spacing
     uint32_t grid_cells_per_kernel; ///< neighbour grid cells per kernel radius, [1, 4]:
                             ///< cells of h / this. Finer cells mean fewer candidates per
                             ///< neighbour search and more cells to count and scan; the
                             ///< default PBF_GRID_CELLS_PER_KERNEL (2) measured best
+    /// The grid may have at most 2^27 cells, and 1024 x GL_MAX_COMPUTE_WORK_GROUP_COUNT.
     float domain_min[3];    ///< m: the neighbour grid covers [min, max]; particles are
     float domain_max[3];    ///< kept inside it (it acts as the outermost wall)
     const char *shader_dir; ///< NULL: the shaders embedded in the library (the default unless

@@ -94,11 +94,15 @@ static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
 {
     float h = w->params.kernel_radius;
     uint64_t total = pbf_grid_geometry(w->domain_min, w->domain_max, h, w->cells_per_kernel, w->grid_origin, w->grid_dims);
-    if (total > (1u << 27)) {
+    // 2^27 cells, and no more than one dispatch of the scan can cover (its first level has
+    // a work group per PBF_SCAN_BLOCK cells; GL promises 65535 groups: 67M cells).
+    uint64_t limit = (uint64_t)w->max_groups * PBF_SCAN_BLOCK - 2;
+    if (limit > (1u << 27)) limit = 1u << 27;
+    if (total > limit) {
         snprintf(err, err_size,
                  "pbf_world_def.domain needs %llu grid cells of size kernel_radius / grid_cells_per_kernel = %g m; "
-                 "at most %u allowed (shrink the domain, enlarge the kernel or lower grid_cells_per_kernel)",
-                 (unsigned long long)total, (double)h / w->cells_per_kernel, 1u << 27);
+                 "at most %llu allowed (shrink the domain, enlarge the kernel or lower grid_cells_per_kernel)",
+                 (unsigned long long)total, (double)h / w->cells_per_kernel, (unsigned long long)limit);
         return PBF_ERR_INVALID_ARG;
     }
     w->cells = (uint32_t)total;
@@ -255,11 +259,24 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
                  "storage buffer bindings; this GL offers %d and %d", PBF_B_COLLIDER_DATA + 1, blocks, bindings);
         return NULL;
     }
+    // One dispatch covers every particle: a work group per PBF_WG of them (GL promises
+    // 65535 groups, so 8.4M particles; NVIDIA's drivers allow 2^31 - 1).
+    GLint max_groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_groups);
+    if (max_groups < 65535) max_groups = 65535;
+    if ((uint64_t)def->capacity > (uint64_t)max_groups * PBF_WG) {
+        snprintf(err, err_size, "pbf_world_def.capacity %u needs %u work groups of %d particles in one dispatch; this "
+                 "GL allows %d (GL_MAX_COMPUTE_WORK_GROUP_COUNT): at most %llu particles", def->capacity,
+                 (def->capacity + PBF_WG - 1) / PBF_WG, PBF_WG, max_groups,
+                 (unsigned long long)max_groups * PBF_WG);
+        return NULL;
+    }
     pbf_world *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, err_size, "pbf_world_create: out of memory");
         return NULL;
     }
+    w->max_groups = (uint32_t)max_groups;
     w->params = def->params;
     w->capacity = def->capacity;
     w->max_neighbours = def->max_neighbours;

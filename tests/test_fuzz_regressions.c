@@ -12,6 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <epoxy/gl.h>
+
 #include "engine/gl/context.h"
 #include "fluid/pbf.h"
 #include "tests/support.h"
@@ -124,6 +126,38 @@ static void long_step_of_a_wide_fast_nozzle_fills_the_capacity(void **state)
     pbf_world_destroy(w);
 }
 
+// fuzz_pbf_api, regressions/grid_scan_past_max_work_group_count: 1 mm particles in a 1 m
+// domain need 128M grid cells (under the 2^27 allowed), and the scan's first level
+// dispatched 125,000 work groups where llvmpipe (and GL's minimum) allows 65535: a GL error
+// on every step. The same held for more than 65535 x 128 particles. Both are refused now
+// when the GL's GL_MAX_COMPUTE_WORK_GROUP_COUNT is that small (NVIDIA's is 2^31 - 1).
+static void grid_or_capacity_beyond_one_dispatch_is_refused(void **state)
+{
+    (void)state;
+    GLint groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &groups);
+    pbf_world_def d = pbf_default_world_def();
+    d.params.particle_radius = 0.001f;
+    d.params.kernel_radius = 0.004f;
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.capacity = 1000;
+    char err[512] = "";
+    if ((double)groups * 1024.0 < 126e6) {
+        assert_null(pbf_world_create(&d, err, sizeof err));
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, "pbf_world_def.domain needs"));
+    } else {
+        print_message("GL_MAX_COMPUTE_WORK_GROUP_COUNT %d: the grid fits one dispatch here\n", groups);
+    }
+    d = pbf_default_world_def();
+    if ((double)groups * 128.0 < 67108864.0) {
+        d.capacity = (uint32_t)groups * 128u + 1u;
+        assert_null(pbf_world_create(&d, err, sizeof err));
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, "GL_MAX_COMPUTE_WORK_GROUP_COUNT"));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -131,6 +165,7 @@ int main(void)
         cmocka_unit_test(denormal_dt_is_refused),
         cmocka_unit_test(nozzle_of_too_many_points_is_refused),
         cmocka_unit_test(long_step_of_a_wide_fast_nozzle_fills_the_capacity),
+        cmocka_unit_test(grid_or_capacity_beyond_one_dispatch_is_refused),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
