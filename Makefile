@@ -61,7 +61,7 @@ FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-poin
 	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
 FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
-FLUID_SOURCES = $(filter-out fluid/pbf_cpu.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
+FLUID_SOURCES = $(filter-out fluid/pbf_cpu%,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
 FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
 
 build/fuzz/bin/fuzz_params: tests/fuzz/fuzz_params.c $(FLUID_SOURCES) $(FLUID_HEADERS)
@@ -73,12 +73,12 @@ build/fuzz/bin/fuzz_glsl_preprocess: tests/fuzz/fuzz_glsl_preprocess.c fluid/pbf
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy
 
 build/fuzz/bin/fuzz_pbf_api: tests/fuzz/fuzz_pbf_api.c $(FLUID_SOURCES) engine/gl/context.c engine/gl/gl_strict.c \
-		engine/core/log.c $(FLUID_HEADERS) build/Makefile
+		engine/core/log.c $(FLUID_HEADERS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lglfw -lm
 
-build/gen/shaders_fluid.c: build/Makefile
-	@:
+# Written by premake with build/Makefile (and rewritten when a shader changes).
+build/gen/shaders_fluid.c: | build/Makefile
 
 # Without clang (FUZZ_CC) there is nothing to build: tests/run.sh then skips the harnesses.
 fuzz-build: build/Makefile
