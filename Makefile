@@ -73,12 +73,12 @@ build/fuzz/bin/fuzz_glsl_preprocess: tests/fuzz/fuzz_glsl_preprocess.c fluid/pbf
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy
 
 build/fuzz/bin/fuzz_pbf_api: tests/fuzz/fuzz_pbf_api.c $(FLUID_SOURCES) engine/gl/context.c engine/gl/gl_strict.c \
-		engine/core/log.c $(FLUID_HEADERS) build/Makefile
+		engine/core/log.c $(FLUID_HEADERS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lglfw -lm
 
-build/gen/shaders_fluid.c: build/Makefile
-	@:
+# Written by premake with build/Makefile (and rewritten when a shader changes).
+build/gen/shaders_fluid.c: | build/Makefile
 
 # Without clang (FUZZ_CC) there is nothing to build: tests/run.sh then skips the harnesses.
 fuzz-build: build/Makefile

@@ -180,7 +180,8 @@ typedef void pbf_log_fn(void *user, int level, const char *message); ///< level:
 
 typedef struct pbf_world_def {
     pbf_params params;
-    uint32_t capacity;      ///< maximum live particles, [1, 2^26]
+    uint32_t capacity;      ///< maximum live particles, [1, 2^26], and at most 128 x the GL's
+                            ///< GL_MAX_COMPUTE_WORK_GROUP_COUNT (8.4M where that is GL's 65535)
     uint32_t max_neighbours;///< neighbour list length per particle, [8, 512]; 0 is not
                             ///< allowed: the default sizes it from kernel_radius / spacing
     uint32_t grid_cells_per_kernel; ///< neighbour grid cells per kernel radius, [1, 4]:
@@ -253,10 +254,13 @@ typedef struct pbf_emitter_def {
     float direction[3];   ///< direction of the jet (normalised here; not zero)
     float speed;          ///< m/s, (0, 100]
     float rate;           ///< particles/s, [0, pbf_emitter_max_rate]
-    float radius;         ///< m, nozzle radius, [particle_radius, 10 m]
+    float radius;         ///< m, nozzle radius, [particle_radius, 10 m], and a layer of at most
+                          ///< PBF_MAX_EMITTER_POINTS particles (about 578 spacings 2r)
     bool enabled;         ///< off: emits nothing (and owes nothing)
 } pbf_emitter_def;
 pbf_emitter_def pbf_default_emitter_def(void);
+/// Particles in one layer of a nozzle at most (one layer is generated at once).
+#define PBF_MAX_EMITTER_POINTS (1 << 20)
 
 typedef struct pbf_emitter_id {
     uint16_t index1;      ///< slot + 1; 0 is the null id

@@ -3,6 +3,7 @@
 #include "fluid/pbf_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,6 +18,9 @@ pbf_emitter_def pbf_default_emitter_def(void)
     d.enabled = true;
     return d;
 }
+
+// A disc of PBF_MAX_EMITTER_POINTS points has a radius of sqrt(points / pi) = 578 spacings.
+#define DISC_MAX_CELLS 600.0
 
 // Lattice points of spacing s on a disc of radius R (the centre always included).
 static int disc_points(float s, float radius, float *out)
@@ -41,10 +45,10 @@ float pbf_emitter_max_rate(const pbf_world *w, float speed, float radius)
 {
     if (!w || !(speed > 0.0f) || !(radius > 0.0f) || !isfinite(speed) || !isfinite(radius)) return 0.0f;
     float s = w->k.spacing;
-    // Count the lattice points where that is cheap; a disc of more than ~50M points (far
-    // beyond any emitter the checks accept) is estimated by its area instead.
+    // Count the lattice points where that is cheap; a disc wider than any emitter the checks
+    // accept (PBF_MAX_EMITTER_POINTS) is estimated by its area instead.
     double cells = (double)radius / (double)s;
-    if (cells > 4096.0) return (float)((double)speed * 3.14159265358979 * cells * cells / (double)s);
+    if (cells > DISC_MAX_CELLS) return (float)((double)speed * 3.14159265358979 * cells * cells / (double)s);
     return speed * (float)disc_points(s, radius, NULL) / s;
 }
 
@@ -69,6 +73,13 @@ static pbf_result check_emitter(pbf_world *w, const pbf_emitter_def *d, float di
     if (!(isfinite(d->radius) && d->radius >= r && d->radius <= 10.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.radius must be in [%g, 10] m (the particle radius at "
                         "least; got %g)", (double)r, (double)d->radius);
+    // One layer of the nozzle is generated at once: keep it to PBF_MAX_EMITTER_POINTS.
+    double cells = (double)d->radius / (double)w->k.spacing;
+    int points = cells > DISC_MAX_CELLS ? PBF_MAX_EMITTER_POINTS + 1 : disc_points(w->k.spacing, d->radius, NULL);
+    if (points > PBF_MAX_EMITTER_POINTS)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.radius %g m holds more than %d particles per layer at "
+                        "spacing %g m; at most %d allowed (a smaller radius, or larger particles)", (double)d->radius,
+                        PBF_MAX_EMITTER_POINTS, (double)w->k.spacing, PBF_MAX_EMITTER_POINTS);
     float max_rate = pbf_emitter_max_rate(w, d->speed, d->radius);
     if (!(isfinite(d->rate) && d->rate >= 0.0f && d->rate <= max_rate * 1.0001f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.rate must be in [0, %g] particles/s for speed %g m/s "
@@ -181,6 +192,14 @@ void pbf_emitters_free(pbf_world *w)
     }
 }
 
+// Particles a layer gets from `credit` owed: its whole part, at most the disc's points
+// (compared as a double: the credit of a long step can exceed an int).
+static int layer_count(double credit, int disc_count)
+{
+    double k = floor(credit + 1e-9);
+    return k > (double)disc_count ? disc_count : (int)k;
+}
+
 // Generates the particles every enabled emitter owes for a step of dt and appends them.
 // Particles that would exceed the capacity are not generated (the emitter just stops).
 pbf_result pbf_emitters_emit(pbf_world *w, float dt)
@@ -194,20 +213,19 @@ pbf_result pbf_emitters_emit(pbf_world *w, float dt)
         int layers = (int)floor(travel / s);
         double per_layer = (double)e->def.rate * s / e->def.speed;
         double credit = e->credit + per_layer * layers;
-        int n = 0;
+        int64_t owed = 0; // up to layers x disc points: more than an int holds
         for (int l = 0; l < layers; l++) {
-            int k = (int)floor(credit + 1e-9);
-            if (k > e->disc_count) k = e->disc_count;
-            n += k;
+            int k = layer_count(credit, e->disc_count);
+            owed += k;
             credit -= k;
         }
-        if (n == 0) {
+        if (owed == 0) {
             e->travel = travel - s * layers;
             e->credit = credit;
             continue;
         }
         uint32_t room = w->capacity > w->count + total ? w->capacity - w->count - total : 0;
-        if ((uint32_t)n > room) n = (int)room;
+        int n = owed > (int64_t)room ? (int)room : (int)owed;
         float *p4 = malloc((size_t)n * 16 + 16), *v4 = malloc((size_t)n * 16 + 16);
         if (!p4 || !v4) {
             free(p4);
@@ -219,8 +237,7 @@ pbf_result pbf_emitters_emit(pbf_world *w, float dt)
         credit = e->credit;
         for (int l = 0; l < layers && made < n; l++) {
             credit += per_layer;
-            int k = (int)floor(credit + 1e-9);
-            if (k > e->disc_count) k = e->disc_count;
+            int k = layer_count(credit, e->disc_count);
             credit -= k;
             double ahead = travel - (double)(l + 1) * s;
             for (int q = 0; q < k && made < n; q++) {

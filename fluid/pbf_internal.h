@@ -115,6 +115,7 @@ struct pbf_world {
     uint32_t stage_cap;        // particles the staging buffers hold
     bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed
     GLint ssbo_align;
+    uint32_t max_groups;   // GL_MAX_COMPUTE_WORK_GROUP_COUNT[0]: work groups one dispatch may have
     struct { GLintptr offset; uint32_t n; } scan_level[MAX_SCAN_LEVELS];
     int scan_levels;
     GLintptr scan_dummy;

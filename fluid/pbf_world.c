@@ -108,6 +108,16 @@ static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
     // The grid itself is virtual: its cells hash into buckets in proportion to the
     // particles, so memory and time follow the water, not the domain.
     w->cells = pbf_hash_buckets(w->capacity);
+    // The scan's first level has a work group per PBF_SCAN_BLOCK buckets and must fit in one
+    // dispatch (GL promises 65535 groups; grid_clear strides and has no such limit).
+    uint32_t scan_groups = (uint32_t)(((uint64_t)w->cells + 2 + PBF_SCAN_BLOCK - 1) / PBF_SCAN_BLOCK);
+    if (scan_groups > w->max_groups) {
+        snprintf(err, err_size,
+                 "pbf_world_def.capacity %u needs %u grid buckets, whose prefix scan needs %u work groups in one "
+                 "dispatch; this GL allows %u (GL_MAX_COMPUTE_WORK_GROUP_COUNT): lower the capacity",
+                 w->capacity, w->cells, scan_groups, w->max_groups);
+        return PBF_ERR_INVALID_ARG;
+    }
     return PBF_OK;
 }
 
@@ -256,11 +266,24 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
                  "storage buffer bindings; this GL offers %d and %d", PBF_B_COLLIDER_DATA + 1, blocks, bindings);
         return NULL;
     }
+    // One dispatch covers every particle: a work group per PBF_WG of them (GL promises
+    // 65535 groups, so 8.4M particles; NVIDIA's drivers allow 2^31 - 1).
+    GLint max_groups = 0;
+    glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &max_groups);
+    if (max_groups < 65535) max_groups = 65535;
+    if ((uint64_t)def->capacity > (uint64_t)max_groups * PBF_WG) {
+        snprintf(err, err_size, "pbf_world_def.capacity %u needs %u work groups of %d particles in one dispatch; this "
+                 "GL allows %d (GL_MAX_COMPUTE_WORK_GROUP_COUNT): at most %llu particles", def->capacity,
+                 (def->capacity + PBF_WG - 1) / PBF_WG, PBF_WG, max_groups,
+                 (unsigned long long)max_groups * PBF_WG);
+        return NULL;
+    }
     pbf_world *w = calloc(1, sizeof *w);
     if (!w) {
         snprintf(err, err_size, "pbf_world_create: out of memory");
         return NULL;
     }
+    w->max_groups = (uint32_t)max_groups;
     w->params = def->params;
     w->capacity = def->capacity;
     w->max_neighbours = def->max_neighbours;
@@ -598,7 +621,9 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     dispatch_particles(s, PROG_PREDICT, PBF_STAGE_PREDICT);
     stage_done(s, PBF_STAGE_PREDICT, -1);
 
-    dispatch(s, PROG_GRID_CLEAR, groups_for(w->cells + 2, PBF_WG), PBF_STAGE_GRID_COUNT);
+    uint32_t clear_groups = groups_for(w->cells + 2, PBF_WG);
+    if (clear_groups > w->max_groups) clear_groups = w->max_groups; // grid_clear strides
+    dispatch(s, PROG_GRID_CLEAR, clear_groups, PBF_STAGE_GRID_COUNT);
     dispatch_particles(s, PROG_GRID_COUNT, PBF_STAGE_GRID_COUNT);
     stage_done(s, PBF_STAGE_GRID_COUNT, -1);
     run_scan(s);

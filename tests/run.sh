@@ -9,6 +9,7 @@
 # `-- needs: PROGRAM` (repeatable) skips the script when PROGRAM is not on the PATH.
 # A cmocka test may skip itself (cmocka's skip(), with the reason printed first as a line
 # "SKIPPED: ..."), e.g. one that needs Mesa on another driver: it counts as skipped.
+# Then each libFuzzer harness of tests/fuzz/ for a few seconds (SEICHE_FUZZ_SECONDS).
 # Prints one line per test program / script and ends with "N passed, N failed, N skipped".
 #
 # SEICHE_BIN=DIR runs the programs of another build (default build/bin), e.g. the sanitizer
@@ -146,6 +147,31 @@ for s in scripts/scenes/*.lua; do
     [ "$rc" != 0 ] || ok=1
     sanitizer_reports "scene_$name" >>"$log_dir/scene_$name.err" || ok=0
     verdict "$ok" scene "$name" "exit 0" "exit $rc" "$secs"
+done
+
+# Every libFuzzer harness of tests/fuzz/ (built by make fuzz-build with clang-14): the inputs
+# of tests/fuzz/regressions/NAME/ replayed, then SEICHE_FUZZ_SECONDS (default 10; 0 skips)
+# of fuzzing from the corpus in build/fuzz/corpus/NAME (tests/fuzz/run.sh). Skipped when
+# the harness is not built.
+fuzz_seconds=${SEICHE_FUZZ_SECONDS:-10}
+for f in tests/fuzz/fuzz_*.c; do
+    [ -f "$f" ] || continue
+    name=$(basename "$f" .c)
+    if [ ! -x "build/fuzz/bin/$name" ] || [ "$fuzz_seconds" = 0 ]; then
+        skipped=$((skipped + 1))
+        if [ "$fuzz_seconds" = 0 ]; then echo "skipped fuzz $name: SEICHE_FUZZ_SECONDS=0"
+        else echo "skipped fuzz $name: not built (make fuzz-build, which needs clang-14)"; fi
+        continue
+    fi
+    start=$(date +%s)
+    tests/fuzz/run.sh "$fuzz_seconds" "$name" >"$log_dir/fuzz_$name.err" 2>&1
+    rc=$?
+    secs=$(( $(date +%s) - start ))
+    ok=1
+    [ "$rc" = 0 ] || ok=0
+    sanitizer_reports "fuzz_$name" >>"$log_dir/fuzz_$name.err" || ok=0
+    inputs=$(sed -n 's/^fuzz: .*: ok, \([0-9]*\) inputs$/\1/p' "$log_dir/fuzz_$name.err")
+    verdict "$ok" fuzz "$name" "${inputs:-?} inputs, regressions replayed" "exit $rc" "$secs"
 done
 
 echo

@@ -124,6 +124,7 @@ static void no_room_for_a_message_writes_nothing(void **state)
     int nfiles = 0;
     char err[4] = "abc", out[4] = "abc";
     assert_null(pbf_glsl_preprocess_from(&src, "a.comp", NULL, files, &nfiles, err, 0));
+    pbf_glsl_free_files(files, nfiles);
     assert_null(pbf_glsl_preprocess_from(&src, "a.comp", NULL, files, &nfiles, NULL, 0));
     pbf_glsl_free_files(files, nfiles);
     pbf_glsl_map_log("0:1(1): error: x\n", files, 0, "shaders", out, 0);
@@ -138,7 +139,7 @@ static void include_fan_out_is_refused_not_expanded(void **state)
 {
     (void)state;
     static char texts[9][1024];
-    static char names[9][8];
+    static char names[9][16];
     pbf_glsl_file table[9];
     for (int i = 0; i < 9; i++) {
         snprintf(names[i], sizeof names[i], "f%d", i);

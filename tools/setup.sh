@@ -6,7 +6,7 @@ set -eu
 
 PACKAGES="gcc g++ make premake4 pkg-config libglfw3-dev libepoxy-dev liblua5.4-dev libbullet-dev \
 libcglm-dev libstb-dev libcmocka-dev libimgui-dev libassimp-dev libegl-dev libgl-dev libgl1 libglx-mesa0 libgl1-mesa-dri libegl-mesa0 \
-xvfb xauth gnuplot-nox ffmpeg"
+xvfb xauth gnuplot-nox ffmpeg clang-14 libclang-rt-14-dev"
 
 missing=""
 for p in $PACKAGES; do

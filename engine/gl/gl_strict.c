@@ -84,6 +84,7 @@ typedef struct fence_seq {
     X(glReadPixels, PFNGLREADPIXELSPROC) \
     X(glDeleteBuffers, PFNGLDELETEBUFFERSPROC) \
     X(glShaderSource, PFNGLSHADERSOURCEPROC) \
+    X(glDeleteShader, PFNGLDELETESHADERPROC) \
     X(glLinkProgram, PFNGLLINKPROGRAMPROC) \
     X(glDeleteProgram, PFNGLDELETEPROGRAMPROC)
 
@@ -733,6 +734,17 @@ static void GLAPIENTRY h_glShaderSource(GLuint shader, GLsizei count, const GLch
     text[len] = 0;
     free(S.shader_src[shader]);
     S.shader_src[shader] = text;
+}
+
+// A linked program keeps its own copy of the sources: the shader's can go. (Kept, every
+// world made and destroyed grew this table by its shaders' text: 0.5 MB each.)
+static void GLAPIENTRY h_glDeleteShader(GLuint shader)
+{
+    if (shader < S.shader_cap) {
+        free(S.shader_src[shader]);
+        S.shader_src[shader] = NULL;
+    }
+    S.real_glDeleteShader(shader);
 }
 
 static void GLAPIENTRY h_glLinkProgram(GLuint prog)

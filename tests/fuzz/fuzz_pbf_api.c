@@ -208,6 +208,11 @@ static pbf_params params_value(state *s)
             memcpy(field, &v, sizeof v);
         }
     }
+    if (fuzz_u8(s->in) > 224) { // other particles, the kernel at 4 radii: tiny to huge
+        static const float radii[] = { 0.0005f, 0.00051f, 0.0006f, 0.001f, 0.005f, 0.05f, 0.2f, 1.0f };
+        p.particle_radius = radii[fuzz_u8(s->in) % 8];
+        p.kernel_radius = 4.0f * p.particle_radius;
+    }
     if (pbf_params_validate(&p, NULL, 0) == PBF_OK) {
         if (p.iterations > 4) p.iterations = 1 + p.iterations % 4;
         if (p.substeps > 4) p.substeps = 1 + p.substeps % 4;
