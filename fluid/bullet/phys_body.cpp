@@ -42,6 +42,18 @@ static phys_result get_body(phys_world* w, const char* fn, phys_body_id id, Body
     return PHYS_OK;
 }
 
+// The shared path of the getters: checks `out` and the id, then `*out = read(slot)`.
+template <class T, class F>
+static phys_result read_body(phys_world* w, const char* func, phys_body_id id, T* out, F&& read) {
+    return guarded(w, func, [&](const char* fn) -> phys_result {
+        CHECK(check_ptr(w, fn, "out", out));
+        BodySlot* b = nullptr;
+        CHECK(get_body(w, fn, id, &b));
+        *out = read(*b);
+        return PHYS_OK;
+    });
+}
+
 // Shared path of the force/impulse calls: checks, then `apply` on an awake
 // dynamic body.
 template <class F>
@@ -80,15 +92,6 @@ static phys_result set_velocity(phys_world* w, const char* fn, phys_body_id id, 
         rb->setLinearVelocity(to_bt(v));
     }
     rb->activate(true);
-    return PHYS_OK;
-}
-
-static phys_result get_vector(phys_world* w, const char* fn, phys_body_id id, phys_vec3* out,
-                              bool angular) {
-    CHECK(check_ptr(w, fn, "out", out));
-    BodySlot* b = nullptr;
-    CHECK(get_body(w, fn, id, &b));
-    *out = from_bt(angular ? b->body->getAngularVelocity() : b->body->getLinearVelocity());
     return PHYS_OK;
 }
 
@@ -263,22 +266,14 @@ bool phys_body_is_valid(const phys_world* world, phys_body_id body) {
 }
 
 phys_result phys_body_get_type(phys_world* world, phys_body_id body, phys_body_type* out) {
-    return guarded(world, __func__, [&](const char* fn) -> phys_result {
-        CHECK(check_ptr(world, fn, "out", out));
-        BodySlot* b = nullptr;
-        CHECK(get_body(world, fn, body, &b));
-        *out = b->type;
-        return PHYS_OK;
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return b.type;
     });
 }
 
 phys_result phys_body_get_shape(phys_world* world, phys_body_id body, phys_shape_desc* out) {
-    return guarded(world, __func__, [&](const char* fn) -> phys_result {
-        CHECK(check_ptr(world, fn, "out", out));
-        BodySlot* b = nullptr;
-        CHECK(get_body(world, fn, body, &b));
-        *out = world->shapes[b->shape_slot].desc;
-        return PHYS_OK;
+    return read_body(world, __func__, body, out, [&](const BodySlot& b) {
+        return world->shapes[b.shape_slot].desc;
     });
 }
 
@@ -344,8 +339,8 @@ phys_result phys_body_set_linear_velocity(phys_world* world, phys_body_id body, 
 }
 
 phys_result phys_body_get_linear_velocity(phys_world* world, phys_body_id body, phys_vec3* out) {
-    return guarded(world, __func__, [&](const char* fn) {
-        return get_vector(world, fn, body, out, false);
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return from_bt(b.body->getLinearVelocity());
     });
 }
 
@@ -356,8 +351,8 @@ phys_result phys_body_set_angular_velocity(phys_world* world, phys_body_id body,
 }
 
 phys_result phys_body_get_angular_velocity(phys_world* world, phys_body_id body, phys_vec3* out) {
-    return guarded(world, __func__, [&](const char* fn) {
-        return get_vector(world, fn, body, out, true);
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return from_bt(b.body->getAngularVelocity());
     });
 }
 
@@ -485,22 +480,14 @@ phys_result phys_body_set_angular_factor(phys_world* world, phys_body_id body, p
 }
 
 phys_result phys_body_get_linear_factor(phys_world* world, phys_body_id body, phys_vec3* out) {
-    return guarded(world, __func__, [&](const char* fn) -> phys_result {
-        CHECK(check_ptr(world, fn, "out", out));
-        BodySlot* b = nullptr;
-        CHECK(get_body(world, fn, body, &b));
-        *out = from_bt(b->body->getLinearFactor());
-        return PHYS_OK;
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return from_bt(b.body->getLinearFactor());
     });
 }
 
 phys_result phys_body_get_angular_factor(phys_world* world, phys_body_id body, phys_vec3* out) {
-    return guarded(world, __func__, [&](const char* fn) -> phys_result {
-        CHECK(check_ptr(world, fn, "out", out));
-        BodySlot* b = nullptr;
-        CHECK(get_body(world, fn, body, &b));
-        *out = from_bt(b->body->getAngularFactor());
-        return PHYS_OK;
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return from_bt(b.body->getAngularFactor());
     });
 }
 
@@ -531,12 +518,8 @@ phys_result phys_body_wake(phys_world* world, phys_body_id body) {
 }
 
 phys_result phys_body_is_awake(phys_world* world, phys_body_id body, bool* out) {
-    return guarded(world, __func__, [&](const char* fn) -> phys_result {
-        CHECK(check_ptr(world, fn, "out", out));
-        BodySlot* b = nullptr;
-        CHECK(get_body(world, fn, body, &b));
-        *out = b->type != PHYS_BODY_STATIC && b->body->isActive();
-        return PHYS_OK;
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return b.type != PHYS_BODY_STATIC && b.body->isActive();
     });
 }
 
@@ -550,12 +533,8 @@ phys_result phys_body_set_user_data(phys_world* world, phys_body_id body, void* 
 }
 
 phys_result phys_body_get_user_data(phys_world* world, phys_body_id body, void** out) {
-    return guarded(world, __func__, [&](const char* fn) -> phys_result {
-        CHECK(check_ptr(world, fn, "out", out));
-        BodySlot* b = nullptr;
-        CHECK(get_body(world, fn, body, &b));
-        *out = b->user_data;
-        return PHYS_OK;
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        return b.user_data;
     });
 }
 
