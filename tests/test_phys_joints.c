@@ -4,43 +4,7 @@
 // out by hand (in the comment next to it). The measured values are printed, so a run's log
 // shows how close Bullet came.
 
-#include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
-#include <stddef.h>
-#include <stdint.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-
-#include <cmocka.h>
-
-#include "fluid/bullet/phys.h"
-
-#define G 9.81
-#define PI 3.14159265358979323846
-
-// ---- helpers ------------------------------------------------------------------
-
-#define assert_near(got, want, tol)                                                     \
-    do {                                                                                \
-        const double got_ = (double)(got), want_ = (double)(want), tol_ = (double)(tol); \
-        if (!(fabs(got_ - want_) <= tol_)) {                                            \
-            fail_msg("%s = %.9g, expected %.9g within %g", #got, got_, want_, tol_);    \
-        }                                                                               \
-    } while (0)
-
-#define assert_contains(text, part)                                                 \
-    do {                                                                            \
-        const char *text_ = (text);                                                 \
-        if (!strstr(text_, (part))) fail_msg("\"%s\" does not contain \"%s\"", text_, (part)); \
-    } while (0)
-
-#define assert_ok(expr)                                                             \
-    do {                                                                            \
-        const phys_result r_ = (expr);                                              \
-        if (r_ != PHYS_OK) fail_msg("%s returned %s", #expr, phys_result_string(r_)); \
-    } while (0)
+#include "phys_fixture.h"
 
 // A call that must fail with `result` and a message containing `part`.
 #define assert_refused(expr, result, part)                                          \
@@ -52,36 +16,6 @@
         }                                                                           \
         assert_contains(phys_world_last_error(f->world), (part));                   \
     } while (0)
-
-typedef struct fixture {
-    phys_world *world;
-} fixture;
-
-static int setup(void **state) {
-    fixture *f = calloc(1, sizeof *f);
-    if (!f) return -1;
-    phys_world_def def = phys_default_world_def();
-    if (phys_world_create(&def, &f->world) != PHYS_OK) {
-        free(f);
-        return -1;
-    }
-    *state = f;
-    return 0;
-}
-
-static int teardown(void **state) {
-    fixture *f = *state;
-    phys_world_destroy(f->world);
-    free(f);
-    return 0;
-}
-
-static const phys_quat identity = {0, 0, 0, 1};
-
-static phys_vec3 v3(float x, float y, float z) {
-    phys_vec3 v = {x, y, z};
-    return v;
-}
 
 static phys_vec3 sub(phys_vec3 a, phys_vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
 static double dot(phys_vec3 a, phys_vec3 b) { return (double)a.x * b.x + (double)a.y * b.y + (double)a.z * b.z; }
@@ -116,33 +50,6 @@ static double rotation_angle(phys_quat q) {
     return 2.0 * atan2(v, fabs((double)q.w));
 }
 
-static phys_shape_id make_box(phys_world *w, float hx, float hy, float hz) {
-    phys_box b = {{hx, hy, hz}};
-    phys_shape_id id = {0, 0, 0};
-    assert_ok(phys_shape_create_box(w, &b, &id));
-    return id;
-}
-
-static phys_shape_id make_sphere(phys_world *w, float radius) {
-    phys_sphere s = {radius};
-    phys_shape_id id = {0, 0, 0};
-    assert_ok(phys_shape_create_sphere(w, &s, &id));
-    return id;
-}
-
-// Ground plane y = 0 on a static body.
-static phys_body_id make_ground(phys_world *w) {
-    phys_plane p = {{0, 1, 0}, 0};
-    phys_shape_id shape = {0, 0, 0};
-    assert_ok(phys_shape_create_plane(w, &p, &shape));
-    phys_body_def def = phys_default_body_def();
-    def.type = PHYS_BODY_STATIC;
-    def.shape = shape;
-    phys_body_id id = {0, 0, 0};
-    assert_ok(phys_body_create(w, &def, &id));
-    return id;
-}
-
 // A dynamic body of `mass` kg (0: density 1000 kg/m³), sleep off unless asked.
 static phys_body_id make_dynamic(phys_world *w, phys_shape_id shape, phys_vec3 position,
                                  float mass, bool allow_sleep) {
@@ -171,22 +78,10 @@ static phys_body_id make_floor(phys_world *w) {
     return make_static(w, make_box(w, 5, 0.1f, 5), v3(0, -0.1f, 0));
 }
 
-static phys_vec3 position_of(phys_world *w, phys_body_id id) {
-    phys_vec3 p = {0, 0, 0};
-    assert_ok(phys_body_get_pose(w, id, &p, NULL));
-    return p;
-}
-
 static phys_quat orientation_of(phys_world *w, phys_body_id id) {
     phys_quat q = identity;
     assert_ok(phys_body_get_pose(w, id, NULL, &q));
     return q;
-}
-
-static phys_vec3 velocity_of(phys_world *w, phys_body_id id) {
-    phys_vec3 v = {0, 0, 0};
-    assert_ok(phys_body_get_linear_velocity(w, id, &v));
-    return v;
 }
 
 static phys_vec3 spin_of(phys_world *w, phys_body_id id) {
@@ -211,10 +106,6 @@ static float slider_position(phys_world *w, phys_joint_id j) {
     float s = NAN;
     assert_ok(phys_joint_get_position(w, j, &s));
     return s;
-}
-
-static void run(phys_world *w, float dt, int steps) {
-    for (int i = 0; i < steps; ++i) assert_ok(phys_world_step(w, dt));
 }
 
 static bool same_body(phys_body_id a, phys_body_id b) {
