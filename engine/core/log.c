@@ -31,3 +31,14 @@ void eng_log(const eng_logger *log, eng_log_level level, const char *fmt, ...)
     if (log && log->fn) log->fn(log->user, level, buf);
     else fprintf(stderr, "seiche: %s: %s\n", eng_log_level_name(level), buf);
 }
+
+bool eng_fail(char *err, size_t err_size, const char *fmt, ...)
+{
+    if (err && err_size) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(err, err_size, fmt, ap);
+        va_end(ap);
+    }
+    return false;
+}

@@ -3,6 +3,9 @@
 #ifndef ENG_LOG_H
 #define ENG_LOG_H
 
+#include <stdbool.h>
+#include <stddef.h>
+
 typedef enum eng_log_level {
     ENG_LOG_DEBUG = 0,
     ENG_LOG_INFO,
@@ -28,5 +31,13 @@ void eng_log(const eng_logger *log, eng_log_level level, const char *fmt, ...)
     ;
 
 const char *eng_log_level_name(eng_log_level level);
+
+/// Formats a message into the caller's error buffer (nothing when err is NULL or err_size 0)
+/// and returns false: `return eng_fail(err, err_size, "mesh %s: ...", path);`.
+bool eng_fail(char *err, size_t err_size, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
 
 #endif

@@ -1,6 +1,7 @@
 // Mesh files through assimp's C API, and the mesh data every other mesh function takes
 // (mesh_file.h): welding, degenerate triangles, winding, bounds, recentring, open edges.
 #include "engine/render/mesh_file.h"
+#include "engine/core/log.h"
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
@@ -8,27 +9,9 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static bool fail(char *err, size_t err_size, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-static bool fail(char *err, size_t err_size, const char *fmt, ...)
-{
-    if (err && err_size) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, err_size, fmt, ap);
-        va_end(ap);
-    }
-    return false;
-}
 
 eng_mesh_file_options eng_default_mesh_file_options(void)
 {
@@ -50,10 +33,10 @@ void eng_mesh_data_free(eng_mesh_data *m)
 static bool check_options(const char *name, const eng_mesh_file_options *o, char *err, size_t err_size)
 {
     if (!isfinite(o->scale) || !(o->scale > 0.0f) || o->scale > 1e6f)
-        return fail(err, err_size, "mesh '%s': eng_mesh_file_options.scale must be in (0, 1e6] (got %g)", name,
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_file_options.scale must be in (0, 1e6] (got %g)", name,
                     (double)o->scale);
     if (o->centre != ENG_MESH_KEEP_ORIGIN && o->centre != ENG_MESH_CENTRE_BOUNDS && o->centre != ENG_MESH_CENTRE_BASE)
-        return fail(err, err_size, "mesh '%s': eng_mesh_file_options.centre must be ENG_MESH_KEEP_ORIGIN, "
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_file_options.centre must be ENG_MESH_KEEP_ORIGIN, "
                     "ENG_MESH_CENTRE_BOUNDS or ENG_MESH_CENTRE_BASE (got %d)", name, (int)o->centre);
     return true;
 }
@@ -196,7 +179,7 @@ static bool finish(const char *name, float *pos, uint32_t nv, uint32_t *idx, uin
         free(remap);
         free(pos);
         free(idx);
-        return fail(err, err_size, "mesh '%s': out of memory welding its vertices", name);
+        return eng_fail(err, err_size, "mesh '%s': out of memory welding its vertices", name);
     }
     uint32_t kept = 0;
     for (uint32_t t = 0; t < nt; t++) {
@@ -213,7 +196,7 @@ static bool finish(const char *name, float *pos, uint32_t nv, uint32_t *idx, uin
     if (kept == 0) {
         free(pos);
         free(idx);
-        return fail(err, err_size, "mesh '%s' has no triangles with an area (all %u are degenerate)", name, nt);
+        return eng_fail(err, err_size, "mesh '%s' has no triangles with an area (all %u are degenerate)", name, nt);
     }
     memset(out, 0, sizeof *out);
     out->positions = pos;
@@ -246,32 +229,32 @@ bool eng_mesh_data_from_arrays(const float *positions, uint32_t nv, const uint32
                                size_t err_size)
 {
     if (!name) name = "mesh";
-    if (!out) return fail(err, err_size, "mesh '%s': eng_mesh_data_from_arrays: out must not be NULL", name);
+    if (!out) return eng_fail(err, err_size, "mesh '%s': eng_mesh_data_from_arrays: out must not be NULL", name);
     memset(out, 0, sizeof *out);
     eng_mesh_file_options o = options ? *options : eng_default_mesh_file_options();
     if (!check_options(name, &o, err, err_size)) return false;
     if (!positions || !indices)
-        return fail(err, err_size, "mesh '%s': %s must not be NULL", name, !positions ? "positions" : "indices");
+        return eng_fail(err, err_size, "mesh '%s': %s must not be NULL", name, !positions ? "positions" : "indices");
     if (nv < 3 || nv > ENG_MESH_FILE_MAX_VERTICES)
-        return fail(err, err_size, "mesh '%s': vertex_count must be in [3, %u] (got %u)", name,
+        return eng_fail(err, err_size, "mesh '%s': vertex_count must be in [3, %u] (got %u)", name,
                     ENG_MESH_FILE_MAX_VERTICES, nv);
     if (nt < 1 || nt > ENG_MESH_FILE_MAX_TRIANGLES)
-        return fail(err, err_size, "mesh '%s': triangle_count must be in [1, %u] (got %u)", name,
+        return eng_fail(err, err_size, "mesh '%s': triangle_count must be in [1, %u] (got %u)", name,
                     ENG_MESH_FILE_MAX_TRIANGLES, nt);
     for (size_t i = 0; i < 3 * (size_t)nv; i++)
         if (!isfinite(positions[i] * o.scale))
-            return fail(err, err_size, "mesh '%s': positions[%zu] must be finite (got %g, scale %g)", name, i,
+            return eng_fail(err, err_size, "mesh '%s': positions[%zu] must be finite (got %g, scale %g)", name, i,
                         (double)positions[i], (double)o.scale);
     for (size_t i = 0; i < 3 * (size_t)nt; i++)
         if (indices[i] >= nv)
-            return fail(err, err_size, "mesh '%s': indices[%zu] must be < vertex_count %u (got %u)", name, i, nv,
+            return eng_fail(err, err_size, "mesh '%s': indices[%zu] must be < vertex_count %u (got %u)", name, i, nv,
                         indices[i]);
     float *pos = malloc(3 * (size_t)nv * sizeof *pos);
     uint32_t *idx = malloc(3 * (size_t)nt * sizeof *idx);
     if (!pos || !idx) {
         free(pos);
         free(idx);
-        return fail(err, err_size, "mesh '%s': out of memory", name);
+        return eng_fail(err, err_size, "mesh '%s': out of memory", name);
     }
     for (size_t i = 0; i < 3 * (size_t)nv; i++) pos[i] = positions[i] * o.scale;
     memcpy(idx, indices, 3 * (size_t)nt * sizeof *idx);
@@ -289,17 +272,17 @@ static bool assimp_failed(const char *path, char *err, size_t err_size)
     const char *why = aiGetErrorString();
     if (!why || !*why) why = "no reason given";
     if (!dot || !aiIsExtensionSupported(dot))
-        return fail(err, err_size, "mesh file '%s' is not a mesh format assimp reads (extension '%s'; OBJ, glTF 2.0 "
+        return eng_fail(err, err_size, "mesh file '%s' is not a mesh format assimp reads (extension '%s'; OBJ, glTF 2.0 "
                     ".gltf/.glb and the formats of aiGetExtensionList are): %s", path, dot ? dot : "", why);
-    return fail(err, err_size, "mesh file '%s' could not be read: %s", path, why);
+    return eng_fail(err, err_size, "mesh file '%s' could not be read: %s", path, why);
 }
 
 bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, eng_mesh_data *out, char *err,
                         size_t err_size)
 {
-    if (!out) return fail(err, err_size, "eng_mesh_file_load: out must not be NULL");
+    if (!out) return eng_fail(err, err_size, "eng_mesh_file_load: out must not be NULL");
     memset(out, 0, sizeof *out);
-    if (!path || !*path) return fail(err, err_size, "eng_mesh_file_load: path must be a file name (got %s)",
+    if (!path || !*path) return eng_fail(err, err_size, "eng_mesh_file_load: path must be a file name (got %s)",
                                      path ? "\"\"" : "NULL");
     eng_mesh_file_options o = options ? *options : eng_default_mesh_file_options();
     if (!check_options(path, &o, err, err_size)) return false;
@@ -307,8 +290,8 @@ bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, 
     FILE *probe = fopen(path, "rb");
     if (!probe) {
         int e = errno;
-        if (e == ENOENT) return fail(err, err_size, "mesh file '%s' not found", path);
-        return fail(err, err_size, "mesh file '%s' cannot be opened: %s", path, strerror(e));
+        if (e == ENOENT) return eng_fail(err, err_size, "mesh file '%s' not found", path);
+        return eng_fail(err, err_size, "mesh file '%s' cannot be opened: %s", path, strerror(e));
     }
     fclose(probe);
     // No normals asked for: only positions are kept (eng_mesh_create_triangles makes flat
@@ -319,7 +302,7 @@ bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, 
     if (!scene) return assimp_failed(path, err, err_size);
     if (scene->mNumMeshes == 0) {
         aiReleaseImport(scene);
-        return fail(err, err_size, "mesh file '%s' holds no meshes (assimp read it, but found no geometry in it)",
+        return eng_fail(err, err_size, "mesh file '%s' holds no meshes (assimp read it, but found no geometry in it)",
                     path);
     }
     uint64_t nv = 0, nt = 0;
@@ -330,12 +313,12 @@ bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, 
     }
     if (nt == 0) {
         aiReleaseImport(scene);
-        return fail(err, err_size, "mesh file '%s' has no triangles (%u meshes of points or lines only)", path,
+        return eng_fail(err, err_size, "mesh file '%s' has no triangles (%u meshes of points or lines only)", path,
                     scene->mNumMeshes);
     }
     if (nv > ENG_MESH_FILE_MAX_VERTICES || nt > ENG_MESH_FILE_MAX_TRIANGLES) {
         aiReleaseImport(scene);
-        return fail(err, err_size, "mesh file '%s' is too big: %llu vertices and %llu triangles, at most %u and %u "
+        return eng_fail(err, err_size, "mesh file '%s' is too big: %llu vertices and %llu triangles, at most %u and %u "
                     "(simplify it)", path, (unsigned long long)nv, (unsigned long long)nt, ENG_MESH_FILE_MAX_VERTICES,
                     ENG_MESH_FILE_MAX_TRIANGLES);
     }
@@ -345,7 +328,7 @@ bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, 
         free(pos);
         free(idx);
         aiReleaseImport(scene);
-        return fail(err, err_size, "mesh file '%s': out of memory for %llu vertices", path, (unsigned long long)nv);
+        return eng_fail(err, err_size, "mesh file '%s': out of memory for %llu vertices", path, (unsigned long long)nv);
     }
     size_t v = 0, t = 0;
     for (unsigned i = 0; i < scene->mNumMeshes; i++) {
@@ -359,7 +342,7 @@ bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, 
                     free(pos);
                     free(idx);
                     aiReleaseImport(scene);
-                    return fail(err, err_size, "mesh file '%s': mesh %u, vertex %u is not finite (%g, %g, %g; scale %g)",
+                    return eng_fail(err, err_size, "mesh file '%s': mesh %u, vertex %u is not finite (%g, %g, %g; scale %g)",
                                 path, i, k, (double)p[0], (double)p[1], (double)p[2], (double)o.scale);
                 }
             }

@@ -16,29 +16,12 @@
 // A triangle holds the line when it lies on the same side of all three of its edges taken
 // in order (either side: front and back faces both cross). Edge-on triangles hold nothing.
 #include "engine/render/mesh_file.h"
+#include "engine/core/log.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static bool fail(char *err, size_t err_size, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-static bool fail(char *err, size_t err_size, const char *fmt, ...)
-{
-    if (err && err_size) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, err_size, fmt, ap);
-        va_end(ap);
-    }
-    return false;
-}
 
 eng_mesh_fill_options eng_default_mesh_fill_options(void)
 {
@@ -230,27 +213,27 @@ static bool check_fill_options(const eng_mesh_data *m, float spacing, const eng_
                                size_t err_size)
 {
     if (!isfinite(spacing) || !(spacing > 0.0f))
-        return fail(err, err_size, "mesh '%s': eng_mesh_fill_points: spacing must be finite and > 0 m (got %g)", m->name,
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_fill_points: spacing must be finite and > 0 m (got %g)", m->name,
                     (double)spacing);
     if (!isfinite(o->clearance) || o->clearance < 0.0f)
-        return fail(err, err_size, "mesh '%s': eng_mesh_fill_options.clearance must be finite and >= 0 m (got %g)",
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_fill_options.clearance must be finite and >= 0 m (got %g)",
                     m->name, (double)o->clearance);
     if (o->max_points < 1)
-        return fail(err, err_size, "mesh '%s': eng_mesh_fill_options.max_points must be >= 1 (got 0)", m->name);
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_fill_options.max_points must be >= 1 (got 0)", m->name);
     static const char *const xyz = "xyzw";
     for (int k = 0; k < 3; k++)
         if (!isfinite(o->position[k]))
-            return fail(err, err_size, "mesh '%s': eng_mesh_fill_options.position.%c must be finite (got %g)", m->name,
+            return eng_fail(err, err_size, "mesh '%s': eng_mesh_fill_options.position.%c must be finite (got %g)", m->name,
                         xyz[k], (double)o->position[k]);
     double len2 = 0.0;
     for (int k = 0; k < 4; k++) {
         if (!isfinite(o->rotation[k]))
-            return fail(err, err_size, "mesh '%s': eng_mesh_fill_options.rotation.%c must be finite (got %g)", m->name,
+            return eng_fail(err, err_size, "mesh '%s': eng_mesh_fill_options.rotation.%c must be finite (got %g)", m->name,
                         xyz[k], (double)o->rotation[k]);
         len2 += (double)o->rotation[k] * o->rotation[k];
     }
     if (fabs(sqrt(len2) - 1.0) > 1e-3)
-        return fail(err, err_size, "mesh '%s': eng_mesh_fill_options.rotation must be a unit quaternion (x, y, z, w) "
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_fill_options.rotation must be a unit quaternion (x, y, z, w) "
                     "within 1e-3 (got length %g)", m->name, sqrt(len2));
     return true;
 }
@@ -272,18 +255,18 @@ bool eng_mesh_fill_points(const eng_mesh_data *m, float spacing, const eng_mesh_
                           float **out_points, uint32_t *out_count, char *err, size_t err_size)
 {
     if (!out_points || !out_count)
-        return fail(err, err_size, "eng_mesh_fill_points: %s must not be NULL", !out_points ? "out_points" : "out_count");
+        return eng_fail(err, err_size, "eng_mesh_fill_points: %s must not be NULL", !out_points ? "out_points" : "out_count");
     *out_points = NULL;
     *out_count = 0;
     if (!m || !m->positions || !m->indices || !m->triangle_count)
-        return fail(err, err_size, "eng_mesh_fill_points: mesh must be a loaded mesh (got %s)",
+        return eng_fail(err, err_size, "eng_mesh_fill_points: mesh must be a loaded mesh (got %s)",
                     !m ? "NULL" : "an empty one");
     eng_mesh_fill_options o = options ? *options : eng_default_mesh_fill_options();
     if (!check_fill_options(m, spacing, &o, err, err_size)) return false;
     uint32_t open = eng_mesh_open_edges(m);
-    if (open == UINT32_MAX) return fail(err, err_size, "mesh '%s': out of memory checking its edges", m->name);
+    if (open == UINT32_MAX) return eng_fail(err, err_size, "mesh '%s': out of memory checking its edges", m->name);
     if (open > 0)
-        return fail(err, err_size, "mesh '%s' has %u open edge%s (edges of one triangle only: holes): it has no inside "
+        return eng_fail(err, err_size, "mesh '%s' has %u open edge%s (edges of one triangle only: holes): it has no inside "
                     "to fill (close it, e.g. cap its holes)", m->name, open, open == 1 ? "" : "s");
     lattice l;
     l.spacing = spacing;
@@ -296,7 +279,7 @@ bool eng_mesh_fill_points(const eng_mesh_data *m, float spacing, const eng_mesh_
         sites *= l.n[k];
     }
     if (sites > (double)ENG_MESH_FILL_MAX_SITES)
-        return fail(err, err_size, "mesh '%s': a lattice of %g m over its %g x %g x %g m bounds has %.0f sites, more than "
+        return eng_fail(err, err_size, "mesh '%s': a lattice of %g m over its %g x %g x %g m bounds has %.0f sites, more than "
                     "%u (use a larger spacing)", m->name, (double)spacing,
                     (double)(m->bounds_max[0] - m->bounds_min[0]), (double)(m->bounds_max[1] - m->bounds_min[1]),
                     (double)(m->bounds_max[2] - m->bounds_min[2]), sites, ENG_MESH_FILL_MAX_SITES);
@@ -328,7 +311,7 @@ bool eng_mesh_fill_points(const eng_mesh_data *m, float spacing, const eng_mesh_
     for (uint32_t r = 0; r < rows; r++) {
         uint32_t n = first[r + 1] - first[r];
         if (n & 1u) {
-            fail(err, err_size, "mesh '%s': a row of sites at %c = %g, %c = %g crosses its surface %u times, an odd number, "
+            eng_fail(err, err_size, "mesh '%s': a row of sites at %c = %g, %c = %g crosses its surface %u times, an odd number, "
                  "though every edge is shared: the mesh is degenerate there (overlapping or tiny triangles)", m->name,
                  "xyz"[l.u], site(&l, l.u, r % l.n[l.u]), "xyz"[l.v], site(&l, l.v, r / l.n[l.u]), n);
             goto done;
@@ -368,7 +351,7 @@ bool eng_mesh_fill_points(const eng_mesh_data *m, float spacing, const eng_mesh_
         if (pass == 0) {
             count = written;
             if (count > o.max_points) {
-                fail(err, err_size, "mesh '%s' holds %u lattice sites of %g m, more than max_points %u", m->name, count,
+                eng_fail(err, err_size, "mesh '%s' holds %u lattice sites of %g m, more than max_points %u", m->name, count,
                      (double)spacing, o.max_points);
                 goto done;
             }
@@ -382,7 +365,7 @@ bool eng_mesh_fill_points(const eng_mesh_data *m, float spacing, const eng_mesh_
     ok = true;
     goto done;
 oom:
-    fail(err, err_size, "mesh '%s': out of memory filling it", m->name);
+    eng_fail(err, err_size, "mesh '%s': out of memory filling it", m->name);
 done:
     free(cs.c);
     free(first);

@@ -1,34 +1,17 @@
 // Bullet shapes from a mesh (mesh_physics.h): hull points, hulls moved to their centre of
 // mass, static triangle meshes.
 #include "engine/render/mesh_physics.h"
+#include "engine/core/log.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static bool fail(char *err, size_t err_size, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-static bool fail(char *err, size_t err_size, const char *fmt, ...)
-{
-    if (err && err_size) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(err, err_size, fmt, ap);
-        va_end(ap);
-    }
-    return false;
-}
-
 static bool check_mesh(const eng_mesh_data *m, const char *fn, char *err, size_t err_size)
 {
     if (!m || !m->positions || !m->indices || m->vertex_count < 3 || !m->triangle_count)
-        return fail(err, err_size, "%s: mesh must be a loaded mesh (got %s)", fn, !m ? "NULL" : "an empty one");
+        return eng_fail(err, err_size, "%s: mesh must be a loaded mesh (got %s)", fn, !m ? "NULL" : "an empty one");
     return true;
 }
 
@@ -66,16 +49,16 @@ bool eng_mesh_hull_points(const eng_mesh_data *m, uint32_t max_points, phys_vec3
                           char *err, size_t err_size)
 {
     if (!out_points || !out_count)
-        return fail(err, err_size, "eng_mesh_hull_points: %s must not be NULL", !out_points ? "out_points" : "out_count");
+        return eng_fail(err, err_size, "eng_mesh_hull_points: %s must not be NULL", !out_points ? "out_points" : "out_count");
     *out_points = NULL;
     *out_count = 0;
     if (!check_mesh(m, "eng_mesh_hull_points", err, err_size)) return false;
     if (max_points < ENG_MESH_HULL_MIN_POINTS || max_points > ENG_MESH_HULL_MAX_POINTS)
-        return fail(err, err_size, "mesh '%s': hull max_points must be in [%d, %d] (got %u)", m->name,
+        return eng_fail(err, err_size, "mesh '%s': hull max_points must be in [%d, %d] (got %u)", m->name,
                     ENG_MESH_HULL_MIN_POINTS, ENG_MESH_HULL_MAX_POINTS, max_points);
     uint32_t n = m->vertex_count;
     phys_vec3 *pts = malloc((size_t)(n < max_points ? n : max_points) * sizeof *pts);
-    if (!pts) return fail(err, err_size, "mesh '%s': out of memory", m->name);
+    if (!pts) return eng_fail(err, err_size, "mesh '%s': out of memory", m->name);
     uint32_t count = 0;
     if (n <= max_points) {
         for (uint32_t i = 0; i < n; i++)
@@ -84,7 +67,7 @@ bool eng_mesh_hull_points(const eng_mesh_data *m, uint32_t max_points, phys_vec3
         uint32_t *chosen = malloc((size_t)max_points * sizeof *chosen);
         if (!chosen) {
             free(pts);
-            return fail(err, err_size, "mesh '%s': out of memory", m->name);
+            return eng_fail(err, err_size, "mesh '%s': out of memory", m->name);
         }
         // Extremes are taken about the bounds' centre (the directions do not care, the
         // rounding does).
@@ -190,7 +173,7 @@ static bool hull_centroid(const phys_hull_desc *h, double centroid[3], double *v
 bool eng_mesh_create_hull(phys_world *w, const eng_mesh_data *m, uint32_t max_points, eng_mesh_hull *out, char *err,
                           size_t err_size)
 {
-    if (!w || !out) return fail(err, err_size, "eng_mesh_create_hull: %s must not be NULL", !w ? "world" : "out");
+    if (!w || !out) return eng_fail(err, err_size, "eng_mesh_create_hull: %s must not be NULL", !w ? "world" : "out");
     memset(out, 0, sizeof *out);
     phys_vec3 *pts;
     uint32_t n;
@@ -199,14 +182,14 @@ bool eng_mesh_create_hull(phys_world *w, const eng_mesh_data *m, uint32_t max_po
     phys_shape_id shape;
     if (phys_shape_create_convex_hull(w, &hull, &shape) != PHYS_OK) {
         free(pts);
-        return fail(err, err_size, "mesh '%s': no convex hull: %s", m->name, phys_world_last_error(w));
+        return eng_fail(err, err_size, "mesh '%s': no convex hull: %s", m->name, phys_world_last_error(w));
     }
     phys_shape_desc d;
     double com[3], vol;
     if (phys_shape_get_desc(w, shape, &d) != PHYS_OK || !hull_centroid(&d.hull, com, &vol)) {
         phys_shape_destroy(w, shape);
         free(pts);
-        return fail(err, err_size, "mesh '%s': the convex hull's centre of mass could not be found (%s)", m->name,
+        return eng_fail(err, err_size, "mesh '%s': the convex hull's centre of mass could not be found (%s)", m->name,
                     phys_world_last_error(w));
     }
     // Made again around its centre of mass (the first one only told where that is).
@@ -219,10 +202,10 @@ bool eng_mesh_create_hull(phys_world *w, const eng_mesh_data *m, uint32_t max_po
     phys_result r = phys_shape_create_convex_hull(w, &hull, &shape);
     free(pts);
     if (r != PHYS_OK || phys_shape_get_desc(w, shape, &d) != PHYS_OK)
-        return fail(err, err_size, "mesh '%s': no convex hull: %s", m->name, phys_world_last_error(w));
+        return eng_fail(err, err_size, "mesh '%s': no convex hull: %s", m->name, phys_world_last_error(w));
     if (d.hull.plane_count > PBF_MAX_HULL_PLANES) { // 2 n - 4 faces at most: cannot happen
         phys_shape_destroy(w, shape);
-        return fail(err, err_size, "mesh '%s': its hull has %u faces, more than the fluid's %d", m->name,
+        return eng_fail(err, err_size, "mesh '%s': its hull has %u faces, more than the fluid's %d", m->name,
                     d.hull.plane_count, PBF_MAX_HULL_PLANES);
     }
     out->shape = shape;
@@ -239,15 +222,15 @@ bool eng_mesh_create_static_shape(phys_world *w, const eng_mesh_data *m, phys_sh
                                   size_t err_size)
 {
     if (!w || !out)
-        return fail(err, err_size, "eng_mesh_create_static_shape: %s must not be NULL", !w ? "world" : "out");
+        return eng_fail(err, err_size, "eng_mesh_create_static_shape: %s must not be NULL", !w ? "world" : "out");
     if (!check_mesh(m, "eng_mesh_create_static_shape", err, err_size)) return false;
     phys_vec3 *v = malloc((size_t)m->vertex_count * sizeof *v);
-    if (!v) return fail(err, err_size, "mesh '%s': out of memory", m->name);
+    if (!v) return eng_fail(err, err_size, "mesh '%s': out of memory", m->name);
     for (uint32_t i = 0; i < m->vertex_count; i++)
         v[i] = (phys_vec3){ m->positions[3 * (size_t)i], m->positions[3 * (size_t)i + 1], m->positions[3 * (size_t)i + 2] };
     phys_triangle_mesh tm = { v, m->vertex_count, m->indices, m->triangle_count };
     phys_result r = phys_shape_create_triangle_mesh(w, &tm, out);
     free(v);
-    if (r != PHYS_OK) return fail(err, err_size, "mesh '%s': no triangle mesh shape: %s", m->name, phys_world_last_error(w));
+    if (r != PHYS_OK) return eng_fail(err, err_size, "mesh '%s': no triangle mesh shape: %s", m->name, phys_world_last_error(w));
     return true;
 }
