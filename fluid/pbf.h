@@ -90,6 +90,7 @@ typedef enum pbf_stage {
     PBF_STAGE_VELOCITY,    ///< v = (x* - x) / dt
     PBF_STAGE_VORTICITY,   ///< curl of the velocity field
     PBF_STAGE_VISCOSITY,   ///< vorticity confinement and XSPH viscosity
+    PBF_STAGE_TENSION,     ///< surface normals, cohesion and curvature (surface_tension > 0)
     PBF_STAGE_METRICS,     ///< density statistics reduced on the GPU (once per step)
     PBF_STAGE_COUNT
 } pbf_stage;
@@ -115,6 +116,9 @@ typedef struct pbf_params {
     float gravity[3];       ///< m/s^2, finite, each |g| <= 1000
     float damping;          ///< linear velocity damping, 1/s, [0, 100]
     float max_speed;        ///< velocity clamp, m/s, (0, 1000]
+    float surface_tension;  ///< gamma of the cohesion and curvature forces (Akinci et al.
+                            ///< 2013, with the rest volume in place of the mass), m/s^2,
+                            ///< [0, 1000]; 0 (the default) skips both passes
 } pbf_params;
 
 /// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).

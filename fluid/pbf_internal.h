@@ -30,6 +30,8 @@ enum program_id {
     PROG_LIVE_COUNT,
     PROG_APPEND,
     PROG_GRID_CLEAR,
+    PROG_NORMALS,
+    PROG_TENSION,
     PROG_COUNT
 };
 
@@ -110,7 +112,7 @@ struct pbf_world {
     GLint u_scan_n[2], u_frame;
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
-    GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, scan, colliders, forces,
+    GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, normal, scan, colliders, forces,
         reduce, metrics, draw, params_ubo, nb_list, nb_count, state, stage_pos, stage_vel, stage_id, order;
     uint32_t stage_cap;        // particles the staging buffers hold
     bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed

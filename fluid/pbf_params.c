@@ -27,6 +27,7 @@ pbf_params pbf_default_params(void)
     p.gravity[2] = 0.0f;
     p.damping = 0.0f;
     p.max_speed = 20.0f;
+    p.surface_tension = 0.0f;
     return p;
 }
 
@@ -146,6 +147,8 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
           (double)p->damping, "in [0, 100] 1/s");
     CHECK(isfinite(p->max_speed) && p->max_speed > 0.0f && p->max_speed <= 1000.0f, "max_speed", "%g",
           (double)p->max_speed, "in (0, 1000] m/s");
+    CHECK(isfinite(p->surface_tension) && p->surface_tension >= 0.0f && p->surface_tension <= 1000.0f,
+          "surface_tension", "%g", (double)p->surface_tension, "in [0, 1000] m/s^2 (0: off)");
     if (err && err_size) err[0] = 0;
     return PBF_OK;
 }
@@ -167,6 +170,7 @@ static const pbf_param_info param_table[] = {
     F(viscosity, "", 0.0, 1.0, "XSPH viscosity c"),
     F(damping, "1/s", 0.0, 100.0, "linear velocity damping"),
     F(max_speed, "m/s", 0.0, 1000.0, "particle speed clamp, (0, 1000]"),
+    F(surface_tension, "m/s^2", 0.0, 1000.0, "surface tension gamma: cohesion and curvature (Akinci 2013); 0 off"),
 };
 #undef F
 #undef I
@@ -295,6 +299,9 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->damping = p->damping;
     g->max_speed = p->max_speed;
     g->radius = p->particle_radius;
+    g->surface_tension = p->surface_tension;
+    // V0 * 32 / (pi h^9), V0 = m / rho0 the rest volume of a particle.
+    g->cohesion_norm = (float)((double)k->mass / p->rest_density * 32.0 / (PBF_PI * pow(h, 9)));
 }
 
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,

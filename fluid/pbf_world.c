@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-_Static_assert(sizeof(pbf_gpu_params) == 560, "pbf_gpu_params must match the std140 block");
+_Static_assert(sizeof(pbf_gpu_params) == 576, "pbf_gpu_params must match the std140 block");
 _Static_assert(sizeof(pbf_gpu_params) % 16 == 0, "std140 block size");
 _Static_assert(sizeof(pbf_gpu_collider) == 144, "pbf_gpu_collider std430 layout");
 _Static_assert(sizeof(pbf_gpu_reduce) == 32, "pbf_gpu_reduce std430 layout");
@@ -37,12 +37,12 @@ static const char *const program_files[PROG_COUNT] = {
     "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp", "fluid/collide.comp",
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
     "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
-    "fluid/grid_clear.comp",
+    "fluid/grid_clear.comp", "fluid/normals.comp", "fluid/tension.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
     "predict", "grid_count", "grid_scan", "grid_scatter", "grid_sort", "reorder", "neighbours",
-    "density", "delta", "collide", "velocity", "vorticity", "viscosity", "metrics",
+    "density", "delta", "collide", "velocity", "vorticity", "viscosity", "tension", "metrics",
 };
 
 const char *pbf_stage_name(pbf_stage stage)
@@ -177,7 +177,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
 static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
-    int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3;
+    int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3 + 2; // + 2: tension
     int need = 1 + per_substep * p->substeps + 4;
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
@@ -197,8 +197,8 @@ uint64_t pbf_world_def_memory(const pbf_world_def *def)
     if (!def) return 0;
     uint64_t cap = def->capacity;
     // pos, vel, pred (two vec4 each), ids (two), cell_of, sorted, order, lambda (vec2),
-    // omega (vec4), neighbour count and list, and the metrics partials.
-    uint64_t per_particle = 6 * 16 + 2 * 4 + 3 * 4 + 8 + 16 + 4 + 4ull * def->max_neighbours;
+    // omega and normal (vec4), neighbour count and list, and the metrics partials.
+    uint64_t per_particle = 6 * 16 + 2 * 4 + 3 * 4 + 8 + 2 * 16 + 4 + 4ull * def->max_neighbours;
     uint64_t bytes = cap * per_particle + (cap / PBF_WG + 1) * sizeof(pbf_gpu_reduce);
     uint64_t cells = pbf_hash_buckets(def->capacity);
     bytes += (2 * cells + 3) * 4 + cells / PBF_SCAN_BLOCK * 4 + 4096; // bucket starts, fills, scan
@@ -314,6 +314,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->order = pbf_gpu_buffer(cap * 4, "pbf.order");
     w->lambda = pbf_gpu_buffer(cap * 8, "pbf.lambda");
     w->omega = pbf_gpu_buffer(cap * 16, "pbf.omega");
+    w->normal = pbf_gpu_buffer(cap * 16, "pbf.normal");
     w->nb_list = pbf_gpu_buffer(cap * (GLsizeiptr)w->max_neighbours * 4, "pbf.nb_list");
     w->nb_count = pbf_gpu_buffer(cap * 4, "pbf.nb_count");
     w->colliders = pbf_cpu_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider), NULL, "pbf.colliders");
@@ -349,7 +350,7 @@ void pbf_world_destroy(pbf_world *w)
     for (int i = 0; i < PROG_COUNT; i++)
         if (w->programs[i]) glDeleteProgram(w->programs[i]);
     GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
-                      w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega,
+                      w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega, w->normal,
                       w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
                       w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id, w->order };
     glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
@@ -673,6 +674,13 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         }
         dispatch_particles(s, PROG_VISCOSITY, PBF_STAGE_VISCOSITY);
         stage_done(s, PBF_STAGE_VISCOSITY, -1);
+        w->cur_vel ^= 1;
+        pbf_bind_particles(w);
+    }
+    if (p->surface_tension > 0.0f) {
+        dispatch_particles(s, PROG_NORMALS, PBF_STAGE_TENSION);
+        dispatch_particles(s, PROG_TENSION, PBF_STAGE_TENSION);
+        stage_done(s, PBF_STAGE_TENSION, -1);
         w->cur_vel ^= 1;
         pbf_bind_particles(w);
     }

@@ -122,6 +122,13 @@ layout(std430, binding = PBF_B_OMEGA) buffer Omega { vec4 omega[]; };
 layout(std430, binding = PBF_B_OMEGA) readonly buffer Omega { vec4 omega[]; };
 #endif
 #endif
+#ifdef USE_NORMAL
+#ifdef WRITE_NORMAL
+layout(std430, binding = PBF_B_NORMAL) buffer Normal { vec4 normal[]; };
+#else
+layout(std430, binding = PBF_B_NORMAL) readonly buffer Normal { vec4 normal[]; };
+#endif
+#endif
 #ifdef USE_COLLIDERS
 #ifdef WRITE_COLLIDERS
 layout(std430, binding = PBF_B_COLLIDERS) buffer Colliders { pbf_gpu_collider colliders[]; };

@@ -72,6 +72,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_STAGE_VEL 26 // vec4[]
 #define PBF_B_STAGE_ID 27  // uint[]
 #define PBF_B_ORDER 28     // uint[cap]: new slot -> old slot, in deterministic order
+#define PBF_B_NORMAL 29    // vec4[cap]: surface normal n_i of the surface tension pass (dimensionless)
 
 // Uniform block binding of pbf_gpu_params.
 #define PBF_U_PARAMS 0
@@ -148,6 +149,10 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT scorr_scale;   // m^2: s_corr is -k (W / W(dq))^n * scorr_scale, a multiplier
                              // of the size a constraint violated by k would get
     PBF_FLOAT boundary_scale;// calibrates the continuous wall model to the particle lattice
+    PBF_FLOAT surface_tension; // gamma, m/s^2 (0: the tension passes do not run)
+    PBF_FLOAT cohesion_norm; // 32 / (pi h^9) * m / rho0, 1/m^6: the cohesion spline's factor
+    PBF_FLOAT pad_tension0;
+    PBF_FLOAT pad_tension1;
 } PBF_END(pbf_gpu_params);
 
 // A collider on the GPU: a shape in a rigid frame at two poses (previous and current
