@@ -783,6 +783,25 @@ typedef struct phys_contact {
 phys_result phys_world_get_contacts(phys_world *world, float min_impulse, phys_contact *out,
                                     int max, int *count);
 
+/// Contact sums over several steps, for a host that steps the world more than
+/// once per frame (the coupling steps it once per fluid substep) and wants the
+/// frame's hits. While sums are on (they are off in a new world), every
+/// phys_world_step adds each of its pairs, as phys_world_get_contacts(0)
+/// would report them after that step, to a running sum per pair: impulses
+/// add, point and normal become the impulse-weighted means over the steps.
+/// Turning sums off (or on again) empties them.
+phys_result phys_world_set_contact_sums(phys_world *world, bool enabled);
+
+/// The pairs summed since the sums were turned on or last taken whose summed
+/// impulse exceeds `min_impulse` (N·s, finite, >= 0), sorted by a.index1 then
+/// b.index1, as phys_world_get_contacts fills them; then empties the sums (all
+/// of them, also the pairs at or below the threshold). A pair's ids are those
+/// of its bodies at the step that last touched; a body destroyed since makes
+/// its ids stale. *count and max as in phys_world_get_contacts. Refused
+/// (PHYS_ERR_INVALID_ARG) while sums are off.
+phys_result phys_world_take_contact_sums(phys_world *world, float min_impulse, phys_contact *out,
+                                         int max, int *count);
+
 #ifdef __cplusplus
 }
 #endif

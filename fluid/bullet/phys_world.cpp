@@ -220,6 +220,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
         w->dynamics->stepSimulation(dt, 0, dt);
         w->last_dt = dt;
         for (BodySlot& b : w->bodies) b.has_target = false;
+        sum_step_contacts(w);
         return PHYS_OK;
     });
 }
