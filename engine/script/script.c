@@ -79,6 +79,7 @@ static void open_api(scr_api *api)
     scr_open_body(api);
     scr_open_interact(api);
     scr_open_query(api);
+    scr_open_joint(api);
     for (int k = 0; k < OBJ_KIND_COUNT; k++) assert(api->methods[k]);
 }
 

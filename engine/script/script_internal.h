@@ -17,6 +17,7 @@
 //   wrap_fluid.c      fluid parameters, gravity, blocks, spheres and particle lists
 //   wrap_emitter.c    emitters and sinks
 //   wrap_body.c       bodies and grabs
+//   wrap_joint.c      joints between bodies (hinge, slider, fixed, point)
 //   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
 //   wrap_query.c      stats, time, counts, particle queries, check and quit
 //
@@ -42,8 +43,8 @@
 
 // ---- objects -------------------------------------------------------------------------
 
-typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_KIND_COUNT } obj_kind;
-extern const char *const scr_kind_name[OBJ_KIND_COUNT];   // "emitter", "sink", "body", "timer", "grab"
+typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_JOINT, OBJ_KIND_COUNT } obj_kind;
+extern const char *const scr_kind_name[OBJ_KIND_COUNT];   // "emitter", "sink", "body", "timer", "grab", "joint"
 extern const char *const scr_kind_meta[OBJ_KIND_COUNT];   // metatable names: "seiche.emitter", ...
 
 typedef enum obj_state {
@@ -93,6 +94,23 @@ typedef struct body_rec {
     uint64_t target_step;   // the step (frame + 1) the target was set for
 } body_rec;
 
+// A joint between two bodies (wrap_joint.c): what the script asked for, world frame at
+// creation. Body b is the world when b_slot is NO_SLOT.
+#define NO_SLOT UINT32_MAX
+extern const char *const scr_joint_kind_name[5];          // by phys_joint_type: "", "hinge", "slider", "fixed", "point"
+typedef struct joint_rec {
+    phys_joint_type type;
+    uint32_t a_slot, a_gen, b_slot, b_gen;
+    float pivot[3];         // hinge and point: pivot; slider: anchor (m)
+    float axis[3];          // hinge and slider: unit axis
+    bool collide;           // the two bodies collide with each other
+    bool limit;
+    float lo, hi;           // rad (hinge) or m (slider)
+    bool motor;
+    float speed, max;       // rad/s or m/s; N m or N
+    phys_joint_id id;
+} joint_rec;
+
 typedef struct obj {
     obj_kind kind;
     obj_state state;
@@ -104,6 +122,7 @@ typedef struct obj {
         body_rec body;
         struct { double due, period; int fn; } timer;
         struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
+        joint_rec joint;
     } u;
 } obj;
 
@@ -121,6 +140,7 @@ typedef enum cmd_type {
     CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
     CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
     CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
+    CMD_JOINT_ADD, CMD_JOINT_MOTOR, CMD_JOINT_LIMITS, CMD_JOINT_REMOVE,
     CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
 } cmd_type;
 
@@ -142,6 +162,7 @@ typedef struct command {
         struct { float pos[3], rot[4]; } pose;
         struct { float color[3]; bool visible; } look;
         phys_constraint_id constraint;
+        struct { phys_joint_id id; bool on; float a, b; } joint; // motor: speed, max; limits: lo, hi
         pbf_params params;
         float gravity[3];
         struct { float eye[3], target[3], fov; int mode; bool has_eye, has_target, has_fov, has_mode; } camera;
@@ -217,7 +238,7 @@ struct eng_script {
 // ---- registration (script.c) -----------------------------------------------------------
 
 /// The most API areas (wrap_*.c files).
-#define SCR_MAX_AREAS 8
+#define SCR_MAX_AREAS 16
 
 /// What the API areas bind, as their scr_open_* functions declare it: the core registers it
 /// in the Lua state and lists its names for the docs test (eng_script_api_names).
@@ -236,6 +257,7 @@ void scr_open_emitter(scr_api *api);  // wrap_emitter.c
 void scr_open_body(scr_api *api);     // wrap_body.c
 void scr_open_interact(scr_api *api); // wrap_interact.c
 void scr_open_query(scr_api *api);    // wrap_query.c
+void scr_open_joint(scr_api *api);    // wrap_joint.c
 
 // ---- limits (script.c) --------------------------------------------------------------------
 
@@ -352,6 +374,20 @@ uint32_t scr_capacity_of(eng_script *s);
 
 command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn);
 void scr_clear_commands(eng_script *s);
+/// An applied edit the world refused: "file:line: fn: message" into s->error; ENG_SCRIPT_ERROR.
+eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+// ---- joints (wrap_joint.c) ------------------------------------------------------------------
+
+/// Applies a CMD_JOINT_* edit.
+eng_script_status scr_apply_joint(eng_script *s, const command *c);
+/// Releases the handles of the joints that hold body `slot` (Bullet destroys the joints
+/// with the body).
+void scr_release_joints_of(eng_script *s, uint32_t slot, uint32_t gen);
 
 // ---- bodies (wrap_body.c, script_mesh.c) --------------------------------------------------------
 

@@ -603,7 +603,8 @@ static int m_body_set_visible(lua_State *L)
     return 0;
 }
 
-// Releases the grabs that hold body `slot` (Bullet destroys their constraints with it).
+// Releases the grabs that hold body `slot` (Bullet destroys their constraints with it; its
+// joints go the same way, scr_release_joints_of).
 static void release_grabs_of(eng_script *s, uint32_t slot, uint32_t gen)
 {
     for (uint32_t i = 0; i < s->obj_count; i++) {
@@ -626,6 +627,7 @@ static int m_body_destroy(lua_State *L)
         c->u.body.mesh = o->u.body.mesh;
     }
     release_grabs_of(s, slot, o->generation);
+    scr_release_joints_of(s, slot, o->generation);
     scr_obj_release(s, slot);
     return 0;
 }
