@@ -1,7 +1,7 @@
 // The Lua host's interaction bindings without a GL context or a world (as tests/test_lua.c):
-// joints (seiche.joint and its methods) refuse bad input naming the function, the field or
-// argument, the value and what is allowed, at the caller's file:line; what a joint records
-// before it is in the world.
+// joints (seiche.joint and its methods) and the event thresholds refuse bad input naming the
+// function, the field or argument, the value and what is allowed, at the caller's file:line;
+// what a joint records before it is in the world; the thresholds' defaults.
 #include "tests/support.h"
 
 #include <stdio.h>
@@ -136,12 +136,29 @@ static void joint_records_what_it_was_given(void **state)
               "local f, t = r:force(); seiche.check(f.x == 0 and t.z == 0, 'no force before a step')\n");
 }
 
+// ---- events -------------------------------------------------------------------------------
+
+static void event_thresholds_are_checked_and_kept(void **state)
+{
+    (void)state;
+    expect_error_after("", "seiche.set_contact_threshold(-1)",
+                       "seiche.set_contact_threshold: argument #1 'impulse' must be a number in [0, 1000000000] N s (got -1)");
+    expect_error_after("", "seiche.set_contact_threshold()",
+                       "seiche.set_contact_threshold: argument #1 'impulse' must be a number in [0, 1000000000] N s (got no value)");
+    expect_error_after("", "seiche.set_splash_threshold(0/0)",
+                       "seiche.set_splash_threshold: argument #1 'speed' must be a number in [0, 10000] m/s (got nan)");
+    expect_ok("seiche.check(seiche.contact_threshold() == 0.2 and seiche.splash_threshold() == 0.5, 'defaults')\n"
+              "seiche.set_contact_threshold(0); seiche.set_splash_threshold(2.5)\n"
+              "seiche.check(seiche.contact_threshold() == 0 and seiche.splash_threshold() == 2.5, 'kept')\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(joint_input_is_checked_naming_the_field),
         cmocka_unit_test(joint_methods_are_checked),
         cmocka_unit_test(joint_records_what_it_was_given),
+        cmocka_unit_test(event_thresholds_are_checked_and_kept),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -186,11 +186,76 @@ static void test_sums_must_be_on_and_arguments_are_checked(void **state) {
     assert_int_equal(phys_world_set_contact_sums(NULL, true), PHYS_ERR_INVALID_ARG);
 }
 
+
+// phys_world_def.split_impulse_depth: with Bullet's 4 cm, a 2 kg box landing at 2.9 m/s
+// (frames of 4 steps of 1/240 s) overlaps by about v dt and leaves again at about 0.2 v: its
+// hit is about 1.2 m v, and it lands a second time 3 frames later. With 0 it does not hop: it
+// lands once, with m v plus the frame's gravity. A depth outside [0, 1] m is refused.
+static double landing(float depth, int *hits, double *second)
+{
+    phys_world_def def = phys_default_world_def();
+    def.split_impulse_depth = depth;
+    phys_world *w = NULL;
+    assert_ok(phys_world_create(&def, &w));
+    phys_body_id floor_body = make_floor(w);
+    phys_body_id box = make_dynamic(w, make_box(w, 0.15f, 0.1f, 0.15f), v3(0, 0.55f, 0), 2);
+    assert_ok(phys_world_set_contact_sums(w, true));
+    const float dt = 1.0f / 240.0f;
+    double first = 0, v_before = 0;
+    *hits = 0;
+    *second = 0;
+    bool touching = false;
+    for (int frame = 0; frame < 90; ++frame) {
+        const double v0 = velocity_of(w, box).y;
+        run(w, dt, 4);
+        phys_contact c[4];
+        int n = 0;
+        assert_ok(phys_world_take_contact_sums(w, 0, c, 4, &n));
+        const phys_contact *p = pair_in(c, n, floor_body, box);
+        // A landing: contact after a frame without.
+        if (p && !touching) {
+            if (*hits == 0) first = p->impulse, v_before = v0;
+            else if (*hits == 1) *second = p->impulse;
+            (*hits)++;
+        }
+        if (getenv("SEICHE_TEST_TRACE")) print_message("depth %.2f frame %d: %.4f\n", (double)depth, frame, p ? p->impulse : 0.0);
+        touching = p != NULL;
+    }
+    phys_world_destroy(w);
+    return first / (2 * fabs(v_before));
+}
+
+static void test_split_impulse_depth_0_stops_landings_from_hopping(void **state)
+{
+    (void)state;
+    int hits_default = 0, hits_zero = 0;
+    double second_default = 0, second_zero = 0;
+    const double r_default = landing(0.04f, &hits_default, &second_default);
+    const double r_zero = landing(0.0f, &hits_zero, &second_zero);
+    print_message("landing at depth 0.04: hit %.3f m v, %d landings (the second %.3f N s); at depth 0: hit %.3f m v, "
+                  "%d landings\n",
+                  r_default, hits_default, second_default, r_zero, hits_zero);
+    assert_true(r_default > 1.12);
+    assert_true(hits_default >= 2);
+    assert_int_equal(hits_zero, 1);
+    // m v and the gravity of the frame's steps during and after the hit (at most 4 m g dt).
+    assert_true(r_zero >= 1.0 && r_zero < 1.0 + 4 * G * (1.0 / 240) / 2.9 + 0.01);
+    phys_world_def def = phys_default_world_def();
+    assert_near(def.split_impulse_depth, 0.04, 1e-7);
+    phys_world *w = NULL;
+    def.split_impulse_depth = -0.01f;
+    assert_int_equal(phys_world_create(&def, &w), PHYS_ERR_INVALID_ARG);
+    assert_null(w);
+    def.split_impulse_depth = NAN;
+    assert_int_equal(phys_world_create(&def, &w), PHYS_ERR_INVALID_ARG);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_sums_are_the_steps_reports_added_up, setup, teardown),
         cmocka_unit_test_setup_teardown(test_a_dropped_box_gives_one_frame_of_m_dv_then_its_weight, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sums_must_be_on_and_arguments_are_checked, setup, teardown),
+        cmocka_unit_test(test_split_impulse_depth_0_stops_landings_from_hopping),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,6 +18,7 @@
 //   wrap_emitter.c    emitters and sinks
 //   wrap_body.c       bodies and grabs
 //   wrap_joint.c      joints between bodies (hinge, slider, fixed, point)
+//   wrap_events.c     on_contact and on_splash, and their thresholds
 //   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
 //   wrap_query.c      stats, time, counts, particle queries, check and quit
 //
@@ -67,6 +68,9 @@ typedef struct body_part {
     float rot[4];           // unit quaternion x, y, z, w
 } body_part;
 
+/// Steps of velocity a body remembers for on_splash (the fluid's measurement is a step late).
+#define SCR_VELOCITY_HISTORY 8
+
 // The most parts a compound may have: each is a fluid collider, and the fluid has 64.
 #define MAX_BODY_PARTS 64
 extern const char *const scr_body_kind_name[3];           // "static", "kinematic", "dynamic" = phys_body_type
@@ -92,6 +96,13 @@ typedef struct body_rec {
     eng_mesh_id mesh;
     bool target_mode;       // moving towards a move_to target
     uint64_t target_step;   // the step (frame + 1) the target was set for
+    // on_splash (wrap_events.c): the latest fluid measurement looked at, how many measured
+    // steps in a row the body was not wet, and its velocity at the start of recent steps.
+    bool splash_seen;
+    uint64_t splash_step;
+    uint32_t dry_steps;
+    float step_velocity[SCR_VELOCITY_HISTORY][3];
+    uint64_t step_index[SCR_VELOCITY_HISTORY]; // the step + 1 whose start step_velocity holds (0: none)
 } body_rec;
 
 // A joint between two bodies (wrap_joint.c): what the script asked for, world frame at
@@ -187,6 +198,11 @@ typedef struct timer_entry {
     uint32_t slot, gen;     // the timer; stale once its slot was released or reused
 } timer_entry;
 
+/// A body pair that reported a hit (on_contact), by Bullet ids.
+typedef struct scr_hit_pair {
+    phys_body_id a, b;
+} scr_hit_pair;
+
 struct eng_script {
     lua_State *L;
     eng_logger log;
@@ -228,6 +244,12 @@ struct eng_script {
     bool capacity_warned;
     eng_event *events;           // injected input, handed to the app's input next frame
     int event_count, event_cap;
+    // on_contact and on_splash (wrap_events.c).
+    double contact_threshold;    // N s: a pair's impulse in a frame above it is a hit
+    double splash_speed;         // m/s: the least downward speed of a splash
+    phys_contact *contacts;      // the frame's contact sums (SCR_MAX_CONTACTS)
+    scr_hit_pair *hits;          // pairs that hit and have not dropped to half the threshold since
+    uint32_t hit_count, hit_cap;
     // The particle download shared by the queries of one frame (surface_height, ...).
     float *cache;
     uint32_t cache_count, cache_cap;
@@ -258,6 +280,25 @@ void scr_open_body(scr_api *api);     // wrap_body.c
 void scr_open_interact(scr_api *api); // wrap_interact.c
 void scr_open_query(scr_api *api);    // wrap_query.c
 void scr_open_joint(scr_api *api);    // wrap_joint.c
+void scr_open_events(scr_api *api);   // wrap_events.c
+
+// ---- callbacks (script.c) ------------------------------------------------------------------
+
+/// The most arguments a callback gets.
+#define SCR_MAX_CALLBACK_ARGS 6
+/// One argument of a callback: 'n' a number, 'i' an integer (both in `number`), 's' a string,
+/// 'h' the handle of object `slot` (nil when NO_SLOT; the slot must hold a live object), 'v'
+/// the vector `vec` (a table as scr_push_vec3 makes).
+typedef struct scr_arg {
+    char type;
+    double number;
+    const char *string;
+    uint32_t slot;
+    double vec[3];
+} scr_arg;
+/// Calls the global callback `name` with `nargs` arguments as the runner's callbacks are
+/// called (looked up raw; nothing when undefined), protected, under the frame's budget.
+eng_script_status scr_callback(eng_script *s, const char *name, int nargs, const scr_arg *args);
 
 // ---- limits (script.c) --------------------------------------------------------------------
 
@@ -380,6 +421,17 @@ eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, .
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+// ---- events (wrap_events.c) ------------------------------------------------------------------
+
+/// The default of seiche.set_contact_threshold, N s, and of seiche.set_splash_threshold, m/s.
+#define SCR_DEFAULT_CONTACT_THRESHOLD 0.2
+#define SCR_DEFAULT_SPLASH_SPEED 0.5
+/// Body pairs one frame's contacts can hold: every pair of 64 bodies and the container's walls.
+#define SCR_MAX_CONTACTS 4096
+/// Calls on_contact and on_splash for what the step just taken did (after the step, before
+/// on_step), and notes the bodies' velocities for the next.
+eng_script_status scr_fire_events(eng_script *s);
 
 // ---- joints (wrap_joint.c) ------------------------------------------------------------------
 
