@@ -152,6 +152,17 @@ static void event_thresholds_are_checked_and_kept(void **state)
               "seiche.check(seiche.contact_threshold() == 0 and seiche.splash_threshold() == 2.5, 'kept')\n");
 }
 
+// ---- grabs ---------------------------------------------------------------------------------
+
+static void grab_release_takes_a_boolean(void **state)
+{
+    (void)state;
+    expect_error_after("local g = seiche.body{shape = 'sphere', radius = 0.1}:grab({0, 0, 0})\n", "g:release('far')",
+                       "grab:release: argument #1 'throw' must be true or false (got \"far\")");
+    expect_ok("local g = seiche.body{shape = 'sphere', radius = 0.1}:grab({0, 0, 0})\n"
+              "g:release(false)\nseiche.check(not g:is_valid(), 'released')\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -159,6 +170,7 @@ int main(void)
         cmocka_unit_test(joint_methods_are_checked),
         cmocka_unit_test(joint_records_what_it_was_given),
         cmocka_unit_test(event_thresholds_are_checked_and_kept),
+        cmocka_unit_test(grab_release_takes_a_boolean),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

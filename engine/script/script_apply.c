@@ -370,9 +370,15 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         if (phys_point_constraint_set_pivot(pw, o->u.grab.id, scr_pv(c->u.vec.v)) != PHYS_OK)
             return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         break;
-    case CMD_GRAB_REMOVE:
-        if (phys_constraint_is_valid(pw, c->u.constraint)) phys_constraint_destroy(pw, c->u.constraint);
+    case CMD_GRAB_REMOVE: {
+        if (!phys_constraint_is_valid(pw, c->u.release.id)) break; // never applied, or gone with its body
+        phys_constraint_destroy(pw, c->u.release.id);
+        obj *b = scr_obj_at(s, c->u.release.body, c->u.release.body_gen);
+        if (c->u.release.thrown && b && b->state == OBJ_LIVE &&
+            phys_body_set_linear_velocity(pw, b->u.body.id, scr_pv(c->u.release.velocity)) != PHYS_OK)
+            return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         break;
+    }
     case CMD_JOINT_ADD:
     case CMD_JOINT_MOTOR:
     case CMD_JOINT_LIMITS:

@@ -122,6 +122,9 @@ typedef struct joint_rec {
     phys_joint_id id;
 } joint_rec;
 
+/// Pivot positions a grab remembers, for the throw when it is released (wrap_body.c).
+#define GRAB_PATH 32
+
 typedef struct obj {
     obj_kind kind;
     obj_state state;
@@ -132,7 +135,14 @@ typedef struct obj {
         struct { float min[3], max[3]; pbf_sink_id id; } sink;
         body_rec body;
         struct { double due, period; int fn; } timer;
-        struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
+        struct {
+            uint32_t body, body_gen;
+            phys_constraint_id id;
+            float pivot[3];
+            float max_force;
+            double path[GRAB_PATH][4]; // the pivot's latest moves: time (s, simulated) and where (m)
+            uint32_t path_count;       // moves recorded (the latest GRAB_PATH are kept)
+        } grab;
         joint_rec joint;
     } u;
 } obj;
@@ -169,6 +179,7 @@ typedef struct command {
         pbf_emitter_id emitter_id;
         pbf_sink_id sink_id;
         struct { phys_body_id id; phys_shape_id shape; eng_node_id node; eng_mesh_id mesh; } body;
+        struct { phys_constraint_id id; uint32_t body, body_gen; bool thrown; float velocity[3]; } release;
         struct { float v[3], p[3]; bool at_point; } vec;
         struct { float pos[3], rot[4]; } pose;
         struct { float color[3]; bool visible; } look;

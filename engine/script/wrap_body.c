@@ -632,6 +632,69 @@ static int m_body_destroy(lua_State *L)
     return 0;
 }
 
+/// The window of pivot motion a release takes its throw from, s.
+#define THROW_WINDOW 0.1
+/// The fastest throw, m/s (a flick of the mouse far from the camera moves the pivot faster).
+#define MAX_THROW_SPEED 20.0
+
+// Notes the pivot's position at the current simulated time (a later move in the same frame
+// replaces it).
+static void record_pivot(eng_script *s, obj *g, const float p[3])
+{
+    uint32_t n = g->u.grab.path_count;
+    double t = s->host.time;
+    double *last = n ? g->u.grab.path[(n - 1) % GRAB_PATH] : NULL;
+    double *e = last && last[0] == t ? last : g->u.grab.path[n++ % GRAB_PATH];
+    e[0] = t, e[1] = p[0], e[2] = p[1], e[3] = p[2];
+    g->u.grab.path_count = n;
+}
+
+// The pivot's velocity over the last THROW_WINDOW s, m/s (at most MAX_THROW_SPEED); false when
+// fewer than two frames of it are known (grabbed and released in the same frame).
+static bool throw_velocity(const eng_script *s, const obj *g, float out[3])
+{
+    uint32_t n = g->u.grab.path_count, kept = n < GRAB_PATH ? n : GRAB_PATH;
+    const double(*path)[4] = g->u.grab.path;
+    double dt = s->host.dt, now = s->host.time;
+    int frames = (int)floor(THROW_WINDOW / dt + 0.5);
+    if (frames < 1) frames = 1;
+    double t[64], x[64][3];
+    int m = 0;
+    for (int j = frames; j >= 0 && m < 64; j--) {
+        double tj = now - j * dt;
+        // Where the moves left the pivot at tj: the latest one at or before it (none: not held yet).
+        const double *at = NULL;
+        for (uint32_t k = n - kept; k < n; k++) {
+            const double *e = path[k % GRAB_PATH];
+            if (e[0] <= tj + 1e-9 * (1.0 + fabs(tj))) at = e;
+        }
+        if (!at) continue;
+        t[m] = tj;
+        for (int a = 0; a < 3; a++) x[m][a] = at[a + 1];
+        m++;
+    }
+    if (m < 2) return false;
+    double tm = 0, xm[3] = { 0, 0, 0 };
+    for (int i = 0; i < m; i++) {
+        tm += t[i] / m;
+        for (int a = 0; a < 3; a++) xm[a] += x[i][a] / m;
+    }
+    double stt = 0, stx[3] = { 0, 0, 0 };
+    for (int i = 0; i < m; i++) {
+        stt += (t[i] - tm) * (t[i] - tm);
+        for (int a = 0; a < 3; a++) stx[a] += (t[i] - tm) * (x[i][a] - xm[a]);
+    }
+    double v[3], speed = 0;
+    for (int a = 0; a < 3; a++) {
+        v[a] = stx[a] / stt;
+        speed += v[a] * v[a];
+    }
+    speed = sqrt(speed);
+    double k = speed > MAX_THROW_SPEED ? MAX_THROW_SPEED / speed : 1.0;
+    for (int a = 0; a < 3; a++) out[a] = (float)(v[a] * k);
+    return true;
+}
+
 static int m_body_grab(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
@@ -651,6 +714,7 @@ static int m_body_grab(lua_State *L)
     go->u.grab.body_gen = body_gen;
     memcpy(go->u.grab.pivot, p, sizeof p);
     go->u.grab.max_force = (float)max_force;
+    record_pivot(s, go, p);
     command *c = scr_push_command(L, s, CMD_GRAB_ADD, fn);
     c->slot = g;
     c->gen = go->generation;
@@ -659,6 +723,11 @@ static int m_body_grab(lua_State *L)
 }
 
 // ---- grabs ------------------------------------------------------------------------------
+//
+// Throwing: a grab remembers where its pivot was moved and when (simulated time), and its
+// release gives the body the pivot's velocity over the last THROW_WINDOW seconds: the slope of
+// a least-squares line through the pivot's positions at the frames in that window (where it
+// was at each, as the moves left it; a pointer held still counts as a still pivot).
 
 static int m_grab_move(lua_State *L)
 {
@@ -668,6 +737,7 @@ static int m_grab_move(lua_State *L)
     float p[3];
     scr_arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
     memcpy(o->u.grab.pivot, p, sizeof p);
+    record_pivot(s, o, p);
     command *c = scr_push_command(L, s, CMD_GRAB_MOVE, "grab:move");
     c->slot = slot;
     c->gen = o->generation;
@@ -680,9 +750,17 @@ static int m_grab_release(lua_State *L)
     eng_script *s = scr_get_script(L);
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_GRAB, "grab:release", &slot);
+    bool thrown = true;
+    char got[64];
+    if (!lua_isnoneornil(L, 2) && !lua_isboolean(L, 2))
+        scr_raise(L, "grab:release: argument #1 'throw' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
+    if (lua_isboolean(L, 2)) thrown = lua_toboolean(L, 2);
     if (o->state == OBJ_LIVE) {
         command *c = scr_push_command(L, s, CMD_GRAB_REMOVE, "grab:release");
-        c->u.constraint = o->u.grab.id;
+        c->u.release.id = o->u.grab.id;
+        c->u.release.body = o->u.grab.body;
+        c->u.release.body_gen = o->u.grab.body_gen;
+        c->u.release.thrown = thrown && throw_velocity(s, o, c->u.release.velocity);
     }
     scr_obj_release(s, slot);
     return 0;
