@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "engine/script/script.h"
 
@@ -163,6 +165,98 @@ static void grab_release_takes_a_boolean(void **state)
               "g:release(false)\nseiche.check(not g:is_valid(), 'released')\n");
 }
 
+// ---- meshes from files --------------------------------------------------------------------
+
+// A scene folder in /tmp: scene.lua's folder holds assets/ (cube.obj, open_box.obj, a text
+// file, a link to a mesh outside the folder); the mesh outside sits beside the folder.
+static void make_scene_folder(char *dir, size_t size)
+{
+    snprintf(dir, size, "/tmp/seiche_test_meshes_%ld", (long)getpid());
+    char cmd[8192], fixtures[1024];
+    support_source_path("tests/fixtures", fixtures, sizeof fixtures);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' '%s_outside.obj' && mkdir -p '%s/assets/sub' && cp '%s/cube.obj' '%s/open_box.obj' "
+             "'%s/not_a_mesh.txt' '%s/assets/' && cp '%s/cube.obj' '%s_outside.obj' && "
+             "ln -s '%s_outside.obj' '%s/assets/link.obj'",
+             dir, dir, dir, fixtures, fixtures, fixtures, dir, fixtures, dir, dir, dir);
+    if (system(cmd) != 0) fail_msg("could not make %s", dir);
+}
+
+static void remove_scene_folder(const char *dir)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' '%s_outside.obj'", dir, dir);
+    if (system(cmd) != 0) fail_msg("could not remove %s", dir);
+}
+
+static eng_script_status run_in(const char *dir, bool trusted, const char *code, eng_script **out)
+{
+    eng_script_def d = eng_default_script_def();
+    d.log.min_level = ENG_LOG_ERROR;
+    d.trusted = trusted;
+    *out = eng_script_create(&d);
+    assert_non_null(*out);
+    char name[1100];
+    snprintf(name, sizeof name, "%s/scene.lua", dir);
+    return eng_script_load_string(*out, name, code);
+}
+
+static void mesh_files_are_found_in_the_scene_folder_only(void **state)
+{
+    (void)state;
+    char dir[256];
+    make_scene_folder(dir, sizeof dir);
+    static const char *const cases[][2] = {
+        { "seiche.body{mesh = '../x_outside.obj'}", "seiche.body: field 'mesh' names a path through '..': \"../x_outside.obj\" (mesh files are found from the folder of the script that names them, in the scene's folder or below" },
+        { "seiche.body{mesh = 'assets/sub/../cube.obj'}", "field 'mesh' names a path through '..'" },
+        { "seiche.body{mesh = '/etc/passwd'}", "seiche.body: field 'mesh' names an absolute path: a scene names its files relative to its own file: \"/etc/passwd\"" },
+        { "seiche.body{mesh = 'assets/missing.obj'}", "seiche.body: field 'mesh' names missing: \"assets/missing.obj\"" },
+        { "seiche.body{mesh = 'assets/link.obj'}", "seiche.body: field 'mesh' names outside the scene's folder (a link?): \"assets/link.obj\"" },
+        { "seiche.body{mesh = 'assets/sub'}", "seiche.body: field 'mesh' names not a regular file: \"assets/sub\"" },
+        { "seiche.body{mesh = ''}", "seiche.body: field 'mesh' names an empty path" },
+        { "seiche.body{mesh = 5}", "seiche.body: field 'mesh' must be a file name, e.g. \"assets/boat.obj\" (got 5)" },
+        { "seiche.body{mesh = 'assets/not_a_mesh.txt'}", "seiche.body: mesh file '" },
+        { "seiche.body{mesh = 'assets/cube.obj', shape = 'box'}", "seiche.body: give 'shape' or 'mesh', not both" },
+        { "seiche.body{mesh = 'assets/cube.obj', size = {1, 1, 1}}", "seiche.body: field 'size' does not apply to a body from a mesh file" },
+        { "seiche.body{mesh = 'assets/cube.obj', kind = 'static', hull_points = 16}", "seiche.body: field 'hull_points' applies to dynamic bodies (a static body from a mesh file is its triangles)" },
+        { "seiche.body{mesh = 'assets/cube.obj', hull_points = 200}", "seiche.body: field 'hull_points' must be a whole number in [8, 130] (points) (got 200)" },
+        { "seiche.body{mesh = 'assets/cube.obj', scale = 0}", "seiche.body: field 'scale' must be a number in (0, 1000000] (metres per file unit) (got 0)" },
+        { "seiche.body{mesh = 'assets/cube.obj', centre = 'middle'}", "seiche.body: field 'centre' must be one of \"origin\", \"bounds\", \"base\" (got \"middle\")" },
+        { "seiche.body{shape = 'box', size = {1, 1, 1}, scale = 2}", "seiche.body: field 'scale' applies to meshes from files only (give mesh = \"file.obj\")" },
+        { "seiche.fill{}", "seiche.fill: field 'mesh' is required: the file of a closed mesh whose inside to fill" },
+        { "seiche.fill{mesh = 'assets/open_box.obj'}", "seiche.fill: mesh 'assets/open_box.obj' has 4 open edges (edges of one triangle only: holes): it has no inside to fill" },
+        { "seiche.fill{mesh = 'assets/cube.obj', clearance = -1}", "seiche.fill: field 'clearance' must be a number in [0, 1000] m (got -1)" },
+        { "seiche.fill{mesh = 'assets/cube.obj', hull_points = 8}", "seiche.fill: unknown field \"hull_points\"" },
+        { "seiche.fill{mesh = 'assets/cube.obj', colour = 1}", "seiche.fill: unknown field \"colour\"" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        eng_script *s;
+        char where[1100];
+        snprintf(where, sizeof where, "%s/scene.lua:1: ", dir);
+        if (run_in(dir, false, cases[i][0], &s) == ENG_SCRIPT_OK) fail_msg("accepted: %s", cases[i][0]);
+        const char *err = eng_script_error(s);
+        if (strncmp(err, where, strlen(where)) != 0 || !strstr(err, cases[i][1]))
+            fail_msg("%s\n  want: %s%s\n  got:  %s", cases[i][0], where, cases[i][1], err);
+        eng_script_destroy(s);
+    }
+    // Found: queued, and the body's shape follows its kind.
+    eng_script *s;
+    if (run_in(dir, false,
+               "local b = seiche.body{mesh = 'assets/cube.obj', scale = 0.5}\n"
+               "local k = seiche.body{mesh = 'assets/cube.obj', kind = 'kinematic'}\n"
+               "seiche.check(b:shape() == 'hull' and k:shape() == 'mesh', 'shapes')\n"
+               "seiche.fill{mesh = 'assets/cube.obj', velocity = {0, -1, 0}}\n", &s) != ENG_SCRIPT_OK)
+        fail_msg("%s", eng_script_error(s));
+    assert_int_equal(eng_script_pending(s), 3);
+    eng_script_destroy(s);
+    // --trusted: any file, '..' and links included.
+    if (run_in(dir, true, "seiche.body{mesh = 'assets/link.obj'}\nseiche.fill{mesh = '../' .. "
+               "(debug.getinfo(1, 'S').source:match('([^/]*)/scene.lua$')) .. '_outside.obj'}\n", &s) != ENG_SCRIPT_OK)
+        fail_msg("%s", eng_script_error(s));
+    eng_script_destroy(s);
+    remove_scene_folder(dir);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -171,6 +265,7 @@ int main(void)
         cmocka_unit_test(joint_records_what_it_was_given),
         cmocka_unit_test(event_thresholds_are_checked_and_kept),
         cmocka_unit_test(grab_release_takes_a_boolean),
+        cmocka_unit_test(mesh_files_are_found_in_the_scene_folder_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -81,6 +81,7 @@ static void open_api(scr_api *api)
     scr_open_query(api);
     scr_open_joint(api);
     scr_open_events(api);
+    scr_open_mesh(api);
     for (int k = 0; k < OBJ_KIND_COUNT; k++) assert(api->methods[k]);
 }
 

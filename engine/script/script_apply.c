@@ -36,6 +36,11 @@ command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char
 
 static void free_command(eng_script *s, command *c)
 {
+    if (c->type == CMD_FILL && c->u.fill.mesh) {
+        scr_uncharge(s, scr_mesh_bytes(c->u.fill.mesh));
+        scr_free_mesh(c->u.fill.mesh);
+        c->u.fill.mesh = NULL;
+    }
     if (c->type == CMD_PARTICLES) {
         size_t bytes = (c->u.particles.pos ? 1 : 0) + (c->u.particles.vel ? 1 : 0);
         scr_uncharge(s, bytes * 3 * (size_t)c->u.particles.n * sizeof(float));
@@ -69,7 +74,23 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
     body_rec *b = &o->u.body;
     phys_world *w = s->host.phys;
     phys_result r = PHYS_OK;
-    switch (b->shape) {
+    float mesh_com[3] = { 0, 0, 0 }; // a file mesh's hull: its centre of mass in the mesh frame
+    if (b->file) {
+        // A mesh from a file: its convex hull (dynamic) around the hull's centre of mass, then
+        // drawn moved by minus that; or its triangles as they are.
+        char err[768];
+        if (b->def.type == PHYS_BODY_DYNAMIC) {
+            eng_mesh_hull h;
+            if (!eng_mesh_create_hull(w, b->file, b->hull_points, &h, err, sizeof err)) return scr_refuse(s, c, "%s", err);
+            b->shape_id = h.shape;
+            memcpy(mesh_com, h.centre_of_mass, sizeof mesh_com);
+            float back[3] = { -mesh_com[0], -mesh_com[1], -mesh_com[2] };
+            eng_mesh_data_translate(b->file, back);
+        } else if (!eng_mesh_create_static_shape(w, b->file, &b->shape_id, err, sizeof err)) {
+            return scr_refuse(s, c, "%s", err);
+        }
+    }
+    switch (b->file ? SHAPE_COUNT : b->shape) {
     case SHAPE_BOX: {
         phys_box box = { { b->dims[0], b->dims[1], b->dims[2] } };
         r = phys_shape_create_box(w, &box, &b->shape_id);
@@ -130,6 +151,11 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
     if (r != PHYS_OK) return scr_refuse(s, c, "%s", phys_world_last_error(w));
     phys_body_def d = b->def;
     d.shape = b->shape_id;
+    if (b->file) { // the script placed the mesh's origin; the body sits at its centre of mass
+        float q[4] = { d.orientation.x, d.orientation.y, d.orientation.z, d.orientation.w }, wo[3];
+        scr_quat_rotate(q, mesh_com, wo);
+        d.position = (phys_vec3){ d.position.x + wo[0], d.position.y + wo[1], d.position.z + wo[2] };
+    }
     if (b->shape == SHAPE_COMPOUND) {
         // The script placed the parts' frame; the body's frame sits at the centre of mass,
         // along the principal axes: position P + Q frame_origin, orientation Q frame_rotation.
@@ -383,6 +409,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     case CMD_JOINT_MOTOR:
     case CMD_JOINT_LIMITS:
     case CMD_JOINT_REMOVE: return scr_apply_joint(s, c);
+    case CMD_FILL: return scr_apply_fill(s, c);
     case CMD_PARAMS:
         if (pbf_world_set_params(fw, &c->u.params) != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;

@@ -451,18 +451,20 @@ uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind)
 size_t scr_body_data_bytes(const body_rec *b)
 {
     return (size_t)b->point_count * 3 * sizeof(float) + (size_t)b->index_count * sizeof(uint32_t) +
-           (size_t)b->part_count * sizeof(body_part);
+           (size_t)b->part_count * sizeof(body_part) + scr_mesh_bytes(b->file);
 }
 
 void scr_body_free_data(eng_script *s, body_rec *b)
 {
-    if (b->points || b->indices || b->parts) scr_uncharge(s, scr_body_data_bytes(b));
+    if (b->points || b->indices || b->parts || b->file) scr_uncharge(s, scr_body_data_bytes(b));
     free(b->points);
     free(b->indices);
     free(b->parts);
+    if (b->file) scr_free_mesh(b->file);
     b->points = NULL;
     b->indices = NULL;
     b->parts = NULL;
+    b->file = NULL;
 }
 
 // Frees the slot: every handle to it becomes stale ("attempt to use a destroyed ...").

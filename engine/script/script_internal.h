@@ -19,6 +19,7 @@
 //   wrap_body.c       bodies and grabs
 //   wrap_joint.c      joints between bodies (hinge, slider, fixed, point)
 //   wrap_events.c     on_contact and on_splash, and their thresholds
+//   wrap_mesh.c       meshes from files: seiche.body{mesh = ...}'s fields, seiche.fill
 //   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
 //   wrap_query.c      stats, time, counts, particle queries, check and quit
 //
@@ -28,6 +29,8 @@
 #ifndef ENG_SCRIPT_INTERNAL_H
 #define ENG_SCRIPT_INTERNAL_H
 
+#include "engine/render/mesh_file.h"
+#include "engine/render/mesh_physics.h"
 #include "engine/script/script.h"
 
 #include <lauxlib.h>
@@ -84,6 +87,8 @@ typedef struct body_rec {
     uint32_t index_count;
     body_part *parts;       // compound (owned)
     uint32_t part_count;
+    eng_mesh_data *file;    // a mesh from a file (owned; hull or mesh shape), or NULL
+    uint32_t hull_points;   // a dynamic file mesh's hull: the most points
     bool has_factors;       // linear_factor / angular_factor / axle given
     float linear_factor[3], angular_factor[3];
     phys_body_def def;      // everything but the shape
@@ -163,6 +168,7 @@ typedef enum cmd_type {
     CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
     CMD_JOINT_ADD, CMD_JOINT_MOTOR, CMD_JOINT_LIMITS, CMD_JOINT_REMOVE,
     CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
+    CMD_FILL,
 } cmd_type;
 
 typedef struct command {
@@ -175,6 +181,7 @@ typedef struct command {
         pbf_block_def block;
         struct { float center[3], radius, velocity[3]; } sphere;
         struct { float *pos, *vel; uint32_t n; } particles;
+        struct { eng_mesh_data *mesh; float pos[3], rot[4], vel[3], clearance; } fill; // mesh owned
         pbf_emitter_def emitter;
         pbf_emitter_id emitter_id;
         pbf_sink_id sink_id;
@@ -292,6 +299,7 @@ void scr_open_interact(scr_api *api); // wrap_interact.c
 void scr_open_query(scr_api *api);    // wrap_query.c
 void scr_open_joint(scr_api *api);    // wrap_joint.c
 void scr_open_events(scr_api *api);   // wrap_events.c
+void scr_open_mesh(scr_api *api);     // wrap_mesh.c
 
 // ---- callbacks (script.c) ------------------------------------------------------------------
 
@@ -338,6 +346,12 @@ void scr_uncharge(eng_script *s, size_t bytes);
 void scr_open_libraries(lua_State *L, bool trusted);
 void scr_open_bounded_string(lua_State *L);
 void scr_open_bounded_table(lua_State *L);
+/// The path of a file the scene names (a mesh), into `out`: `rel` relative to the folder of the
+/// file whose code is running. In the sandbox `rel` may not be absolute or pass through '..',
+/// and the file must be a regular file of at most 64 MiB whose real path (links followed) lies
+/// in the scene's folder or below, as for require; --trusted takes any file. NULL when found,
+/// else why not ("missing", "outside the scene's folder (a link?)", ...).
+const char *scr_scene_file(lua_State *L, const eng_script *s, const char *rel, char *out, size_t size);
 
 // ---- timers (script_timers.c) ------------------------------------------------------------------
 
@@ -443,6 +457,29 @@ eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, .
 /// Calls on_contact and on_splash for what the step just taken did (after the step, before
 /// on_step), and notes the bodies' velocities for the next.
 eng_script_status scr_fire_events(eng_script *s);
+
+// ---- meshes from files (wrap_mesh.c) ----------------------------------------------------------
+
+/// A mesh file a call names, found but not read yet.
+typedef struct scr_mesh_request {
+    char path[1200];                 // where it was found
+    char name[256];                  // as the script wrote it, for messages
+    eng_mesh_file_options options;   // scale, centre
+    uint32_t hull_points;            // for a dynamic body's hull
+    bool has_hull_points;            // given
+} scr_mesh_request;
+/// Reads the fields mesh, scale, centre and hull_points (when allowed) of table t and finds the
+/// file (raising, naming the field, when it is refused or missing). False when there is no
+/// 'mesh' (and then none of the others may be given).
+bool scr_read_mesh_fields(lua_State *L, eng_script *s, int t, const char *fn, bool hull_points_allowed,
+                          scr_mesh_request *out);
+/// Reads the file into a new mesh (*out, free with scr_free_mesh); false with a message in err.
+bool scr_load_mesh(const scr_mesh_request *r, eng_mesh_data **out, char *err, size_t size);
+/// The bytes a loaded mesh holds (charged to the script), 0 for NULL.
+size_t scr_mesh_bytes(const eng_mesh_data *m);
+void scr_free_mesh(eng_mesh_data *m);
+/// Applies a CMD_FILL edit.
+eng_script_status scr_apply_fill(eng_script *s, const command *c);
 
 // ---- joints (wrap_joint.c) ------------------------------------------------------------------
 

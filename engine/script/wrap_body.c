@@ -39,7 +39,7 @@ static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", 
                                            "indices", "kind", "density", "mass", "position", "rotation", "velocity",
                                            "angular_velocity", "friction", "restitution", "linear_damping",
                                            "angular_damping", "two_way", "color", "visible", "parts", "linear_factor",
-                                           "angular_factor", "axle", NULL };
+                                           "angular_factor", "axle", "mesh", "scale", "centre", "hull_points", NULL };
 
 // The fields each shape takes (besides the common ones).
 static void check_shape_fields(lua_State *L, body_shape shape)
@@ -66,6 +66,19 @@ static void check_shape_fields(lua_State *L, body_shape shape)
             scr_raise(L, "seiche.body: field '%s' does not apply to shape \"%s\" (it takes %s)", *g, scr_shape_name[shape], list);
         }
     }
+}
+
+// A body from a mesh file takes none of the shapes' fields, and hull_points only when dynamic.
+static void check_file_fields(lua_State *L, int kind, bool has_hull_points)
+{
+    static const char *const geometric[] = { "size", "radius", "height", "normal", "offset", "points", "vertices",
+                                             "indices", "parts", NULL };
+    for (const char *const *g = geometric; *g; g++)
+        if (scr_field_present(L, 1, *g))
+            scr_raise(L, "seiche.body: field '%s' does not apply to a body from a mesh file (its shape is the mesh's)", *g);
+    if (has_hull_points && kind >= 0 && kind != PHYS_BODY_DYNAMIC)
+        scr_raise(L, "seiche.body: field 'hull_points' applies to dynamic bodies (a %s body from a mesh file is its "
+                  "triangles)", scr_body_kind_name[kind]);
 }
 
 // The geometry fields of a box, sphere, capsule or cylinder in table t: dims as body_rec.
@@ -155,12 +168,20 @@ static int l_body(lua_State *L)
     const char *fn = "seiche.body";
     scr_check_table_arg(L, 1, fn, "shape = \"box\", size = {x, y, z}, position = {x, y, z}, ...");
     scr_check_fields(L, 1, fn, BODY_FIELDS);
-    int shape = scr_opt_enum(L, 1, fn, "shape", scr_shape_name, SHAPE_COUNT);
+    // A mesh from a file: its convex hull for a dynamic body, its triangles for the others.
+    scr_mesh_request mesh_file;
+    bool from_file = scr_read_mesh_fields(L, s, 1, fn, true, &mesh_file);
+    if (from_file && scr_field_present(L, 1, "shape"))
+        scr_raise(L, "seiche.body: give 'shape' or 'mesh', not both (a body from a mesh file is its convex hull when "
+                  "dynamic, its triangles when static or kinematic)");
+    int kind = scr_opt_enum(L, 1, fn, "kind", scr_body_kind_name, 3);
+    int shape = from_file ? (kind < 0 || kind == PHYS_BODY_DYNAMIC ? SHAPE_HULL : SHAPE_MESH)
+                          : scr_opt_enum(L, 1, fn, "shape", scr_shape_name, SHAPE_COUNT);
     if (shape < 0)
         scr_raise(L, "seiche.body: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\", "
-                  "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil)");
-    check_shape_fields(L, (body_shape)shape);
-    int kind = scr_opt_enum(L, 1, fn, "kind", scr_body_kind_name, 3);
+                  "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil); or mesh = \"file.obj\"");
+    if (from_file) check_file_fields(L, kind, mesh_file.has_hull_points);
+    else check_shape_fields(L, (body_shape)shape);
     if (kind < 0) kind = (shape == SHAPE_PLANE || shape == SHAPE_MESH) ? PHYS_BODY_STATIC : PHYS_BODY_DYNAMIC;
     if (kind == PHYS_BODY_DYNAMIC && (shape == SHAPE_PLANE || shape == SHAPE_MESH))
         scr_raise(L, "seiche.body: shape \"%s\" has no volume and must be kind \"static\" or \"kinematic\" (got kind \"dynamic\")",
@@ -231,7 +252,7 @@ static int l_body(lua_State *L)
     const float *pts = NULL;
     const uint32_t *idx = NULL;
     const body_part *parts = NULL;
-    switch (b.shape) {
+    switch (from_file ? SHAPE_COUNT : b.shape) {
     case SHAPE_BOX:
     case SHAPE_SPHERE:
     case SHAPE_CAPSULE:
@@ -300,6 +321,22 @@ static int l_body(lua_State *L)
     command *c = scr_push_command(L, s, CMD_BODY_ADD, fn);
     c->slot = slot;
     c->gen = o->generation;
+    if (from_file) { // read last: nothing after this may raise without freeing it
+        char err[768];
+        if (!scr_load_mesh(&mesh_file, &b.file, err, sizeof err)) {
+            s->command_count--;
+            scr_obj_release(s, slot);
+            scr_raise(L, "seiche.body: %s", err);
+        }
+        b.hull_points = mesh_file.hull_points;
+        data_bytes = scr_mesh_bytes(b.file);
+        if (data_bytes > scr_memory_room(s)) {
+            scr_free_mesh(b.file);
+            s->command_count--;
+            scr_obj_release(s, slot);
+            scr_charge(L, s, fn, data_bytes); // raises with the numbers
+        }
+    }
     b.parts = NULL;
     if (parts) b.parts = malloc((size_t)b.part_count * sizeof *b.parts);
     if (pts) {
