@@ -279,7 +279,10 @@ static void junk_arguments_never_crash_and_name_the_callee(void **state)
                                : strcmp(kind, "sink") == 0  ? "seiche.sink{min = {0, 0, 0}, max = {1, 1, 1}}"
                                : strcmp(kind, "body") == 0  ? "seiche.body{shape = 'sphere', radius = 0.1}"
                                : strcmp(kind, "timer") == 0 ? "seiche.after(1, print)"
-                                                            : "seiche.body{shape = 'sphere', radius = 0.1}:grab({0, 0, 0})";
+                               : strcmp(kind, "joint") == 0
+                                   ? "seiche.joint{kind = 'hinge', a = seiche.body{shape = 'sphere', radius = 0.1}, "
+                                     "pivot = {0, 0, 0}, axis = {0, 0, 1}}"
+                                   : "seiche.body{shape = 'sphere', radius = 0.1}:grab({0, 0, 0})";
             snprintf(code, sizeof code, "local h = %s\nh:%s(print, print, print)", make, colon + 1);
             snprintf(callee, sizeof callee, "%s: ", *name);
         } else {
@@ -309,6 +312,8 @@ static void removed_handles_raise_attempt_to_use_a_destroyed_object(void **state
         { "local h = seiche.sink{min = {0, 0, 0}, max = {1, 1, 1}}; h:remove()", "h:get()", "sink:get: attempt to use a destroyed sink" },
         { "local h = seiche.after(1, print); h:cancel()", "h:remaining()", "timer:remaining: attempt to use a destroyed timer" },
         { "local b = seiche.body{shape = 'sphere', radius = 0.1}; local h = b:grab({0, 0, 0}); b:destroy()", "h:move({0, 1, 0})", "grab:move: attempt to use a destroyed grab" },
+        { "local b = seiche.body{shape = 'sphere', radius = 0.1}; local h = seiche.joint{kind = 'point', a = b, pivot = {0, 0, 0}}; b:destroy()", "h:force()", "joint:force: attempt to use a destroyed joint" },
+        { "local h = seiche.joint{kind = 'point', a = seiche.body{shape = 'sphere', radius = 0.1}, pivot = {0, 0, 0}}; h:remove()", "h:get()", "joint:get: attempt to use a destroyed joint" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char code[1024];

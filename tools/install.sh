@@ -30,7 +30,7 @@ done
 
 lib=$dest$prefix/lib
 inc=$dest$prefix/include/seiche
-mkdir -p "$lib/pkgconfig" "$inc/fluid/bullet" "$dest$prefix/bin" "$dest$prefix/share/seiche/scenes" \
+mkdir -p "$lib/pkgconfig" "$inc/fluid/bullet" "$dest$prefix/bin" "$dest$prefix/share/seiche/scenes/assets" \
          "$dest$prefix/share/doc/seiche"
 
 install -m 755 "$build/lib/libseiche_fluid.so" "$lib/libseiche_fluid.so.$version"
@@ -45,6 +45,7 @@ install -m 644 "$top/fluid/bullet/phys.h" "$inc/fluid/bullet/phys.h"
 install -m 755 "$build/bin/seiche" "$dest$prefix/bin/seiche"
 [ ! -f "$build/bin/seiche-bench" ] || install -m 755 "$build/bin/seiche-bench" "$dest$prefix/bin/seiche-bench"
 install -m 644 "$top"/scripts/scenes/*.lua "$dest$prefix/share/seiche/scenes/"
+install -m 644 "$top"/scripts/scenes/assets/* "$dest$prefix/share/seiche/scenes/assets/"
 install -m 644 "$top"/docs/*.md "$dest$prefix/share/doc/seiche/"
 
 cat >"$lib/pkgconfig/seiche-fluid.pc" <<EOF

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes the small meshes of tests/fixtures/ and scripts/assets/ (ours, made here).
+"""Writes the small meshes of tests/fixtures/, tests/scripts/assets/ and scripts/scenes/assets/
+(ours, made here).
 
     python3 tools/make_meshes.py        # rewrites them in place
 
@@ -16,7 +17,9 @@ Sizes are in metres, Y up.
   tests/fixtures/tetrahedron.glb   binary glTF: that tetrahedron twice, nodes at x = -0.1 and
                                    x = +0.1 (two placed meshes merged into one)
   tests/fixtures/not_a_mesh.txt    text, not a mesh format
-  scripts/assets/boat.obj          a small boat hull, 0.6 m long, with a deck (closed), keel on y = 0
+  scripts/scenes/assets/boat.obj   a small boat hull, 0.6 m long, with a deck (closed), keel on y = 0
+  tests/scripts/assets/            cube.obj, open_box.obj, cup.obj and boat.obj again, for the script tests
+                                   (a sandboxed scene reads meshes from its own folder and below)
 """
 import base64
 import json
@@ -185,14 +188,16 @@ def write_glb(rel, nodes):
 def main():
     v, f = cube(0.1)
     check_closed("cube", v, triangles(f))
-    write_obj("tests/fixtures/cube.obj", "A 0.2 m cube centred on the origin.", v, f)
-    write_obj("tests/fixtures/open_box.obj", "The 0.2 m cube without its top face: open, 4 open edges.", v,
-              [q for q in f if q != (2, 6, 7, 3)])
+    for d in ("tests/fixtures", "tests/scripts/assets"):
+        write_obj(d + "/cube.obj", "A 0.2 m cube centred on the origin.", v, f)
+        write_obj(d + "/open_box.obj", "The 0.2 m cube without its top face: open, 4 open edges.", v,
+                  [q for q in f if q != (2, 6, 7, 3)])
     v, f = cup()
     f = fix_winding(v, f)
     vol = check_closed("cup", v, triangles(f))
-    write_obj("tests/fixtures/cup.obj", "A closed, watertight cup (solid of revolution, 24 segments): outer radius "
-              "0.1, height 0.12, wall and bottom 0.03 m; solid volume %.6g m^3." % vol, v, f)
+    for d in ("tests/fixtures", "tests/scripts/assets"):
+        write_obj(d + "/cup.obj", "A closed, watertight cup (solid of revolution, 24 segments): outer radius "
+                  "0.1, height 0.12, wall and bottom 0.03 m; solid volume %.6g m^3." % vol, v, f)
     write_gltf("tests/fixtures/tetrahedron.gltf", [(0.0, 0.05, 0.0)])
     write_glb("tests/fixtures/tetrahedron.glb", [(-0.1, 0.0, 0.0), (0.1, 0.0, 0.0)])
     with open(os.path.join(ROOT, "tests/fixtures/not_a_mesh.txt"), "w") as fh:
@@ -200,8 +205,9 @@ def main():
     v, f = boat()
     f = fix_winding(v, f)
     check_closed("boat", v, triangles(f))
-    write_obj("scripts/assets/boat.obj", "A small boat hull with a deck, 0.6 m long, 0.2 m beam, about 0.1 m deep; bow "
-              "towards +x, the keel's lowest point at y = 0.", v, f)
+    for d in ("scripts/scenes/assets", "tests/scripts/assets"):
+        write_obj(d + "/boat.obj", "A small boat hull with a deck, 0.6 m long, 0.2 m beam, about 0.1 m deep; bow "
+                  "towards +x, the keel's lowest point at y = 0.", v, f)
 
 
 if __name__ == "__main__":

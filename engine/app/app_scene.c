@@ -241,6 +241,7 @@ static int create_worlds(app *a, instance *in, char *err, size_t err_size)
     pd.gravity = (phys_vec3){ c->params.gravity[0], c->params.gravity[1], c->params.gravity[2] };
     pd.log = phys_log;
     pd.log_user = a;
+    pd.split_impulse_depth = 0.0f; // landings do not hop: one on_contact per hit (phys.h)
     if (phys_world_create(&pd, &in->phys) != PHYS_OK) {
         snprintf(err, err_size, "%sseiche.scene: the Bullet world could not be created", where);
         return ENG_EXIT_USAGE;

@@ -79,11 +79,14 @@ static void open_api(scr_api *api)
     scr_open_body(api);
     scr_open_interact(api);
     scr_open_query(api);
+    scr_open_joint(api);
+    scr_open_events(api);
+    scr_open_mesh(api);
     for (int k = 0; k < OBJ_KIND_COUNT; k++) assert(api->methods[k]);
 }
 
 static const char *const CALLBACKS[] = { "on_start", "on_step", "on_key", "on_mouse", "on_mouse_move", "on_scroll",
-                                         "on_reload", NULL };
+                                         "on_reload", "on_contact", "on_splash", NULL };
 
 const char *const *eng_script_function_names(void)
 {
@@ -407,6 +410,8 @@ eng_script *eng_script_create(const eng_script_def *def)
     s->trusted = def->trusted;
     s->config = eng_default_scene_config();
     s->host.dt = 1.0 / 60.0;
+    s->contact_threshold = SCR_DEFAULT_CONTACT_THRESHOLD;
+    s->splash_speed = SCR_DEFAULT_SPLASH_SPEED;
     s->L = lua_newstate(limited_alloc, s);
     if (!s->L) {
         free(s);
@@ -445,6 +450,8 @@ void eng_script_destroy(eng_script *s)
     free(s->timers);
     free(s->cache);
     free(s->events);
+    free(s->contacts);
+    free(s->hits);
     free(s);
 }
 
@@ -496,7 +503,12 @@ eng_script_status eng_script_load_string(eng_script *s, const char *chunk_name, 
 const char *eng_script_error(const eng_script *s) { return s->error; }
 const char *eng_script_path(const eng_script *s) { return s->path; }
 eng_scene_config *eng_script_config(eng_script *s) { return &s->config; }
-void eng_script_set_host(eng_script *s, const eng_script_host *host) { s->host = *host; }
+void eng_script_set_host(eng_script *s, const eng_script_host *host)
+{
+    // A new Bullet world sums its contacts over each frame's substeps for on_contact.
+    if (host->phys && host->phys != s->host.phys) phys_world_set_contact_sums(host->phys, true);
+    s->host = *host;
+}
 int eng_script_check_sites(const eng_script *s, const eng_check_site **out)
 {
     *out = s->checks;
@@ -528,10 +540,15 @@ bool eng_script_set_param(eng_script *s, const char *name, double value, char *e
 // lookup (raw, so no __index of _G runs), the arguments (a string may not fit in memory)
 // and the call.
 
+// Arguments of callback_call: a number, an integer, a string.
+#define NUM(v) { .type = 'n', .number = (v) }
+#define INT(v) { .type = 'i', .number = (v) }
+#define STR(v) { .type = 's', .string = (v) }
+
 typedef struct callback_call {
     const char *name;       // the global's name
     int nargs;
-    struct { char type; double number; const char *string; } args[4]; // 'n', 'i' or 's'
+    scr_arg args[SCR_MAX_CALLBACK_ARGS];
     bool want_result, result;
 } callback_call;
 
@@ -548,9 +565,13 @@ static int call_callback(lua_State *L)
         lua_pop(L, 1);
     }
     for (int i = 0; i < c->nargs; i++) {
-        if (c->args[i].type == 's') lua_pushstring(L, c->args[i].string);
-        else if (c->args[i].type == 'i') lua_pushinteger(L, (lua_Integer)c->args[i].number);
-        else lua_pushnumber(L, c->args[i].number);
+        const scr_arg *a = &c->args[i];
+        if (a->type == 's') lua_pushstring(L, a->string);
+        else if (a->type == 'i') lua_pushinteger(L, (lua_Integer)a->number);
+        else if (a->type == 'v') scr_push_vec3(L, a->vec[0], a->vec[1], a->vec[2]);
+        else if (a->type == 'h' && a->slot != NO_SLOT) scr_push_handle(L, scr_state_script(L), a->slot);
+        else if (a->type == 'h') lua_pushnil(L);
+        else lua_pushnumber(L, a->number);
     }
     lua_call(L, c->nargs, c->want_result ? 1 : 0);
     if (c->want_result) c->result = lua_toboolean(L, -1);
@@ -563,6 +584,14 @@ static eng_script_status callback(eng_script *s, callback_call *c)
     lua_pushcfunction(s->L, call_callback);
     lua_pushlightuserdata(s->L, c);
     return run(s, 1, c->name);
+}
+
+eng_script_status scr_callback(eng_script *s, const char *name, int nargs, const scr_arg *args)
+{
+    callback_call c = { .name = name, .nargs = nargs };
+    assert(nargs <= SCR_MAX_CALLBACK_ARGS);
+    memcpy(c.args, args, (size_t)nargs * sizeof *args);
+    return callback(s, &c);
 }
 
 typedef struct timer_call {
@@ -605,8 +634,10 @@ eng_script_status eng_script_on_step(eng_script *s, double dt, double time)
                 break;
             }
     }
-    callback_call c = { .name = "on_step", .nargs = 2, .args = { { 'n', dt, NULL }, { 'n', time, NULL } } };
-    eng_script_status st = callback(s, &c);
+    eng_script_status st = scr_fire_events(s);
+    if (st != ENG_SCRIPT_OK) return st;
+    callback_call c = { .name = "on_step", .nargs = 2, .args = { NUM(dt), NUM(time) } };
+    st = callback(s, &c);
     if (st == ENG_SCRIPT_OK) st = scr_fire_timers(s, time, run_timer);
     return st;
 }
@@ -614,14 +645,14 @@ eng_script_status eng_script_on_step(eng_script *s, double dt, double time)
 eng_script_status eng_script_on_key(eng_script *s, const char *key, const char *action, double x, double y)
 {
     callback_call c = { .name = "on_key", .nargs = 4,
-                        .args = { { 's', 0, key }, { 's', 0, action }, { 'n', x, NULL }, { 'n', y, NULL } } };
+                        .args = { STR(key), STR(action), NUM(x), NUM(y) } };
     return callback(s, &c);
 }
 
 eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *action, double x, double y, bool *consumed)
 {
     callback_call c = { .name = "on_mouse", .nargs = 4, .want_result = true,
-                        .args = { { 'i', button, NULL }, { 's', 0, action }, { 'n', x, NULL }, { 'n', y, NULL } } };
+                        .args = { INT(button), STR(action), NUM(x), NUM(y) } };
     eng_script_status st = callback(s, &c);
     if (consumed) *consumed = st == ENG_SCRIPT_OK && c.result;
     return st;
@@ -630,13 +661,13 @@ eng_script_status eng_script_on_mouse(eng_script *s, int button, const char *act
 eng_script_status eng_script_on_mouse_move(eng_script *s, double x, double y, double dx, double dy)
 {
     callback_call c = { .name = "on_mouse_move", .nargs = 4,
-                        .args = { { 'n', x, NULL }, { 'n', y, NULL }, { 'n', dx, NULL }, { 'n', dy, NULL } } };
+                        .args = { NUM(x), NUM(y), NUM(dx), NUM(dy) } };
     return callback(s, &c);
 }
 
 eng_script_status eng_script_on_scroll(eng_script *s, double dx, double dy)
 {
-    callback_call c = { .name = "on_scroll", .nargs = 2, .args = { { 'n', dx, NULL }, { 'n', dy, NULL } } };
+    callback_call c = { .name = "on_scroll", .nargs = 2, .args = { NUM(dx), NUM(dy) } };
     return callback(s, &c);
 }
 

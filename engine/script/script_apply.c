@@ -36,6 +36,11 @@ command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char
 
 static void free_command(eng_script *s, command *c)
 {
+    if (c->type == CMD_FILL && c->u.fill.mesh) {
+        scr_uncharge(s, scr_mesh_bytes(c->u.fill.mesh));
+        scr_free_mesh(c->u.fill.mesh);
+        c->u.fill.mesh = NULL;
+    }
     if (c->type == CMD_PARTICLES) {
         size_t bytes = (c->u.particles.pos ? 1 : 0) + (c->u.particles.vel ? 1 : 0);
         scr_uncharge(s, bytes * 3 * (size_t)c->u.particles.n * sizeof(float));
@@ -53,12 +58,7 @@ void scr_clear_commands(eng_script *s)
 
 // ---- applying the queued edits ------------------------------------------------------------
 
-static eng_script_status refuse(eng_script *s, const command *c, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-static eng_script_status refuse(eng_script *s, const command *c, const char *fmt, ...)
+eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, ...)
 {
     char msg[2048];
     va_list ap;
@@ -74,7 +74,23 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
     body_rec *b = &o->u.body;
     phys_world *w = s->host.phys;
     phys_result r = PHYS_OK;
-    switch (b->shape) {
+    float mesh_com[3] = { 0, 0, 0 }; // a file mesh's hull: its centre of mass in the mesh frame
+    if (b->file) {
+        // A mesh from a file: its convex hull (dynamic) around the hull's centre of mass, then
+        // drawn moved by minus that; or its triangles as they are.
+        char err[768];
+        if (b->def.type == PHYS_BODY_DYNAMIC) {
+            eng_mesh_hull h;
+            if (!eng_mesh_create_hull(w, b->file, b->hull_points, &h, err, sizeof err)) return scr_refuse(s, c, "%s", err);
+            b->shape_id = h.shape;
+            memcpy(mesh_com, h.centre_of_mass, sizeof mesh_com);
+            float back[3] = { -mesh_com[0], -mesh_com[1], -mesh_com[2] };
+            eng_mesh_data_translate(b->file, back);
+        } else if (!eng_mesh_create_static_shape(w, b->file, &b->shape_id, err, sizeof err)) {
+            return scr_refuse(s, c, "%s", err);
+        }
+    }
+    switch (b->file ? SHAPE_COUNT : b->shape) {
     case SHAPE_BOX: {
         phys_box box = { { b->dims[0], b->dims[1], b->dims[2] } };
         r = phys_shape_create_box(w, &box, &b->shape_id);
@@ -132,9 +148,14 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
     }
     default: break;
     }
-    if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(w));
+    if (r != PHYS_OK) return scr_refuse(s, c, "%s", phys_world_last_error(w));
     phys_body_def d = b->def;
     d.shape = b->shape_id;
+    if (b->file) { // the script placed the mesh's origin; the body sits at its centre of mass
+        float q[4] = { d.orientation.x, d.orientation.y, d.orientation.z, d.orientation.w }, wo[3];
+        scr_quat_rotate(q, mesh_com, wo);
+        d.position = (phys_vec3){ d.position.x + wo[0], d.position.y + wo[1], d.position.z + wo[2] };
+    }
     if (b->shape == SHAPE_COMPOUND) {
         // The script placed the parts' frame; the body's frame sits at the centre of mass,
         // along the principal axes: position P + Q frame_origin, orientation Q frame_rotation.
@@ -151,13 +172,13 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
         }
     }
     if (phys_body_create(w, &d, &b->id) != PHYS_OK) {
-        eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
+        eng_script_status st = scr_refuse(s, c, "%s", phys_world_last_error(w));
         phys_shape_destroy(w, b->shape_id);
         return st;
     }
     if (b->has_factors && (phys_body_set_linear_factor(w, b->id, scr_pv(b->linear_factor)) != PHYS_OK ||
                            phys_body_set_angular_factor(w, b->id, scr_pv(b->angular_factor)) != PHYS_OK)) {
-        eng_script_status st = refuse(s, c, "%s", phys_world_last_error(w));
+        eng_script_status st = scr_refuse(s, c, "%s", phys_world_last_error(w));
         phys_body_destroy(w, b->id);
         phys_shape_destroy(w, b->shape_id);
         return st;
@@ -167,7 +188,7 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
         cd.two_way = b->two_way;
         cpl_result cr = cpl_add_body(s->host.coupling, b->id, &cd);
         if (cr != CPL_OK) {
-            eng_script_status st = refuse(s, c, "%s%s", cpl_last_error(s->host.coupling),
+            eng_script_status st = scr_refuse(s, c, "%s%s", cpl_last_error(s->host.coupling),
                                           cr == CPL_ERR_CAPACITY ? " (the fluid couples a limited number of bodies at a "
                                                                    "time: destroy one before making another)" : "");
             phys_body_destroy(w, b->id);
@@ -222,7 +243,7 @@ static eng_script_status apply_move_to(eng_script *s, const command *c, body_rec
         om = (phys_vec3){ (float)(dq[0] * k), (float)(dq[1] * k), (float)(dq[2] * k) };
     }
     if (phys_body_set_linear_velocity(w, b->id, v) != PHYS_OK || phys_body_set_angular_velocity(w, b->id, om) != PHYS_OK)
-        return refuse(s, c, "%s", phys_world_last_error(w));
+        return scr_refuse(s, c, "%s", phys_world_last_error(w));
     b->target_mode = true;
     b->target_step = s->host.frame + 1;
     return ENG_SCRIPT_OK;
@@ -235,7 +256,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     obj *o = c->slot || c->gen ? scr_obj_at(s, c->slot, c->gen) : NULL;
     switch (c->type) {
     case CMD_BLOCK:
-        if (pbf_world_add_block(fw, &c->u.block, NULL) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        if (pbf_world_add_block(fw, &c->u.block, NULL) != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
     case CMD_SPHERE: {
         const pbf_params *p = pbf_world_params(fw);
@@ -244,20 +265,20 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         const eng_scene_config *cf = &s->config;
         for (int k = 0; k < 3; k++)
             if (c->u.sphere.center[k] - r < cf->domain_min[k] || c->u.sphere.center[k] + r > cf->domain_max[k])
-                return refuse(s, c, "the sphere's %c range [%g, %g] must lie inside the domain [%g, %g]", axis[k],
+                return scr_refuse(s, c, "the sphere's %c range [%g, %g] must lie inside the domain [%g, %g]", axis[k],
                               (double)(c->u.sphere.center[k] - r), (double)(c->u.sphere.center[k] + r),
                               (double)cf->domain_min[k], (double)cf->domain_max[k]);
         int n = (int)floorf(r / sp);
         uint64_t est = (uint64_t)(2 * n + 1) * (uint64_t)(2 * n + 1) * (uint64_t)(2 * n + 1);
         uint32_t room = pbf_world_capacity(fw) - pbf_world_particle_count(fw);
         if (est / 2 > room) // a sphere fills about half its bounding cube
-            return refuse(s, c, "the sphere holds about %llu particles but only %u of capacity %u are free",
+            return scr_refuse(s, c, "the sphere holds about %llu particles but only %u of capacity %u are free",
                           (unsigned long long)(est * 0.5236), room, pbf_world_capacity(fw));
         float *pos = malloc((size_t)est * 3 * sizeof(float) + 4), *vel = malloc((size_t)est * 3 * sizeof(float) + 4);
         if (!pos || !vel) {
             free(pos);
             free(vel);
-            return refuse(s, c, "out of memory");
+            return scr_refuse(s, c, "out of memory");
         }
         uint32_t m = 0;
         for (int z = -n; z <= n; z++)
@@ -274,13 +295,13 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         pbf_result pr = pbf_world_add_particles(fw, pos, vel, m);
         free(pos);
         free(vel);
-        if (pr != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        if (pr != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
     }
     case CMD_PARTICLES:
         if (c->u.particles.n &&
             pbf_world_add_particles(fw, c->u.particles.pos, c->u.particles.vel, c->u.particles.n) != PBF_OK)
-            return refuse(s, c, "%s", pbf_world_last_error(fw));
+            return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
     case CMD_EMITTER_ADD:
     case CMD_EMITTER_SET: {
@@ -290,12 +311,12 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         float max_rate = pbf_emitter_max_rate(fw, d->speed, d->radius);
         if (c->full_rate) full.rate = max_rate;
         if (d->rate > max_rate * 1.0001f)
-            return refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %g); %g is the most a nozzle "
+            return scr_refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %g); %g is the most a nozzle "
                           "of radius %g m pours at speed %g m/s: raise speed or radius for more", (double)max_rate,
                           (double)d->rate, (double)max_rate, (double)d->radius, (double)d->speed);
         pbf_result r = c->type == CMD_EMITTER_ADD ? pbf_world_add_emitter(fw, d, &o->u.emitter.id)
                                                   : pbf_world_set_emitter(fw, o->u.emitter.id, d);
-        if (r != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        if (r != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         o->state = OBJ_LIVE;
         break;
     }
@@ -305,7 +326,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     case CMD_SINK_ADD:
         if (!o) break;
         if (pbf_world_add_sink(fw, o->u.sink.min, o->u.sink.max, &o->u.sink.id) != PBF_OK)
-            return refuse(s, c, "%s", pbf_world_last_error(fw));
+            return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         o->state = OBJ_LIVE;
         break;
     case CMD_SINK_REMOVE:
@@ -331,7 +352,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         else if (c->type == CMD_BODY_ANGULAR_IMPULSE) r = phys_body_apply_angular_impulse(pw, b->id, v, true);
         else if (c->type == CMD_BODY_VELOCITY) r = phys_body_set_linear_velocity(pw, b->id, v);
         else r = phys_body_set_angular_velocity(pw, b->id, v);
-        if (r != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
+        if (r != PHYS_OK) return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         if (c->type == CMD_BODY_VELOCITY || c->type == CMD_BODY_ANGULAR_VELOCITY) b->target_mode = false;
         break;
     }
@@ -345,9 +366,9 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         phys_quat q = scr_pq(c->u.pose.rot);
         if (s->host.coupling && cpl_has_body(s->host.coupling, b->id)) {
             if (cpl_teleport_body(s->host.coupling, b->id, p, q) != CPL_OK)
-                return refuse(s, c, "%s", cpl_last_error(s->host.coupling));
+                return scr_refuse(s, c, "%s", cpl_last_error(s->host.coupling));
         } else if (phys_body_set_pose(pw, b->id, p, q) != PHYS_OK) {
-            return refuse(s, c, "%s", phys_world_last_error(pw));
+            return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         }
         b->target_mode = false;
         break;
@@ -366,26 +387,37 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         d.pivot = scr_pv(o->u.grab.pivot);
         if (o->u.grab.max_force > 0) d.max_force = o->u.grab.max_force;
         if (phys_point_constraint_create(pw, &d, &o->u.grab.id) != PHYS_OK)
-            return refuse(s, c, "%s", phys_world_last_error(pw));
+            return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         o->state = OBJ_LIVE;
         break;
     }
     case CMD_GRAB_MOVE:
         if (!o || o->state != OBJ_LIVE || !phys_constraint_is_valid(pw, o->u.grab.id)) break;
         if (phys_point_constraint_set_pivot(pw, o->u.grab.id, scr_pv(c->u.vec.v)) != PHYS_OK)
-            return refuse(s, c, "%s", phys_world_last_error(pw));
+            return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         break;
-    case CMD_GRAB_REMOVE:
-        if (phys_constraint_is_valid(pw, c->u.constraint)) phys_constraint_destroy(pw, c->u.constraint);
+    case CMD_GRAB_REMOVE: {
+        if (!phys_constraint_is_valid(pw, c->u.release.id)) break; // never applied, or gone with its body
+        phys_constraint_destroy(pw, c->u.release.id);
+        obj *b = scr_obj_at(s, c->u.release.body, c->u.release.body_gen);
+        if (c->u.release.thrown && b && b->state == OBJ_LIVE &&
+            phys_body_set_linear_velocity(pw, b->u.body.id, scr_pv(c->u.release.velocity)) != PHYS_OK)
+            return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         break;
+    }
+    case CMD_JOINT_ADD:
+    case CMD_JOINT_MOTOR:
+    case CMD_JOINT_LIMITS:
+    case CMD_JOINT_REMOVE: return scr_apply_joint(s, c);
+    case CMD_FILL: return scr_apply_fill(s, c);
     case CMD_PARAMS:
-        if (pbf_world_set_params(fw, &c->u.params) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
+        if (pbf_world_set_params(fw, &c->u.params) != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
     case CMD_GRAVITY: {
         pbf_params p = *pbf_world_params(fw);
         memcpy(p.gravity, c->u.gravity, sizeof p.gravity);
-        if (pbf_world_set_params(fw, &p) != PBF_OK) return refuse(s, c, "%s", pbf_world_last_error(fw));
-        if (pw && phys_world_set_gravity(pw, scr_pv(c->u.gravity)) != PHYS_OK) return refuse(s, c, "%s", phys_world_last_error(pw));
+        if (pbf_world_set_params(fw, &p) != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
+        if (pw && phys_world_set_gravity(pw, scr_pv(c->u.gravity)) != PHYS_OK) return scr_refuse(s, c, "%s", phys_world_last_error(pw));
         break;
     }
     case CMD_CAMERA: {
@@ -395,7 +427,7 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         memcpy(eye, c->u.camera.has_eye ? c->u.camera.eye : cam->position, sizeof eye);
         memcpy(target, c->u.camera.has_target ? c->u.camera.target : cam->target, sizeof target);
         if (eye[0] == target[0] && eye[1] == target[1] && eye[2] == target[2])
-            return refuse(s, c, "eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
+            return scr_refuse(s, c, "eye and target must differ (both at {%g, %g, %g})", (double)eye[0], (double)eye[1],
                           (double)eye[2]);
         if (c->u.camera.has_mode) eng_camera_set_mode(cam, (eng_camera_mode)c->u.camera.mode);
         if (c->u.camera.has_eye || c->u.camera.has_target) eng_camera_look_at(cam, eye, target);

@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *const scr_kind_name[OBJ_KIND_COUNT] = { "emitter", "sink", "body", "timer", "grab" };
+const char *const scr_kind_name[OBJ_KIND_COUNT] = { "emitter", "sink", "body", "timer", "grab", "joint" };
 const char *const scr_kind_meta[OBJ_KIND_COUNT] = { "seiche.emitter", "seiche.sink", "seiche.body", "seiche.timer",
-                                                    "seiche.grab" };
+                                                    "seiche.grab", "seiche.joint" };
 const char *const scr_shape_name[SHAPE_COUNT] = { "box", "sphere", "capsule", "cylinder", "plane", "hull", "mesh",
                                                   "compound" };
 const char *const scr_body_kind_name[3] = { "static", "kinematic", "dynamic" }; // = phys_body_type
@@ -451,18 +451,20 @@ uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind)
 size_t scr_body_data_bytes(const body_rec *b)
 {
     return (size_t)b->point_count * 3 * sizeof(float) + (size_t)b->index_count * sizeof(uint32_t) +
-           (size_t)b->part_count * sizeof(body_part);
+           (size_t)b->part_count * sizeof(body_part) + scr_mesh_bytes(b->file);
 }
 
 void scr_body_free_data(eng_script *s, body_rec *b)
 {
-    if (b->points || b->indices || b->parts) scr_uncharge(s, scr_body_data_bytes(b));
+    if (b->points || b->indices || b->parts || b->file) scr_uncharge(s, scr_body_data_bytes(b));
     free(b->points);
     free(b->indices);
     free(b->parts);
+    if (b->file) scr_free_mesh(b->file);
     b->points = NULL;
     b->indices = NULL;
     b->parts = NULL;
+    b->file = NULL;
 }
 
 // Frees the slot: every handle to it becomes stale ("attempt to use a destroyed ...").
@@ -542,6 +544,9 @@ static int m_tostring(lua_State *L)
         else if (k == OBJ_BODY)
             lua_pushfstring(L, "body #%d (%s %s%s)", (int)h->slot + 1, scr_body_kind_name[o->u.body.def.type],
                             scr_shape_name[o->u.body.shape], o->state == OBJ_PENDING ? ", not yet in the world" : "");
+        else if (k == OBJ_JOINT)
+            lua_pushfstring(L, "joint #%d (%s%s)", (int)h->slot + 1, scr_joint_kind_name[o->u.joint.type],
+                            o->state == OBJ_PENDING ? ", not yet in the world" : "");
         else lua_pushfstring(L, "%s #%d%s", scr_kind_name[k], (int)h->slot + 1, o->state == OBJ_PENDING ? " (not yet in the world)" : "");
         return 1;
     }

@@ -17,6 +17,9 @@
 //   wrap_fluid.c      fluid parameters, gravity, blocks, spheres and particle lists
 //   wrap_emitter.c    emitters and sinks
 //   wrap_body.c       bodies and grabs
+//   wrap_joint.c      joints between bodies (hinge, slider, fixed, point)
+//   wrap_events.c     on_contact and on_splash, and their thresholds
+//   wrap_mesh.c       meshes from files: seiche.body{mesh = ...}'s fields, seiche.fill
 //   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
 //   wrap_query.c      stats, time, counts, particle queries, check and quit
 //
@@ -26,6 +29,8 @@
 #ifndef ENG_SCRIPT_INTERNAL_H
 #define ENG_SCRIPT_INTERNAL_H
 
+#include "engine/render/mesh_file.h"
+#include "engine/render/mesh_physics.h"
 #include "engine/script/script.h"
 
 #include <lauxlib.h>
@@ -42,8 +47,8 @@
 
 // ---- objects -------------------------------------------------------------------------
 
-typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_KIND_COUNT } obj_kind;
-extern const char *const scr_kind_name[OBJ_KIND_COUNT];   // "emitter", "sink", "body", "timer", "grab"
+typedef enum obj_kind { OBJ_EMITTER = 0, OBJ_SINK, OBJ_BODY, OBJ_TIMER, OBJ_GRAB, OBJ_JOINT, OBJ_KIND_COUNT } obj_kind;
+extern const char *const scr_kind_name[OBJ_KIND_COUNT];   // "emitter", "sink", "body", "timer", "grab", "joint"
 extern const char *const scr_kind_meta[OBJ_KIND_COUNT];   // metatable names: "seiche.emitter", ...
 
 typedef enum obj_state {
@@ -66,6 +71,9 @@ typedef struct body_part {
     float rot[4];           // unit quaternion x, y, z, w
 } body_part;
 
+/// Steps of velocity a body remembers for on_splash (the fluid's measurement is a step late).
+#define SCR_VELOCITY_HISTORY 8
+
 // The most parts a compound may have: each is a fluid collider, and the fluid has 64.
 #define MAX_BODY_PARTS 64
 extern const char *const scr_body_kind_name[3];           // "static", "kinematic", "dynamic" = phys_body_type
@@ -79,6 +87,8 @@ typedef struct body_rec {
     uint32_t index_count;
     body_part *parts;       // compound (owned)
     uint32_t part_count;
+    eng_mesh_data *file;    // a mesh from a file (owned; hull or mesh shape), or NULL
+    uint32_t hull_points;   // a dynamic file mesh's hull: the most points
     bool has_factors;       // linear_factor / angular_factor / axle given
     float linear_factor[3], angular_factor[3];
     phys_body_def def;      // everything but the shape
@@ -91,7 +101,34 @@ typedef struct body_rec {
     eng_mesh_id mesh;
     bool target_mode;       // moving towards a move_to target
     uint64_t target_step;   // the step (frame + 1) the target was set for
+    // on_splash (wrap_events.c): the latest fluid measurement looked at, how many measured
+    // steps in a row the body was not wet, and its velocity at the start of recent steps.
+    bool splash_seen;
+    uint64_t splash_step;
+    uint32_t dry_steps;
+    float step_velocity[SCR_VELOCITY_HISTORY][3];
+    uint64_t step_index[SCR_VELOCITY_HISTORY]; // the step + 1 whose start step_velocity holds (0: none)
 } body_rec;
+
+// A joint between two bodies (wrap_joint.c): what the script asked for, world frame at
+// creation. Body b is the world when b_slot is NO_SLOT.
+#define NO_SLOT UINT32_MAX
+extern const char *const scr_joint_kind_name[5];          // by phys_joint_type: "", "hinge", "slider", "fixed", "point"
+typedef struct joint_rec {
+    phys_joint_type type;
+    uint32_t a_slot, a_gen, b_slot, b_gen;
+    float pivot[3];         // hinge and point: pivot; slider: anchor (m)
+    float axis[3];          // hinge and slider: unit axis
+    bool collide;           // the two bodies collide with each other
+    bool limit;
+    float lo, hi;           // rad (hinge) or m (slider)
+    bool motor;
+    float speed, max;       // rad/s or m/s; N m or N
+    phys_joint_id id;
+} joint_rec;
+
+/// Pivot positions a grab remembers, for the throw when it is released (wrap_body.c).
+#define GRAB_PATH 32
 
 typedef struct obj {
     obj_kind kind;
@@ -103,7 +140,15 @@ typedef struct obj {
         struct { float min[3], max[3]; pbf_sink_id id; } sink;
         body_rec body;
         struct { double due, period; int fn; } timer;
-        struct { uint32_t body, body_gen; phys_constraint_id id; float pivot[3]; float max_force; } grab;
+        struct {
+            uint32_t body, body_gen;
+            phys_constraint_id id;
+            float pivot[3];
+            float max_force;
+            double path[GRAB_PATH][4]; // the pivot's latest moves: time (s, simulated) and where (m)
+            uint32_t path_count;       // moves recorded (the latest GRAB_PATH are kept)
+        } grab;
+        joint_rec joint;
     } u;
 } obj;
 
@@ -121,7 +166,9 @@ typedef enum cmd_type {
     CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
     CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
     CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
+    CMD_JOINT_ADD, CMD_JOINT_MOTOR, CMD_JOINT_LIMITS, CMD_JOINT_REMOVE,
     CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
+    CMD_FILL,
 } cmd_type;
 
 typedef struct command {
@@ -134,14 +181,17 @@ typedef struct command {
         pbf_block_def block;
         struct { float center[3], radius, velocity[3]; } sphere;
         struct { float *pos, *vel; uint32_t n; } particles;
+        struct { eng_mesh_data *mesh; float pos[3], rot[4], vel[3], clearance; } fill; // mesh owned
         pbf_emitter_def emitter;
         pbf_emitter_id emitter_id;
         pbf_sink_id sink_id;
         struct { phys_body_id id; phys_shape_id shape; eng_node_id node; eng_mesh_id mesh; } body;
+        struct { phys_constraint_id id; uint32_t body, body_gen; bool thrown; float velocity[3]; } release;
         struct { float v[3], p[3]; bool at_point; } vec;
         struct { float pos[3], rot[4]; } pose;
         struct { float color[3]; bool visible; } look;
         phys_constraint_id constraint;
+        struct { phys_joint_id id; bool on; float a, b; } joint; // motor: speed, max; limits: lo, hi
         pbf_params params;
         float gravity[3];
         struct { float eye[3], target[3], fov; int mode; bool has_eye, has_target, has_fov, has_mode; } camera;
@@ -165,6 +215,11 @@ typedef struct timer_entry {
     double due;             // s, simulated
     uint32_t slot, gen;     // the timer; stale once its slot was released or reused
 } timer_entry;
+
+/// A body pair that reported a hit (on_contact), by Bullet ids.
+typedef struct scr_hit_pair {
+    phys_body_id a, b;
+} scr_hit_pair;
 
 struct eng_script {
     lua_State *L;
@@ -207,6 +262,12 @@ struct eng_script {
     bool capacity_warned;
     eng_event *events;           // injected input, handed to the app's input next frame
     int event_count, event_cap;
+    // on_contact and on_splash (wrap_events.c).
+    double contact_threshold;    // N s: a pair's impulse in a frame above it is a hit
+    double splash_speed;         // m/s: the least downward speed of a splash
+    phys_contact *contacts;      // the frame's contact sums (SCR_MAX_CONTACTS)
+    scr_hit_pair *hits;          // pairs that hit and have not dropped to half the threshold since
+    uint32_t hit_count, hit_cap;
     // The particle download shared by the queries of one frame (surface_height, ...).
     float *cache;
     uint32_t cache_count, cache_cap;
@@ -217,7 +278,7 @@ struct eng_script {
 // ---- registration (script.c) -----------------------------------------------------------
 
 /// The most API areas (wrap_*.c files).
-#define SCR_MAX_AREAS 8
+#define SCR_MAX_AREAS 16
 
 /// What the API areas bind, as their scr_open_* functions declare it: the core registers it
 /// in the Lua state and lists its names for the docs test (eng_script_api_names).
@@ -236,6 +297,27 @@ void scr_open_emitter(scr_api *api);  // wrap_emitter.c
 void scr_open_body(scr_api *api);     // wrap_body.c
 void scr_open_interact(scr_api *api); // wrap_interact.c
 void scr_open_query(scr_api *api);    // wrap_query.c
+void scr_open_joint(scr_api *api);    // wrap_joint.c
+void scr_open_events(scr_api *api);   // wrap_events.c
+void scr_open_mesh(scr_api *api);     // wrap_mesh.c
+
+// ---- callbacks (script.c) ------------------------------------------------------------------
+
+/// The most arguments a callback gets.
+#define SCR_MAX_CALLBACK_ARGS 6
+/// One argument of a callback: 'n' a number, 'i' an integer (both in `number`), 's' a string,
+/// 'h' the handle of object `slot` (nil when NO_SLOT; the slot must hold a live object), 'v'
+/// the vector `vec` (a table as scr_push_vec3 makes).
+typedef struct scr_arg {
+    char type;
+    double number;
+    const char *string;
+    uint32_t slot;
+    double vec[3];
+} scr_arg;
+/// Calls the global callback `name` with `nargs` arguments as the runner's callbacks are
+/// called (looked up raw; nothing when undefined), protected, under the frame's budget.
+eng_script_status scr_callback(eng_script *s, const char *name, int nargs, const scr_arg *args);
 
 // ---- limits (script.c) --------------------------------------------------------------------
 
@@ -264,6 +346,12 @@ void scr_uncharge(eng_script *s, size_t bytes);
 void scr_open_libraries(lua_State *L, bool trusted);
 void scr_open_bounded_string(lua_State *L);
 void scr_open_bounded_table(lua_State *L);
+/// The path of a file the scene names (a mesh), into `out`: `rel` relative to the folder of the
+/// file whose code is running. In the sandbox `rel` may not be absolute or pass through '..',
+/// and the file must be a regular file of at most 64 MiB whose real path (links followed) lies
+/// in the scene's folder or below, as for require; --trusted takes any file. NULL when found,
+/// else why not ("missing", "outside the scene's folder (a link?)", ...).
+const char *scr_scene_file(lua_State *L, const eng_script *s, const char *rel, char *out, size_t size);
 
 // ---- timers (script_timers.c) ------------------------------------------------------------------
 
@@ -352,6 +440,54 @@ uint32_t scr_capacity_of(eng_script *s);
 
 command *scr_push_command(lua_State *L, eng_script *s, cmd_type type, const char *fn);
 void scr_clear_commands(eng_script *s);
+/// An applied edit the world refused: "file:line: fn: message" into s->error; ENG_SCRIPT_ERROR.
+eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+// ---- events (wrap_events.c) ------------------------------------------------------------------
+
+/// The default of seiche.set_contact_threshold, N s, and of seiche.set_splash_threshold, m/s.
+#define SCR_DEFAULT_CONTACT_THRESHOLD 0.2
+#define SCR_DEFAULT_SPLASH_SPEED 0.5
+/// Body pairs one frame's contacts can hold: every pair of 64 bodies and the container's walls.
+#define SCR_MAX_CONTACTS 4096
+/// Calls on_contact and on_splash for what the step just taken did (after the step, before
+/// on_step), and notes the bodies' velocities for the next.
+eng_script_status scr_fire_events(eng_script *s);
+
+// ---- meshes from files (wrap_mesh.c) ----------------------------------------------------------
+
+/// A mesh file a call names, found but not read yet.
+typedef struct scr_mesh_request {
+    char path[1200];                 // where it was found
+    char name[256];                  // as the script wrote it, for messages
+    eng_mesh_file_options options;   // scale, centre
+    uint32_t hull_points;            // for a dynamic body's hull
+    bool has_hull_points;            // given
+} scr_mesh_request;
+/// Reads the fields mesh, scale, centre and hull_points (when allowed) of table t and finds the
+/// file (raising, naming the field, when it is refused or missing). False when there is no
+/// 'mesh' (and then none of the others may be given).
+bool scr_read_mesh_fields(lua_State *L, eng_script *s, int t, const char *fn, bool hull_points_allowed,
+                          scr_mesh_request *out);
+/// Reads the file into a new mesh (*out, free with scr_free_mesh); false with a message in err.
+bool scr_load_mesh(const scr_mesh_request *r, eng_mesh_data **out, char *err, size_t size);
+/// The bytes a loaded mesh holds (charged to the script), 0 for NULL.
+size_t scr_mesh_bytes(const eng_mesh_data *m);
+void scr_free_mesh(eng_mesh_data *m);
+/// Applies a CMD_FILL edit.
+eng_script_status scr_apply_fill(eng_script *s, const command *c);
+
+// ---- joints (wrap_joint.c) ------------------------------------------------------------------
+
+/// Applies a CMD_JOINT_* edit.
+eng_script_status scr_apply_joint(eng_script *s, const command *c);
+/// Releases the handles of the joints that hold body `slot` (Bullet destroys the joints
+/// with the body).
+void scr_release_joints_of(eng_script *s, uint32_t slot, uint32_t gen);
 
 // ---- bodies (wrap_body.c, script_mesh.c) --------------------------------------------------------
 

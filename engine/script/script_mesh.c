@@ -232,6 +232,9 @@ static eng_mesh_id compound_mesh(eng_script *s, body_rec *b)
 eng_mesh_id scr_body_mesh(eng_script *s, body_rec *b)
 {
     eng_mesh_store *m = s->host.meshes;
+    if (b->file)
+        return eng_mesh_create_triangles(m, b->file->positions, (int)b->file->vertex_count, b->file->indices,
+                                         3 * (int)b->file->triangle_count);
     switch (b->shape) {
     case SHAPE_BOX: return eng_mesh_create_box(m, b->dims);
     case SHAPE_SPHERE: return eng_mesh_create_sphere(m, b->dims[0]);

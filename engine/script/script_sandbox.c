@@ -285,6 +285,53 @@ static int sb_require(lua_State *L)
     return 2;
 }
 
+// ---- files a scene names (meshes) ---------------------------------------------------------------
+
+// The folder of the file whose code is running (the innermost Lua function loaded from a
+// file), or the scene's folder when none is.
+static void calling_folder(lua_State *L, const eng_script *s, char *out, size_t size)
+{
+    lua_Debug ar;
+    for (int level = 0; lua_getstack(L, level, &ar); level++) {
+        if (!lua_getinfo(L, "S", &ar) || ar.source[0] != '@') continue;
+        const char *file = ar.source + 1, *slash = strrchr(file, '/');
+        if (!slash) snprintf(out, size, ".");
+        else if (slash == file) snprintf(out, size, "/");
+        else snprintf(out, size, "%.*s", (int)(slash - file), file);
+        return;
+    }
+    scene_folder(s, out, size);
+}
+
+const char *scr_scene_file(lua_State *L, const eng_script *s, const char *rel, char *out, size_t size)
+{
+    if (!*rel) return "an empty path";
+    if (strlen(rel) > 500) return "a path longer than 500 characters";
+    if (!s->trusted) {
+        if (rel[0] == '/') return "an absolute path: a scene names its files relative to its own file";
+        for (const char *p = rel; *p; p = strchr(p, '/') ? strchr(p, '/') + 1 : p + strlen(p))
+            if (p[0] == '.' && p[1] == '.' && (p[2] == '/' || p[2] == 0)) return "a path through '..'";
+    }
+    char folder[600], path[1200];
+    calling_folder(L, s, folder, sizeof folder);
+    if (rel[0] == '/') snprintf(path, sizeof path, "%s", rel);
+    else snprintf(path, sizeof path, "%s/%s", folder, rel);
+    if (s->trusted) {
+        struct stat st;
+        if (stat(path, &st) != 0) return "missing";
+        if (!S_ISREG(st.st_mode)) return "not a regular file";
+        snprintf(out, size, "%s", path);
+        return NULL;
+    }
+    char scene[512], scene_real[PATH_MAX], real[PATH_MAX];
+    scene_folder(s, scene, sizeof scene);
+    if (!realpath(scene, scene_real)) return "in a scene whose folder cannot be read";
+    const char *why = check_module_file(path, scene_real, real, sizeof real);
+    if (why) return why;
+    snprintf(out, size, "%s", path);
+    return NULL;
+}
+
 // ---- what the sandbox leaves out ------------------------------------------------------------
 //
 // A left-out name is not nil but says why: io, package and debug are tables whose every

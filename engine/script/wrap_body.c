@@ -39,7 +39,7 @@ static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", 
                                            "indices", "kind", "density", "mass", "position", "rotation", "velocity",
                                            "angular_velocity", "friction", "restitution", "linear_damping",
                                            "angular_damping", "two_way", "color", "visible", "parts", "linear_factor",
-                                           "angular_factor", "axle", NULL };
+                                           "angular_factor", "axle", "mesh", "scale", "centre", "hull_points", NULL };
 
 // The fields each shape takes (besides the common ones).
 static void check_shape_fields(lua_State *L, body_shape shape)
@@ -66,6 +66,19 @@ static void check_shape_fields(lua_State *L, body_shape shape)
             scr_raise(L, "seiche.body: field '%s' does not apply to shape \"%s\" (it takes %s)", *g, scr_shape_name[shape], list);
         }
     }
+}
+
+// A body from a mesh file takes none of the shapes' fields, and hull_points only when dynamic.
+static void check_file_fields(lua_State *L, int kind, bool has_hull_points)
+{
+    static const char *const geometric[] = { "size", "radius", "height", "normal", "offset", "points", "vertices",
+                                             "indices", "parts", NULL };
+    for (const char *const *g = geometric; *g; g++)
+        if (scr_field_present(L, 1, *g))
+            scr_raise(L, "seiche.body: field '%s' does not apply to a body from a mesh file (its shape is the mesh's)", *g);
+    if (has_hull_points && kind >= 0 && kind != PHYS_BODY_DYNAMIC)
+        scr_raise(L, "seiche.body: field 'hull_points' applies to dynamic bodies (a %s body from a mesh file is its "
+                  "triangles)", scr_body_kind_name[kind]);
 }
 
 // The geometry fields of a box, sphere, capsule or cylinder in table t: dims as body_rec.
@@ -155,12 +168,20 @@ static int l_body(lua_State *L)
     const char *fn = "seiche.body";
     scr_check_table_arg(L, 1, fn, "shape = \"box\", size = {x, y, z}, position = {x, y, z}, ...");
     scr_check_fields(L, 1, fn, BODY_FIELDS);
-    int shape = scr_opt_enum(L, 1, fn, "shape", scr_shape_name, SHAPE_COUNT);
+    // A mesh from a file: its convex hull for a dynamic body, its triangles for the others.
+    scr_mesh_request mesh_file;
+    bool from_file = scr_read_mesh_fields(L, s, 1, fn, true, &mesh_file);
+    if (from_file && scr_field_present(L, 1, "shape"))
+        scr_raise(L, "seiche.body: give 'shape' or 'mesh', not both (a body from a mesh file is its convex hull when "
+                  "dynamic, its triangles when static or kinematic)");
+    int kind = scr_opt_enum(L, 1, fn, "kind", scr_body_kind_name, 3);
+    int shape = from_file ? (kind < 0 || kind == PHYS_BODY_DYNAMIC ? SHAPE_HULL : SHAPE_MESH)
+                          : scr_opt_enum(L, 1, fn, "shape", scr_shape_name, SHAPE_COUNT);
     if (shape < 0)
         scr_raise(L, "seiche.body: field 'shape' is required: one of \"box\", \"sphere\", \"capsule\", \"cylinder\", "
-                  "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil)");
-    check_shape_fields(L, (body_shape)shape);
-    int kind = scr_opt_enum(L, 1, fn, "kind", scr_body_kind_name, 3);
+                  "\"plane\", \"hull\", \"mesh\", \"compound\" (got nil); or mesh = \"file.obj\"");
+    if (from_file) check_file_fields(L, kind, mesh_file.has_hull_points);
+    else check_shape_fields(L, (body_shape)shape);
     if (kind < 0) kind = (shape == SHAPE_PLANE || shape == SHAPE_MESH) ? PHYS_BODY_STATIC : PHYS_BODY_DYNAMIC;
     if (kind == PHYS_BODY_DYNAMIC && (shape == SHAPE_PLANE || shape == SHAPE_MESH))
         scr_raise(L, "seiche.body: shape \"%s\" has no volume and must be kind \"static\" or \"kinematic\" (got kind \"dynamic\")",
@@ -231,7 +252,7 @@ static int l_body(lua_State *L)
     const float *pts = NULL;
     const uint32_t *idx = NULL;
     const body_part *parts = NULL;
-    switch (b.shape) {
+    switch (from_file ? SHAPE_COUNT : b.shape) {
     case SHAPE_BOX:
     case SHAPE_SPHERE:
     case SHAPE_CAPSULE:
@@ -300,6 +321,22 @@ static int l_body(lua_State *L)
     command *c = scr_push_command(L, s, CMD_BODY_ADD, fn);
     c->slot = slot;
     c->gen = o->generation;
+    if (from_file) { // read last: nothing after this may raise without freeing it
+        char err[768];
+        if (!scr_load_mesh(&mesh_file, &b.file, err, sizeof err)) {
+            s->command_count--;
+            scr_obj_release(s, slot);
+            scr_raise(L, "seiche.body: %s", err);
+        }
+        b.hull_points = mesh_file.hull_points;
+        data_bytes = scr_mesh_bytes(b.file);
+        if (data_bytes > scr_memory_room(s)) {
+            scr_free_mesh(b.file);
+            s->command_count--;
+            scr_obj_release(s, slot);
+            scr_charge(L, s, fn, data_bytes); // raises with the numbers
+        }
+    }
     b.parts = NULL;
     if (parts) b.parts = malloc((size_t)b.part_count * sizeof *b.parts);
     if (pts) {
@@ -603,7 +640,8 @@ static int m_body_set_visible(lua_State *L)
     return 0;
 }
 
-// Releases the grabs that hold body `slot` (Bullet destroys their constraints with it).
+// Releases the grabs that hold body `slot` (Bullet destroys their constraints with it; its
+// joints go the same way, scr_release_joints_of).
 static void release_grabs_of(eng_script *s, uint32_t slot, uint32_t gen)
 {
     for (uint32_t i = 0; i < s->obj_count; i++) {
@@ -626,8 +664,72 @@ static int m_body_destroy(lua_State *L)
         c->u.body.mesh = o->u.body.mesh;
     }
     release_grabs_of(s, slot, o->generation);
+    scr_release_joints_of(s, slot, o->generation);
     scr_obj_release(s, slot);
     return 0;
+}
+
+/// The window of pivot motion a release takes its throw from, s.
+#define THROW_WINDOW 0.1
+/// The fastest throw, m/s (a flick of the mouse far from the camera moves the pivot faster).
+#define MAX_THROW_SPEED 20.0
+
+// Notes the pivot's position at the current simulated time (a later move in the same frame
+// replaces it).
+static void record_pivot(eng_script *s, obj *g, const float p[3])
+{
+    uint32_t n = g->u.grab.path_count;
+    double t = s->host.time;
+    double *last = n ? g->u.grab.path[(n - 1) % GRAB_PATH] : NULL;
+    double *e = last && last[0] == t ? last : g->u.grab.path[n++ % GRAB_PATH];
+    e[0] = t, e[1] = p[0], e[2] = p[1], e[3] = p[2];
+    g->u.grab.path_count = n;
+}
+
+// The pivot's velocity over the last THROW_WINDOW s, m/s (at most MAX_THROW_SPEED); false when
+// fewer than two frames of it are known (grabbed and released in the same frame).
+static bool throw_velocity(const eng_script *s, const obj *g, float out[3])
+{
+    uint32_t n = g->u.grab.path_count, kept = n < GRAB_PATH ? n : GRAB_PATH;
+    const double(*path)[4] = g->u.grab.path;
+    double dt = s->host.dt, now = s->host.time;
+    int frames = (int)floor(THROW_WINDOW / dt + 0.5);
+    if (frames < 1) frames = 1;
+    double t[64], x[64][3];
+    int m = 0;
+    for (int j = frames; j >= 0 && m < 64; j--) {
+        double tj = now - j * dt;
+        // Where the moves left the pivot at tj: the latest one at or before it (none: not held yet).
+        const double *at = NULL;
+        for (uint32_t k = n - kept; k < n; k++) {
+            const double *e = path[k % GRAB_PATH];
+            if (e[0] <= tj + 1e-9 * (1.0 + fabs(tj))) at = e;
+        }
+        if (!at) continue;
+        t[m] = tj;
+        for (int a = 0; a < 3; a++) x[m][a] = at[a + 1];
+        m++;
+    }
+    if (m < 2) return false;
+    double tm = 0, xm[3] = { 0, 0, 0 };
+    for (int i = 0; i < m; i++) {
+        tm += t[i] / m;
+        for (int a = 0; a < 3; a++) xm[a] += x[i][a] / m;
+    }
+    double stt = 0, stx[3] = { 0, 0, 0 };
+    for (int i = 0; i < m; i++) {
+        stt += (t[i] - tm) * (t[i] - tm);
+        for (int a = 0; a < 3; a++) stx[a] += (t[i] - tm) * (x[i][a] - xm[a]);
+    }
+    double v[3], speed = 0;
+    for (int a = 0; a < 3; a++) {
+        v[a] = stx[a] / stt;
+        speed += v[a] * v[a];
+    }
+    speed = sqrt(speed);
+    double k = speed > MAX_THROW_SPEED ? MAX_THROW_SPEED / speed : 1.0;
+    for (int a = 0; a < 3; a++) out[a] = (float)(v[a] * k);
+    return true;
 }
 
 static int m_body_grab(lua_State *L)
@@ -649,6 +751,7 @@ static int m_body_grab(lua_State *L)
     go->u.grab.body_gen = body_gen;
     memcpy(go->u.grab.pivot, p, sizeof p);
     go->u.grab.max_force = (float)max_force;
+    record_pivot(s, go, p);
     command *c = scr_push_command(L, s, CMD_GRAB_ADD, fn);
     c->slot = g;
     c->gen = go->generation;
@@ -657,6 +760,11 @@ static int m_body_grab(lua_State *L)
 }
 
 // ---- grabs ------------------------------------------------------------------------------
+//
+// Throwing: a grab remembers where its pivot was moved and when (simulated time), and its
+// release gives the body the pivot's velocity over the last THROW_WINDOW seconds: the slope of
+// a least-squares line through the pivot's positions at the frames in that window (where it
+// was at each, as the moves left it; a pointer held still counts as a still pivot).
 
 static int m_grab_move(lua_State *L)
 {
@@ -666,6 +774,7 @@ static int m_grab_move(lua_State *L)
     float p[3];
     scr_arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
     memcpy(o->u.grab.pivot, p, sizeof p);
+    record_pivot(s, o, p);
     command *c = scr_push_command(L, s, CMD_GRAB_MOVE, "grab:move");
     c->slot = slot;
     c->gen = o->generation;
@@ -678,9 +787,17 @@ static int m_grab_release(lua_State *L)
     eng_script *s = scr_get_script(L);
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_GRAB, "grab:release", &slot);
+    bool thrown = true;
+    char got[64];
+    if (!lua_isnoneornil(L, 2) && !lua_isboolean(L, 2))
+        scr_raise(L, "grab:release: argument #1 'throw' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
+    if (lua_isboolean(L, 2)) thrown = lua_toboolean(L, 2);
     if (o->state == OBJ_LIVE) {
         command *c = scr_push_command(L, s, CMD_GRAB_REMOVE, "grab:release");
-        c->u.constraint = o->u.grab.id;
+        c->u.release.id = o->u.grab.id;
+        c->u.release.body = o->u.grab.body;
+        c->u.release.body_gen = o->u.grab.body_gen;
+        c->u.release.thrown = thrown && throw_velocity(s, o, c->u.release.velocity);
     }
     scr_obj_release(s, slot);
     return 0;

@@ -129,6 +129,15 @@ struct JointSlot {
     std::unique_ptr<btTypedConstraint> constraint;
 };
 
+// One body pair's contacts summed over steps (phys_world_set_contact_sums).
+struct ContactSum {
+    uint32_t a = 0, b = 0;            // body slots, a < b
+    uint16_t gen_a = 0, gen_b = 0;    // their generations at the step that last touched
+    double impulse = 0;               // N·s
+    btVector3 point{0, 0, 0};         // sum of impulse × point
+    btVector3 normal{0, 0, 0};        // sum of impulse × normal (a towards b)
+};
+
 inline uint16_t next_generation(uint16_t g) {
     ++g;
     return g == 0 ? 1 : g;
@@ -158,6 +167,8 @@ struct phys_world {
     // The other body of joints to the world (see the top of this file).
     std::unique_ptr<btRigidBody> fixed;
     float last_dt = 0;  // s, of the last phys_world_step (0 before the first)
+    bool sum_contacts = false;                        // phys_world_set_contact_sums
+    std::vector<phys_internal::ContactSum> contact_sums; // sorted by (a, b)
     uint32_t body_count = 0;
     char last_error[512] = {0};
 
@@ -321,6 +332,9 @@ void destroy_body_joints(phys_world* w, uint32_t body_slot);
 
 // Before a step of dt: turn hinge motor torques into impulses (phys_joint.cpp).
 void prepare_joints(phys_world* w, float dt);
+
+// After a step: add its contact pairs to the sums when they are on (phys_contact.cpp).
+void sum_step_contacts(phys_world* w);
 
 } // namespace phys_internal
 

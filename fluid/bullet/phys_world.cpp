@@ -110,6 +110,7 @@ phys_world_def phys_default_world_def(void) {
     d.gravity = phys_vec3{0.0f, -9.81f, 0.0f};
     d.solver_iterations = 10;
     d.collision_margin = 0.04f;
+    d.split_impulse_depth = 0.04f;
     d.log = nullptr;
     d.log_user = nullptr;
     return d;
@@ -141,6 +142,14 @@ phys_result phys_world_create(const phys_world_def* def, phys_world** out_world)
                       def->solver_iterations);
         return reject(msg);
     }
+    if (!std::isfinite(def->split_impulse_depth) || def->split_impulse_depth < 0 ||
+        def->split_impulse_depth > 1) {
+        std::snprintf(msg, sizeof msg,
+                      "phys_world_create: phys_world_def.split_impulse_depth must be finite and in "
+                      "[0, 1] m (got %g)",
+                      (double)def->split_impulse_depth);
+        return reject(msg);
+    }
     if (!std::isfinite(def->collision_margin) || def->collision_margin < 0 ||
         def->collision_margin > kMaxMargin) {
         std::snprintf(msg, sizeof msg,
@@ -166,6 +175,9 @@ phys_result phys_world_create(const phys_world_def* def, phys_world** out_world)
             w->dispatcher.get(), w->broadphase.get(), w->solver.get(), w->config.get());
         w->dynamics->setGravity(to_bt(def->gravity));
         w->dynamics->getSolverInfo().m_numIterations = def->solver_iterations;
+        // Overlaps deeper than split_impulse_depth are pushed apart without velocity.
+        w->dynamics->getSolverInfo().m_splitImpulse = 1;
+        w->dynamics->getSolverInfo().m_splitImpulsePenetrationThreshold = -def->split_impulse_depth;
         // The world side of joints to the world: static (mass 0), no shape, at the origin.
         btRigidBody::btRigidBodyConstructionInfo fixed_info(0, nullptr, nullptr);
         w->fixed = std::make_unique<btRigidBody>(fixed_info);
@@ -220,6 +232,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
         w->dynamics->stepSimulation(dt, 0, dt);
         w->last_dt = dt;
         for (BodySlot& b : w->bodies) b.has_target = false;
+        sum_step_contacts(w);
         return PHYS_OK;
     });
 }

@@ -3,8 +3,10 @@
 -- axle, and the water falls on into a basin whose overflow drain keeps the level.
 --
 -- The wheel is one rigid body of a non-convex shape: a compound of a hub and eight paddles
--- (seiche.body{shape = "compound", parts = ...}), on an axle along z (axle = "z": its centre
--- stays put, it turns about z only). Its angular damping stands for the mill's load.
+-- (seiche.body{shape = "compound", parts = ...}), on a hinge joint along z through its centre
+-- (seiche.joint{kind = "hinge"}): the axle's bearing, which holds the wheel up and lets it turn
+-- about z only. The load of the millstones is the hinge's motor used as a brake (speed 0, at
+-- most 0.05 N m) and the wheel's angular damping.
 --
 --   build/bin/seiche scripts/scenes/mill_wheel.lua
 --   build/bin/seiche --headless --frames 240 --screenshot mill_wheel.png scripts/scenes/mill_wheel.lua
@@ -41,8 +43,10 @@ for k = 0, PADDLES - 1 do
                           position = { 0.135 * math.cos(a), 0.135 * math.sin(a), 0 },
                           rotation = { axis = { 0, 0, 1 }, angle = a } }
 end
-local wheel = seiche.body { shape = "compound", parts = parts, position = AXLE, density = 700, axle = "z",
+local wheel = seiche.body { shape = "compound", parts = parts, position = AXLE, density = 700,
                             angular_damping = 0.3, color = { 0.62, 0.42, 0.24 } }
+seiche.joint { kind = "hinge", a = wheel, pivot = AXLE, axis = { 0, 0, 1 },
+                            motor = { speed = 0, max_torque = 0.05 } }
 
 -- The flume: a static trough from the right wall to above the paddles' right side, and the
 -- water leaving its end (an emitter 8 cm across, aimed down and a little back to the left).

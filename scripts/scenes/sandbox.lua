@@ -4,9 +4,10 @@
 --
 --   build/bin/seiche scripts/scenes/sandbox.lua
 --
--- Mouse: left button on a body grabs it (drag it around; release lets go); left button
---        elsewhere orbits the camera, the wheel zooms.
--- Keys:  1 box   2 ball   3 capsule   4 cylinder   5 rock   (dropped above the pointer)
+-- Mouse: left button on a body grabs it (drag it around; release lets go, throwing it with
+--        the drag's speed); left button elsewhere orbits the camera, the wheel zooms.
+-- Keys:  1 box   2 ball   3 capsule   4 cylinder   5 rock   6 boat (assets/boat.obj)
+--        (dropped above the pointer)
 --        w pour water on / off    x remove every body    r reset    space pause
 
 seiche.scene {
@@ -48,6 +49,8 @@ local shapes = {
         end
         return { shape = "hull", points = pts, density = 2200 }
     end,
+    -- A boat from a mesh file: its convex hull, light enough to float high.
+    ["6"] = function(p) return { mesh = "assets/boat.obj", density = 300 } end,
 }
 
 -- Where the mouse points: the first thing the ray hits (a body or the container), else nil.
@@ -96,7 +99,7 @@ function on_mouse(button, action, x, y)
             return true -- ours: the camera leaves this drag alone
         end
     elseif action == "release" and grab then
-        if grab:is_valid() then grab:release() end
+        if grab:is_valid() then grab:release() end -- thrown with the pointer's last 0.1 s of motion
         grab = nil
     end
     return false

@@ -1,5 +1,5 @@
--- scripts/scenes/sandbox.lua as it ships, driven by injected input: key 1 drops a box,
--- pressing the left button on a body grabs it and dragging the pointer up lifts it out
+-- scripts/scenes/sandbox.lua as it ships, driven by injected input: key 1 drops a box, key 6
+-- a boat (a body from scripts/scenes/assets/boat.obj: its convex hull), pressing the left button on a body grabs it and dragging the pointer up lifts it out
 -- of the water, releasing lets it go, key x removes every body.
 -- frames: 32
 -- trusted: runs the shipped scripts/scenes/sandbox.lua as it is (dofile), then adds checks
@@ -17,6 +17,10 @@ function on_step(dt, t)
         seiche.inject_key("1", "press")
     elseif f == 4 then
         seiche.check(#seiche.bodies() == 4, "key 1 should drop a box: " .. #seiche.bodies() .. " bodies")
+        seiche.inject_key("6", "press")
+    elseif f == 6 then
+        local bodies = seiche.bodies()
+        seiche.check(#bodies == 5 and bodies[5]:shape() == "hull", "key 6 should drop a boat: " .. tostring(bodies[5]))
     elseif f == 8 then
         target = seiche.bodies()[1]
         start_y = target:position().y
