@@ -256,6 +256,17 @@ static void render_option_picks_the_water_look_and_names_the_modes(void **state)
     assert_non_null(strstr(r.err, "--render must be one of surface|spheres|density|speed (got 'foam')"));
 }
 
+// The main chunk runs before the worlds exist, yet reads what the command line chose.
+static void main_chunk_sees_dt_and_render_options(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "1", "--dt", "0.01", "--render", "speed",
+                                        "tests/fixtures/main_chunk_sees_options.lua", NULL });
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "main chunk: dt 0.01, render speed"));
+}
+
 static void record_writes_a_video(void **state)
 {
     (void)state;
@@ -290,6 +301,7 @@ int main(void)
         cmocka_unit_test(hash_is_printed_and_repeats),
         cmocka_unit_test(metrics_and_screenshot_are_written),
         cmocka_unit_test(render_option_picks_the_water_look_and_names_the_modes),
+        cmocka_unit_test(main_chunk_sees_dt_and_render_options),
         cmocka_unit_test(record_writes_a_video),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -141,6 +141,11 @@ static void render(app *a)
     eng_renderer_draw_scene(a->renderer, a->scene, a->meshes);
     if (a->inst.world) {
         const eng_scene_config *c = eng_script_config(a->inst.script);
+        // seiche.render{...}: the script checked the look; apply it once per call.
+        if (c->fluid_look_generation != a->applied_fluid_generation) {
+            eng_renderer_set_fluid_look(a->renderer, &c->fluid_look);
+            a->applied_fluid_generation = c->fluid_look_generation;
+        }
         shadow_bounds(a, c);
         eng_fluid_draw d = eng_fluid_draw_of(a->inst.world, &c->look.water);
         if (pbf_world_particle_count(a->inst.world) > 0) eng_renderer_draw_fluid(a->renderer, &d);

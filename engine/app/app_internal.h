@@ -47,6 +47,7 @@ typedef struct app {
     eng_renderer_def renderer_def;
     eng_look applied_look;
     bool have_applied_look;
+    unsigned applied_fluid_generation; // the script's seiche.render call last applied (0: none)
     eng_mesh_store *meshes;
     eng_scene *scene;
     eng_camera camera;

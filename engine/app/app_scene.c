@@ -288,6 +288,7 @@ void app_update_host(app *a)
     h.dt = a->opt->dt;
     h.renderer = eng_context_renderer(a->ctx);
     h.headless = a->opt->headless;
+    h.fluid_look = a->renderer ? eng_renderer_fluid_look(a->renderer) : a->renderer_def.fluid;
     eng_script_set_host(in->script, &h);
 }
 
@@ -357,6 +358,15 @@ int app_load_scene(app *a, bool reload)
 
     char err[8192] = "";
     int st = ENG_EXIT_OK;
+    // What the main chunk may read before the worlds exist: the frame step (--dt), the
+    // renderer and its look (--render), headless or not.
+    eng_script_host early;
+    memset(&early, 0, sizeof early);
+    early.dt = a->opt->dt;
+    early.renderer = eng_context_renderer(a->ctx);
+    early.headless = a->opt->headless;
+    early.fluid_look = a->renderer ? eng_renderer_fluid_look(a->renderer) : a->renderer_def.fluid;
+    eng_script_set_host(in.script, &early);
     eng_script_status ss = eng_script_load(in.script, a->opt->script);
     if (ss != ENG_SCRIPT_OK) {
         st = ss == ENG_SCRIPT_CHECK_FAILED ? ENG_EXIT_CHECK_FAILED : ENG_EXIT_USAGE;
@@ -419,6 +429,7 @@ int app_load_scene(app *a, bool reload)
     a->error_text[0] = 0;
     a->window_status = ENG_EXIT_OK;
     a->mouse_captured = 0;
+    a->applied_fluid_generation = 0;
     if (!a->have_applied_look || c->look.panel != a->applied_look.panel) a->show_panel = c->look.panel;
     apply_look(a, &c->look);
     app_update_host(a);

@@ -237,3 +237,27 @@ bool eng_render_check_style(const eng_logger *log, const eng_particle_style *s)
     return true;
 }
 
+
+bool eng_fluid_look_check(const eng_fluid_look *look, const char *field, char *err, size_t err_size)
+{
+    eng_logger quiet = eng_default_logger();
+    quiet.min_level = (eng_log_level)(ENG_LOG_ERROR + 1);
+    return look && eng_render_check_look(&quiet, err, err_size, field ? field : "eng_fluid_look", look);
+}
+
+static const char *const view_names[ENG_FLUID_VIEW_COUNT] = { "shaded", "depth", "normals", "thickness" };
+
+const char *eng_fluid_view_name(eng_fluid_view view)
+{
+    return (unsigned)view < ENG_FLUID_VIEW_COUNT ? view_names[view] : NULL;
+}
+
+bool eng_fluid_view_parse(const char *name, eng_fluid_view *view)
+{
+    for (int i = 0; name && i < ENG_FLUID_VIEW_COUNT; i++)
+        if (strcmp(name, view_names[i]) == 0) {
+            *view = (eng_fluid_view)i;
+            return true;
+        }
+    return false;
+}

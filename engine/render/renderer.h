@@ -204,6 +204,13 @@ bool eng_renderer_set_sky(eng_renderer *r, const float sky_color[3]);
 /// field named in the log: "eng_fluid_look.absorption[1] must be 0..100 (got -1)") if one
 /// is out of range. For `seiche.render{...}`.
 bool eng_renderer_set_fluid_look(eng_renderer *r, const eng_fluid_look *look);
+/// Checks a look without a renderer (for scripts): false with "<field>.<name> must be ...
+/// (got ...)" in err when a field is out of range; nothing is logged.
+bool eng_fluid_look_check(const eng_fluid_look *look, const char *field, char *err, size_t err_size);
+/// "shaded", "depth", "normals", "thickness"; NULL for a value out of range.
+const char *eng_fluid_view_name(eng_fluid_view view);
+/// The view of that name; false (and `view` unchanged) for any other text.
+bool eng_fluid_view_parse(const char *name, eng_fluid_view *view);
 /// The current look (as set, or the def's).
 eng_fluid_look eng_renderer_fluid_look(const eng_renderer *r);
 /// Only the mode (the runner's --render and its `v` key); false for a value out of range.

@@ -78,6 +78,7 @@ static void open_api(scr_api *api)
     scr_open_emitter(api);
     scr_open_body(api);
     scr_open_interact(api);
+    scr_open_render(api);
     scr_open_query(api);
     scr_open_joint(api);
     scr_open_events(api);
@@ -410,6 +411,7 @@ eng_script *eng_script_create(const eng_script_def *def)
     s->trusted = def->trusted;
     s->config = eng_default_scene_config();
     s->host.dt = 1.0 / 60.0;
+    s->host.fluid_look = eng_default_fluid_look();
     s->contact_threshold = SCR_DEFAULT_CONTACT_THRESHOLD;
     s->splash_speed = SCR_DEFAULT_SPLASH_SPEED;
     s->L = lua_newstate(limited_alloc, s);

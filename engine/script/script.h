@@ -59,6 +59,9 @@ typedef struct eng_scene_config {
     float camera_fov;                         ///< degrees
     eng_camera_mode camera_mode;
     eng_look look;
+    eng_fluid_look fluid_look;                ///< seiche.render{...}: the renderer's look asked for
+    unsigned fluid_look_generation;           ///< counts seiche.render calls (0: none): the app
+                                              ///< applies fluid_look when this changes
     char scene_where[192];                    ///< "file:line:" of seiche.scene, "" if none
 } eng_scene_config;
 
@@ -81,6 +84,7 @@ typedef struct eng_script_host {
     double time;                ///< s, simulated
     double dt;                  ///< s, frame step
     const char *renderer;       ///< GL renderer string
+    eng_fluid_look fluid_look;  ///< the renderer's look now (seiche.render() reads it)
     bool headless;
 } eng_script_host;
 

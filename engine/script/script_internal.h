@@ -22,6 +22,7 @@
 //   wrap_mesh.c       meshes from files: seiche.body{mesh = ...}'s fields, seiche.fill
 //   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
 //   wrap_query.c      stats, time, counts, particle queries, check and quit
+//   wrap_render.c     seiche.render: the renderer's look of the water
 //
 // Each wrap_*.c ends with its luaL_Reg tables and one scr_open_* that hands them to the core
 // (scr_api); the bindings reach the eng_script as upvalue 1 (scr_get_script). Shared
@@ -296,6 +297,7 @@ void scr_open_fluid(scr_api *api);    // wrap_fluid.c
 void scr_open_emitter(scr_api *api);  // wrap_emitter.c
 void scr_open_body(scr_api *api);     // wrap_body.c
 void scr_open_interact(scr_api *api); // wrap_interact.c
+void scr_open_render(scr_api *api);   // wrap_render.c
 void scr_open_query(scr_api *api);    // wrap_query.c
 void scr_open_joint(scr_api *api);    // wrap_joint.c
 void scr_open_events(scr_api *api);   // wrap_events.c
