@@ -403,6 +403,11 @@ typedef struct pbf_step_stats {
     uint32_t nan_count;       ///< particles with a non-finite position or velocity
     uint32_t outside_count;   ///< particles outside the domain
     uint32_t overflow_count;  ///< particles with more neighbours than their list holds
+    double mass;              ///< kg: particles × the mass of one (rest_density × spacing^3)
+    double kinetic_energy;    ///< J: sum of m |v|^2 / 2 over the finite particles
+    double momentum[3];       ///< kg m/s: sum of m v
+    double center_of_mass[3]; ///< m: mean position of the finite particles (equal masses)
+    float speed_max;          ///< m/s: the largest particle speed
     double stage_ms[PBF_STAGE_COUNT]; ///< GPU time per stage (all substeps and iterations)
     double step_ms;           ///< GPU time of the whole step (sum of stages but metrics)
 } pbf_step_stats;
@@ -430,6 +435,38 @@ uint32_t pbf_world_read_particles(pbf_world *world, float *positions, float *vel
                                   uint32_t *ids, uint32_t max);
 /// 64-bit FNV-1a hash of positions and velocities in id order, bit exact.
 uint64_t pbf_world_state_hash(pbf_world *world);
+
+/// The particles inside the box [box_min, box_max] (m; both NULL: every particle), in id
+/// order: positions and velocities as xyz triples (3 floats each) and densities (kg/m^3, from
+/// the step's last density pass, so before its last position correction; 0 for particles
+/// added since the last step). Any of the three outputs may be NULL; at most `max` particles
+/// are copied and *count (may be NULL) receives how many are in the box. Downloads the state.
+pbf_result pbf_world_read_fields(pbf_world *world, const float box_min[3], const float box_max[3],
+                                 float *positions, float *velocities, float *densities, uint32_t max,
+                                 uint32_t *count);
+
+/// What the particles inside a box add up to.
+typedef struct pbf_region_stats {
+    uint32_t particles;       ///< particles in the box
+    uint32_t with_density;    ///< of those, particles with a density (not added since the last step)
+    double mass;              ///< kg: particles × the mass of one
+    double density_avg;       ///< kg/m^3, over the particles with a density (0: none)
+    double density_max;
+    double velocity[3];       ///< m/s, mean
+    double momentum[3];       ///< kg m/s
+    double kinetic_energy;    ///< J
+    double center_of_mass[3]; ///< m (0 when empty)
+    double speed_max;         ///< m/s
+} pbf_region_stats;
+/// Sums `count` particles given as arrays in the layout of pbf_world_read_fields (positions
+/// required; velocities and densities may be NULL), each of mass `particle_mass` (kg), over
+/// those inside [box_min, box_max] (both NULL: all). No GL: usable on data read once.
+pbf_result pbf_region_stats_of(const float *positions, const float *velocities, const float *densities,
+                               uint32_t count, float particle_mass, const float box_min[3],
+                               const float box_max[3], pbf_region_stats *out);
+/// pbf_world_read_fields then pbf_region_stats_of for one box. Downloads the state.
+pbf_result pbf_world_region_stats(pbf_world *world, const float box_min[3], const float box_max[3],
+                                  pbf_region_stats *out);
 
 #ifdef __cplusplus
 }

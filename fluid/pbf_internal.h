@@ -186,6 +186,10 @@ void pbf_colliders_upload(pbf_world *w);
 void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot);
 void pbf_colliders_end_step(pbf_world *w);
 void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r);
+/// Particles in id order (see pbf_world_read_particles); `volumes` receives vel.w, the volume
+/// of the step's last density pass (0 for particles added since). Any output may be NULL.
+uint32_t pbf_read_sorted(pbf_world *w, float *positions, float *velocities, float *volumes, uint32_t *ids,
+                         uint32_t max);
 /// Binds the collider data buffer (call where the step binds its buffers).
 void pbf_colliders_bind(pbf_world *w);
 /// Frees the colliders' CPU copies and GL buffers (pbf_world_destroy).

@@ -26,8 +26,8 @@
 _Static_assert(sizeof(pbf_gpu_params) == 576, "pbf_gpu_params must match the std140 block");
 _Static_assert(sizeof(pbf_gpu_params) % 16 == 0, "std140 block size");
 _Static_assert(sizeof(pbf_gpu_collider) == 144, "pbf_gpu_collider std430 layout");
-_Static_assert(sizeof(pbf_gpu_reduce) == 32, "pbf_gpu_reduce std430 layout");
-_Static_assert(sizeof(pbf_gpu_metrics) == 32, "pbf_gpu_metrics std430 layout");
+_Static_assert(sizeof(pbf_gpu_reduce) == 64, "pbf_gpu_reduce std430 layout");
+_Static_assert(sizeof(pbf_gpu_metrics) == 64, "pbf_gpu_metrics std430 layout");
 _Static_assert(sizeof(pbf_gpu_state) == 32, "pbf_gpu_state std430 layout");
 
 
@@ -714,6 +714,13 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     out->outside_count = m.outside_count;
     out->overflow_count = m.overflow_count;
     out->particles = m.count;
+    out->mass = (double)m.count * w->k.mass;
+    out->kinetic_energy = m.momentum.w;
+    out->speed_max = m.center_of_mass.w;
+    for (int k = 0; k < 3; k++) {
+        out->momentum[k] = (&m.momentum.x)[k];
+        out->center_of_mass[k] = (&m.center_of_mass.x)[k];
+    }
     // The count as of this step, plus what was appended after it was issued.
     if (r->step + 1 >= w->known_step) {
         w->known_step = r->step + 1;
@@ -855,9 +862,9 @@ static uint32_t gpu_count(pbf_world *w)
     return st.count;
 }
 
-uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
+uint32_t pbf_read_sorted(pbf_world *w, float *positions, float *velocities, float *volumes, uint32_t *ids,
+                         uint32_t max)
 {
-    if (!w) return 0;
     uint32_t n = gpu_count(w);
     if (n == 0) return 0;
     float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
@@ -887,6 +894,7 @@ uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocit
             memcpy(velocities + 4 * i, v + 4 * s, 12);
             velocities[4 * i + 3] = 0.0f; // w is the solver's scratch (particle volume)
         }
+        if (volumes) volumes[i] = v[4 * s + 3];
         if (ids) ids[i] = order[i].id;
     }
     free(p);
@@ -894,6 +902,11 @@ uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocit
     free(id);
     free(order);
     return m;
+}
+
+uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
+{
+    return w ? pbf_read_sorted(w, positions, velocities, NULL, ids, max) : 0;
 }
 
 uint64_t pbf_world_state_hash(pbf_world *w)

@@ -80,6 +80,7 @@ static void open_api(scr_api *api)
     scr_open_interact(api);
     scr_open_render(api);
     scr_open_query(api);
+    scr_open_measure(api);
     scr_open_joint(api);
     scr_open_events(api);
     scr_open_mesh(api);

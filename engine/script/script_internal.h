@@ -21,7 +21,8 @@
 //   wrap_events.c     on_contact and on_splash, and their thresholds
 //   wrap_mesh.c       meshes from files: seiche.body{mesh = ...}'s fields, seiche.fill
 //   wrap_interact.c   timers, keys and mouse, screen and ray queries, injected input
-//   wrap_query.c      stats, time, counts, particle queries, check and quit
+//   wrap_query.c      stats, time, counts, check and quit
+//   wrap_measure.c    particle measurements: particle_data, region_stats, surface_height, particles_in
 //   wrap_render.c     seiche.render: the renderer's look of the water
 //
 // Each wrap_*.c ends with its luaL_Reg tables and one scr_open_* that hands them to the core
@@ -269,7 +270,8 @@ struct eng_script {
     phys_contact *contacts;      // the frame's contact sums (SCR_MAX_CONTACTS)
     scr_hit_pair *hits;          // pairs that hit and have not dropped to half the threshold since
     uint32_t hit_count, hit_cap;
-    // The particle download shared by the queries of one frame (surface_height, ...).
+    // The particle download shared by the queries of one frame (wrap_measure.c): positions
+    // (3 cache_cap floats), velocities (3 cache_cap), densities (cache_cap).
     float *cache;
     uint32_t cache_count, cache_cap;
     uint64_t cache_frame;
@@ -299,6 +301,7 @@ void scr_open_body(scr_api *api);     // wrap_body.c
 void scr_open_interact(scr_api *api); // wrap_interact.c
 void scr_open_render(scr_api *api);   // wrap_render.c
 void scr_open_query(scr_api *api);    // wrap_query.c
+void scr_open_measure(scr_api *api);  // wrap_measure.c
 void scr_open_joint(scr_api *api);    // wrap_joint.c
 void scr_open_events(scr_api *api);   // wrap_events.c
 void scr_open_mesh(scr_api *api);     // wrap_mesh.c

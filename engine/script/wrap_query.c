@@ -1,5 +1,6 @@
-// Binds the queries (seiche.stats, time, frame, dt, particle_count, capacity, surface_height,
-// particles_in, max_emitter_rate, renderer, headless) and test support (check, quit).
+// Binds the queries (seiche.stats, time, frame, dt, particle_count, capacity, max_emitter_rate,
+// renderer, headless) and test support (check, quit). The particle measurements are in
+// wrap_measure.c.
 #include "engine/script/script_internal.h"
 
 #include <math.h>
@@ -12,7 +13,7 @@ static int l_stats(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
     const pbf_step_stats *st = s->host.stats;
-    lua_createtable(L, 0, 12);
+    lua_createtable(L, 0, 18);
     scr_set_num(L, "particles", st ? st->particles : (s->host.world ? pbf_world_particle_count(s->host.world) : 0));
     scr_set_num(L, "capacity", scr_capacity_of(s));
     scr_set_num(L, "rho0", scr_current_params(s)->rest_density);
@@ -24,6 +25,16 @@ static int l_stats(lua_State *L)
     scr_set_num(L, "step_ms", st ? st->step_ms : 0.0);
     scr_set_num(L, "step", st ? (double)st->step : -1.0);
     scr_set_num(L, "time", st ? st->time : 0.0);
+    scr_set_num(L, "mass", st ? st->mass : 0.0);
+    scr_set_num(L, "kinetic_energy", st ? st->kinetic_energy : 0.0);
+    scr_set_num(L, "speed_max", st ? st->speed_max : 0.0);
+    scr_set_num(L, "rho_err_avg", st ? st->density_error_avg : 0.0);
+    const double zero[3] = { 0, 0, 0 };
+    const double *mom = st ? st->momentum : zero, *com = st ? st->center_of_mass : zero;
+    scr_push_vec3(L, mom[0], mom[1], mom[2]);
+    lua_setfield(L, -2, "momentum");
+    scr_push_vec3(L, com[0], com[1], com[2]);
+    lua_setfield(L, -2, "center_of_mass");
     lua_createtable(L, 0, PBF_STAGE_COUNT);
     for (int k = 0; k < PBF_STAGE_COUNT; k++) scr_set_num(L, pbf_stage_name((pbf_stage)k), st ? st->stage_ms[k] : 0.0);
     lua_setfield(L, -2, "stage_ms");
@@ -85,65 +96,6 @@ static int l_max_emitter_rate(lua_State *L)
     return 1;
 }
 
-// Downloads the particle positions once per frame for the queries that need them.
-static const float *particle_positions(lua_State *L, eng_script *s, const char *fn, uint32_t *count)
-{
-    scr_require_world(L, s, fn);
-    if (!s->cache_valid || s->cache_frame != s->host.frame) {
-        uint32_t n = pbf_world_particle_count(s->host.world);
-        if (n > s->cache_cap) {
-            float *c = realloc(s->cache, (size_t)n * 4 * sizeof(float));
-            if (!c) scr_raise(L, "%s: out of memory for %u particles", fn, n);
-            s->cache = c;
-            s->cache_cap = n;
-        }
-        s->cache_count = n ? pbf_world_read_particles(s->host.world, s->cache, NULL, NULL, n) : 0;
-        s->cache_frame = s->host.frame;
-        s->cache_valid = true;
-    }
-    *count = s->cache_count;
-    return s->cache;
-}
-
-static int l_surface_height(lua_State *L)
-{
-    eng_script *s = scr_get_script(L);
-    const char *fn = "seiche.surface_height";
-    double x = scr_arg_number(L, 1, fn, "x", -MAX_COORD, MAX_COORD, 0, "m");
-    double z = scr_arg_number(L, 2, fn, "z", -MAX_COORD, MAX_COORD, 0, "m");
-    const pbf_params *p = scr_current_params(s);
-    double r = p->kernel_radius;
-    if (!lua_isnoneornil(L, 3)) r = scr_arg_number(L, 3, fn, "radius", 0, 100, OPEN_LO, "m");
-    uint32_t n;
-    const float *pos = particle_positions(L, s, fn, &n);
-    double best = -HUGE_VAL;
-    for (uint32_t i = 0; i < n; i++) {
-        double dx = pos[4 * i] - x, dz = pos[4 * i + 2] - z;
-        if (dx * dx + dz * dz <= r * r && pos[4 * i + 1] > best) best = pos[4 * i + 1];
-    }
-    if (best == -HUGE_VAL) lua_pushnil(L);
-    else lua_pushnumber(L, best + p->particle_radius);
-    return 1;
-}
-
-static int l_particles_in(lua_State *L)
-{
-    eng_script *s = scr_get_script(L);
-    const char *fn = "seiche.particles_in";
-    float mn[3], mx[3];
-    scr_arg_vec(L, 1, fn, "min", -MAX_COORD, MAX_COORD, "m", mn);
-    scr_arg_vec(L, 2, fn, "max", -MAX_COORD, MAX_COORD, "m", mx);
-    uint32_t n;
-    const float *pos = particle_positions(L, s, fn, &n);
-    lua_Integer count = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        const float *q = pos + 4 * i;
-        if (q[0] >= mn[0] && q[0] <= mx[0] && q[1] >= mn[1] && q[1] <= mx[1] && q[2] >= mn[2] && q[2] <= mx[2]) count++;
-    }
-    lua_pushinteger(L, count);
-    return 1;
-}
-
 // ---- test support ----------------------------------------------------------------------
 
 // The record of the calling line's check (NULL when the table is full).
@@ -189,7 +141,7 @@ static int l_quit(lua_State *L)
 
 static const luaL_Reg functions[] = {
     { "particle_count", l_particle_count }, { "capacity", l_capacity }, { "stats", l_stats },
-    { "surface_height", l_surface_height }, { "particles_in", l_particles_in }, { "max_emitter_rate", l_max_emitter_rate },
+    { "max_emitter_rate", l_max_emitter_rate },
     { "time", l_time }, { "frame", l_frame }, { "dt", l_dt }, { "renderer", l_renderer }, { "headless", l_headless },
     { "check", l_check }, { "quit", l_quit }, { NULL, NULL },
 };

@@ -2,7 +2,8 @@
 // Stage metrics, part 1: density of the final positions (fluid + boundary share, over the
 // neighbour list of the last substep), then
 // per-work-group sum and max, non-finite and out-of-domain counts, reduced in shared
-// memory in a fixed order (deterministic).
+// memory in a fixed order (deterministic); momentum, kinetic energy, the sum of positions
+// (centre of mass) and the largest speed of the finite particles.
 #define USE_POS
 #define USE_VEL
 #define USE_NB
@@ -18,6 +19,8 @@ shared float s_max[PBF_WG];
 shared uint s_nan[PBF_WG];
 shared uint s_out[PBF_WG];
 shared uint s_ovf[PBF_WG];
+shared vec4 s_mom[PBF_WG]; // xyz m v, w m |v|^2 / 2
+shared vec4 s_pos[PBF_WG]; // xyz x, w |v| (max)
 
 void main()
 {
@@ -25,6 +28,7 @@ void main()
     uint t = gl_LocalInvocationID.x;
     float rho = 0.0;
     uint bad = 0u, outside = 0u, overflow = 0u;
+    vec4 mom = vec4(0.0), at = vec4(0.0);
     if (i < particle_count()) {
         vec3 xi = pos[i].xyz;
         vec3 vi = vel[i].xyz;
@@ -43,6 +47,8 @@ void main()
             vec3 unused_grad = vec3(0.0);
             if (P.collider_count > 0u) colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;
+            mom = vec4(P.mass * vi, 0.5 * P.mass * dot(vi, vi));
+            at = vec4(xi, length(vi));
             if (any(lessThan(xi, P.domain_min.xyz)) || any(greaterThan(xi, P.domain_max.xyz))) outside = 1u;
         }
     }
@@ -52,6 +58,8 @@ void main()
     s_nan[t] = bad;
     s_out[t] = outside;
     s_ovf[t] = overflow;
+    s_mom[t] = mom;
+    s_pos[t] = at;
     for (uint s = PBF_WG / 2u; s > 0u; s >>= 1) {
         barrier();
         if (t < s) {
@@ -61,6 +69,8 @@ void main()
             s_nan[t] += s_nan[t + s];
             s_out[t] += s_out[t + s];
             s_ovf[t] += s_ovf[t + s];
+            s_mom[t] += s_mom[t + s];
+            s_pos[t] = vec4(s_pos[t].xyz + s_pos[t + s].xyz, max(s_pos[t].w, s_pos[t + s].w));
         }
     }
     if (t == 0u) {
@@ -70,5 +80,9 @@ void main()
         partial[gl_WorkGroupID.x].nan_count = s_nan[0];
         partial[gl_WorkGroupID.x].outside_count = s_out[0];
         partial[gl_WorkGroupID.x].overflow_count = s_ovf[0];
+        partial[gl_WorkGroupID.x].kinetic_sum = s_mom[0].w;
+        partial[gl_WorkGroupID.x].speed_max = s_pos[0].w;
+        partial[gl_WorkGroupID.x].momentum_sum = vec4(s_mom[0].xyz, 0.0);
+        partial[gl_WorkGroupID.x].position_sum = vec4(s_pos[0].xyz, 0.0);
     }
 }

@@ -190,7 +190,10 @@ PBF_STRUCT(pbf_gpu_reduce) {
     PBF_UINT outside_count;  // particles outside the domain
     PBF_UINT overflow_count; // particles with more neighbours than their list holds
     PBF_FLOAT error_sum;     // sum of max(rho / rho0 - 1, 0): the compression error
-    PBF_UINT pad0, pad1;
+    PBF_FLOAT kinetic_sum;   // J: sum of m |v|^2 / 2 (finite particles)
+    PBF_FLOAT speed_max;     // m/s
+    PBF_VEC4 momentum_sum;   // xyz kg m/s: sum of m v
+    PBF_VEC4 position_sum;   // xyz m: sum of x (centre of mass = sum / count, equal masses)
 } PBF_END(pbf_gpu_reduce);
 
 PBF_STRUCT(pbf_gpu_metrics) {
@@ -202,6 +205,8 @@ PBF_STRUCT(pbf_gpu_metrics) {
     PBF_UINT frame;
     PBF_UINT overflow_count;
     PBF_FLOAT error_avg;     // mean of max(rho / rho0 - 1, 0) over the particles
+    PBF_VEC4 momentum;       // xyz kg m/s, w = kinetic energy J
+    PBF_VEC4 center_of_mass; // xyz m, w = largest speed m/s
 } PBF_END(pbf_gpu_metrics);
 
 #endif
