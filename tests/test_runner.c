@@ -267,6 +267,23 @@ static void main_chunk_sees_dt_and_render_options(void **state)
     assert_non_null(strstr(r.out, "main chunk: dt 0.01, render speed"));
 }
 
+// --set is what the world is built with, and what the main chunk reads back.
+static void main_chunk_sees_set_options(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "1", "--set", "fluid.viscosity=0.05",
+                                        "--set", "fluid.particle_radius=0.01", "--set", "fluid.kernel_radius=0.04",
+                                        "--set", "gravity.y=-3", "--set", "capacity=250",
+                                        "tests/fixtures/main_chunk_sees_options.lua", NULL });
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "main chunk: viscosity 0.05, particle_radius 0.01, kernel_radius 0.04, gravity.y -3, "
+                                  "capacity 250"));
+    assert_non_null(strstr(r.out, "main chunk: vorticity 0.25, viscosity 0.05"));
+    assert_non_null(strstr(r.out, "on_start: viscosity 0.05, particle_radius 0.01, gravity.y -3, capacity 250, "
+                                  "vorticity 0.25"));
+}
+
 static void record_writes_a_video(void **state)
 {
     (void)state;
@@ -302,6 +319,7 @@ int main(void)
         cmocka_unit_test(metrics_and_screenshot_are_written),
         cmocka_unit_test(render_option_picks_the_water_look_and_names_the_modes),
         cmocka_unit_test(main_chunk_sees_dt_and_render_options),
+        cmocka_unit_test(main_chunk_sees_set_options),
         cmocka_unit_test(record_writes_a_video),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -65,6 +65,13 @@ static int apply_sets(app *a, eng_scene_config *c, char *err, size_t err_size)
     return ENG_EXIT_OK;
 }
 
+// The script's view of the --set options while its main chunk runs (eng_script_host).
+static bool overrides_for_script(void *user, eng_scene_config *c)
+{
+    char err[512];
+    return apply_sets(user, c, err, sizeof err) == ENG_EXIT_OK;
+}
+
 static void world_log(void *user, int level, const char *msg)
 {
     app *a = user;
@@ -366,6 +373,8 @@ int app_load_scene(app *a, bool reload)
     early.renderer = eng_context_renderer(a->ctx);
     early.headless = a->opt->headless;
     early.fluid_look = a->renderer ? eng_renderer_fluid_look(a->renderer) : a->renderer_def.fluid;
+    early.apply_overrides = a->opt->set_count > 0 ? overrides_for_script : NULL;
+    early.overrides_user = a;
     eng_script_set_host(in.script, &early);
     eng_script_status ss = eng_script_load(in.script, a->opt->script);
     if (ss != ENG_SCRIPT_OK) {

@@ -86,6 +86,12 @@ typedef struct eng_script_host {
     const char *renderer;       ///< GL renderer string
     eng_fluid_look fluid_look;  ///< the renderer's look now (seiche.render() reads it)
     bool headless;
+    /// The host's overrides of the scene description (the runner's --set), applied to a copy
+    /// of the config wherever the main chunk reads it back (seiche.param, params, gravity,
+    /// capacity), so the script sees the values the world will be built with. Returns false
+    /// when they do not apply (the host reports that after loading); NULL: no overrides.
+    bool (*apply_overrides)(void *user, eng_scene_config *config);
+    void *overrides_user;
 } eng_script_host;
 
 typedef enum eng_script_status {

@@ -609,7 +609,17 @@ void scr_new_handle_type(lua_State *L, eng_script *s, obj_kind kind, const luaL_
 const pbf_params *scr_current_params(eng_script *s)
 {
     if (s->have_pending_params) return &s->pending_params;
-    return s->host.world ? pbf_world_params(s->host.world) : &s->config.params;
+    if (s->host.world) return pbf_world_params(s->host.world);
+    return &scr_config_view(s)->params;
+}
+
+// The scene description as the world will be built from it: the config with the host's
+// overrides (--set) applied, or the config itself.
+const eng_scene_config *scr_config_view(eng_script *s)
+{
+    if (!s->host.apply_overrides) return &s->config;
+    s->config_view = s->config;
+    return s->host.apply_overrides(s->host.overrides_user, &s->config_view) ? &s->config_view : &s->config;
 }
 
 void scr_require_world(lua_State *L, eng_script *s, const char *fn)
@@ -621,5 +631,5 @@ void scr_require_world(lua_State *L, eng_script *s, const char *fn)
 
 uint32_t scr_capacity_of(eng_script *s)
 {
-    return s->host.world ? pbf_world_capacity(s->host.world) : s->config.capacity;
+    return s->host.world ? pbf_world_capacity(s->host.world) : scr_config_view(s)->capacity;
 }

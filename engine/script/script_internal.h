@@ -252,6 +252,7 @@ struct eng_script {
     bool scene_called;
     bool in_main_chunk;
     eng_scene_config config;
+    eng_scene_config config_view; // config with the host's overrides (scr_config_view)
     command *commands;
     int command_count, command_cap;
     obj *objs;
@@ -438,6 +439,7 @@ int scr_is_valid(lua_State *L);
 void scr_new_handle_type(lua_State *L, eng_script *s, obj_kind kind, const luaL_Reg *methods);
 
 const pbf_params *scr_current_params(eng_script *s);
+const eng_scene_config *scr_config_view(eng_script *s);
 void scr_require_world(lua_State *L, eng_script *s, const char *fn);
 uint32_t scr_capacity_of(eng_script *s);
 
