@@ -457,7 +457,6 @@ pbf_result pbf_world_collider_report(pbf_world *w, pbf_collider_id id, int steps
 {
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_collider_report: out must not be NULL");
-    if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_collider_report: out must not be NULL");
     memset(out, 0, sizeof *out);
     collider_slot *s = get_slot(w, id, "pbf_world_collider_report");
     if (!s) return PBF_ERR_STALE_ID;

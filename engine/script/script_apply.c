@@ -186,6 +186,7 @@ static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
     if (s->host.coupling) {
         cpl_body_def cd = cpl_default_body_def();
         cd.two_way = b->two_way;
+        cd.measure_force = b->measure_force;
         cpl_result cr = cpl_add_body(s->host.coupling, b->id, &cd);
         if (cr != CPL_OK) {
             eng_script_status st = scr_refuse(s, c, "%s%s", cpl_last_error(s->host.coupling),

@@ -95,6 +95,7 @@ typedef struct body_rec {
     float linear_factor[3], angular_factor[3];
     phys_body_def def;      // everything but the shape
     bool two_way;
+    bool measure_force;     // the water's force is measured though it is not applied (static, one-way)
     float color[3];
     bool visible;
     phys_body_id id;

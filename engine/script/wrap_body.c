@@ -38,7 +38,7 @@ static double shape_volume(const body_rec *b)
 static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", "normal", "offset", "points", "vertices",
                                            "indices", "kind", "density", "mass", "position", "rotation", "velocity",
                                            "angular_velocity", "friction", "restitution", "linear_damping",
-                                           "angular_damping", "two_way", "color", "visible", "parts", "linear_factor",
+                                           "angular_damping", "two_way", "measure_force", "color", "visible", "parts", "linear_factor",
                                            "angular_factor", "axle", "mesh", "scale", "centre", "hull_points", NULL };
 
 // The fields each shape takes (besides the common ones).
@@ -226,6 +226,7 @@ static int l_body(lua_State *L)
     if (scr_opt_number(L, 1, fn, "angular_damping", 0, 1, 0, "(fraction of angular velocity removed per second)", &v))
         b.def.angular_damping = (float)v;
     scr_opt_bool(L, 1, fn, "two_way", &b.two_way);
+    scr_opt_bool(L, 1, fn, "measure_force", &b.measure_force);
     // Motion factors: per world axis, [0, 1]; `axle` is the short form of a fixed axle.
     for (int k = 0; k < 3; k++) b.linear_factor[k] = b.angular_factor[k] = 1.0f;
     bool has_lf = scr_opt_vec(L, 1, fn, "linear_factor", 3, 0, 1, 0, "", b.linear_factor);
@@ -479,6 +480,11 @@ static int m_body_fluid_force(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
     obj *o = scr_check_self(L, OBJ_BODY, "body:fluid_force", NULL);
+    const body_rec *b = &o->u.body;
+    phys_body_type t = b->def.type;
+    if (!b->measure_force && (t == PHYS_BODY_STATIC || (t == PHYS_BODY_DYNAMIC && !b->two_way)))
+        scr_raise(L, "body:fluid_force: the body is %s and the water's force on it is not measured: create it with "
+                  "measure_force = true", t == PHYS_BODY_STATIC ? "static" : "one-way (two_way = false)");
     cpl_body_stats st;
     memset(&st, 0, sizeof st);
     if (o->state == OBJ_LIVE && s->host.coupling) cpl_body_get_stats(s->host.coupling, o->u.body.id, &st);

@@ -28,6 +28,7 @@ typedef struct body_entry {
     phys_body_id body;
     phys_body_type type;
     bool two_way;
+    bool measured;              // the fluid accumulates its force (two-way, kinematic, or asked)
     pbf_collider_id collider;  // the first of collider_count (one per part of a compound)
     uint32_t collider_count;
     pbf_collider_id *colliders; // collider_count; for a compound, in the order of its children
@@ -448,7 +449,7 @@ static uint32_t colliders_in_use(const cpl_coupling *c)
 
 // Adds the collider of one shape (a body's, or a compound child's) at the given pose.
 static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, const float pos[3], const float rot[4],
-                               bool two_way, pbf_collider_id *out)
+                               bool measured, pbf_collider_id *out)
 {
     pbf_collider_def d = pbf_default_collider_def();
     float *planes = NULL, *grid = NULL;
@@ -456,7 +457,7 @@ static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, co
     if (r != CPL_OK) return r;
     memcpy(d.position, pos, sizeof d.position);
     memcpy(d.rotation, rot, sizeof d.rotation);
-    d.two_way = two_way;
+    d.two_way = measured; // the fluid layer's flag: accumulate the force (the coupling applies it or not)
     pbf_result pr = pbf_world_add_collider(c->fluid, &d, out);
     free(planes);
     free(grid);
@@ -488,6 +489,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
         phys_body_get_pose(c->phys, body, &p, &q) != PHYS_OK)
         return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
     bool two_way = type == PHYS_BODY_DYNAMIC && bd.two_way;
+    bool measured = two_way || type == PHYS_BODY_KINEMATIC || bd.measure_force;
     float pos[3] = { p.x, p.y, p.z }, rot[4] = { q.x, q.y, q.z, q.w };
     uint32_t count = shape.type == PHYS_SHAPE_COMPOUND ? shape.compound.child_count : 1;
     uint32_t in_use = colliders_in_use(c);
@@ -502,6 +504,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     e->body = body;
     e->type = type;
     e->two_way = two_way;
+    e->measured = measured;
     if (shape.type == PHYS_SHAPE_COMPOUND) {
         e->colliders = calloc(count, sizeof *e->colliders);
         e->local = calloc(count, sizeof *e->local);
@@ -527,7 +530,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
         const phys_shape_desc *part = shape.type == PHYS_SHAPE_COMPOUND ? &shape.compound.children[k].desc : &shape;
         float cp[3], cr[4];
         collider_pose(e, k, pos, rot, cp, cr);
-        cpl_result r = add_collider(c, part, cp, cr, two_way, &e->colliders[k]);
+        cpl_result r = add_collider(c, part, cp, cr, measured, &e->colliders[k]);
         if (r != CPL_OK) {
             drop(c, e);
             return r;
@@ -540,6 +543,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     }
     e->collider = e->colliders[0];
     e->stats.two_way = two_way;
+    e->stats.measured = measured;
     e->stats.collider = e->collider;
     e->volume = shape.volume;
     phys_mass_data md;
@@ -675,18 +679,21 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             drop(c, e);
         }
     }
-    // The fluid's forces of step (now - latency), waiting for them if the GPU is behind.
+    // The fluid's forces of step (now - latency), waiting for them if the GPU is behind;
+    // for bodies only measured, of a step earlier still when the latency is 1, which a GPU
+    // has normally finished (no stall for a reading nobody applies).
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
-        if (!e->used || !e->two_way) continue;
+        if (!e->used || !e->measured) continue;
+        int back = e->two_way || c->force_latency >= 2 ? c->force_latency : 2;
         // A compound's force and torque are the sums over its children (all torques are
         // about the body's centre of mass).
         pbf_collider_report rep;
-        if (pbf_world_collider_report(c->fluid, e->colliders[0], c->force_latency, true, &rep) != PBF_OK)
+        if (pbf_world_collider_report(c->fluid, e->colliders[0], back, true, &rep) != PBF_OK)
             return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
         for (uint32_t k = 1; k < e->collider_count; k++) {
             pbf_collider_report part;
-            if (pbf_world_collider_report(c->fluid, e->colliders[k], c->force_latency, true, &part) != PBF_OK)
+            if (pbf_world_collider_report(c->fluid, e->colliders[k], back, true, &part) != PBF_OK)
                 return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
             for (int i = 0; i < 3; i++) {
                 rep.force[i] += part.force[i];
@@ -695,18 +702,21 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             rep.contacts += part.contacts;
             rep.pushed_out += part.pushed_out;
         }
+        for (int k = 0; k < 3; k++) {
+            e->stats.force[k] = rep.force[k];
+            e->stats.torque[k] = rep.torque[k];
+        }
+        e->stats.force_step = rep.step;
+        e->stats.contacts = rep.contacts;
+        e->stats.pushed_out = rep.pushed_out;
+        if (!e->two_way) continue;
         // Smoothed from step to step (exponential average; the force's mean is kept).
         float keep = c->force_smoothing;
         for (int k = 0; k < 3; k++) {
             e->force[k] = keep * e->force[k] + (1.0f - keep) * rep.force[k];
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
-            e->stats.force[k] = rep.force[k];
-            e->stats.torque[k] = rep.torque[k];
         }
         limit_impulse(c, e, dt);
-        e->stats.force_step = rep.step;
-        e->stats.contacts = rep.contacts;
-        e->stats.pushed_out = rep.pushed_out;
     }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->fluid, dt, hook, c);

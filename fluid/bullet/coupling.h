@@ -12,8 +12,9 @@
 //   2. steps Bullet by the substep's dt (one Bullet step per fluid substep),
 //   3. hands each body's new pose (the previous one is kept, so the fluid sweeps the
 //      motion), velocities and centre of mass to its collider.
-// Static and kinematic bodies act on the fluid only (one-way). Coupled dynamic bodies are
-// kept awake (a sleeping body would ignore the fluid's forces).
+// Static and kinematic bodies act on the fluid only (one-way); the fluid's force on them
+// is measured (cpl_body_get_stats) for kinematic bodies and, when asked, static ones.
+// Coupled dynamic bodies are kept awake (a sleeping body would ignore the fluid's forces).
 //
 //     cpl_def cd = cpl_default_def();
 //     cd.phys = phys; cd.fluid = fluid;
@@ -96,6 +97,11 @@ typedef struct cpl_body_def {
     /// Whether the fluid pushes the body back (dynamic bodies). Default true. Static and
     /// kinematic bodies are always one-way (their mass is infinite); it is ignored there.
     bool two_way;
+    /// Measure the fluid's force and torque on a body the fluid does not push (static
+    /// bodies, one-way dynamic ones) for cpl_body_get_stats. Default false; kinematic and
+    /// two-way bodies are always measured. It costs GPU atomics per particle in contact, so
+    /// a large static floor is best left unmeasured.
+    bool measure_force;
 } cpl_body_def;
 
 cpl_body_def cpl_default_body_def(void);
@@ -123,7 +129,9 @@ cpl_result cpl_teleport_body(cpl_coupling *coupling, phys_body_id body, phys_vec
 /// uncoupled here (and logged). Use this instead of pbf_world_step and phys_world_step.
 cpl_result cpl_step(cpl_coupling *coupling, float dt);
 
-/// What the coupling did to one body in the latest cpl_step.
+/// What the coupling did to one body in the latest cpl_step. A two-way body's force is
+/// that of `force_latency` steps ago; a measured one-way body's of max(force_latency, 2)
+/// steps ago (read without a stall on a GPU that keeps up).
 typedef struct cpl_body_stats {
     float force[3];         ///< N, the fluid's force on the body as measured in force_step
     float torque[3];        ///< N m, about the centre of mass
@@ -131,7 +139,8 @@ typedef struct cpl_body_stats {
     uint32_t contacts;      ///< particle-boundary contacts in that step (all iterations)
     uint32_t pushed_out;    ///< particles moved out from inside the body in that step
     uint64_t limited_steps; ///< steps whose applied force the impulse limit scaled down
-    bool two_way;
+    bool two_way;           ///< the fluid pushes the body
+    bool measured;          ///< force, torque, contacts and pushed_out are measured (else zero)
     pbf_collider_id collider;
 } cpl_body_stats;
 
