@@ -275,6 +275,7 @@ static void main_chunk_sees_set_options(void **state)
     run(&r, NULL, (const char *const[]){ "--headless", "--frames", "1", "--set", "fluid.viscosity=0.05",
                                         "--set", "fluid.particle_radius=0.01", "--set", "fluid.kernel_radius=0.04",
                                         "--set", "gravity.y=-3", "--set", "capacity=250",
+                                        "--set", "coupling.force_latency=3", "--set", "coupling.force_smoothing=0.5",
                                         "tests/fixtures/main_chunk_sees_options.lua", NULL });
     assert_int_equal(r.status, 0);
     assert_non_null(strstr(r.out, "main chunk: viscosity 0.05, particle_radius 0.01, kernel_radius 0.04, gravity.y -3, "
@@ -282,6 +283,8 @@ static void main_chunk_sees_set_options(void **state)
     assert_non_null(strstr(r.out, "main chunk: vorticity 0.25, viscosity 0.05"));
     assert_non_null(strstr(r.out, "on_start: viscosity 0.05, particle_radius 0.01, gravity.y -3, capacity 250, "
                                   "vorticity 0.25"));
+    assert_non_null(strstr(r.out, "main chunk: coupling latency 3, smoothing 0.5, impulse 2"));
+    assert_non_null(strstr(r.out, "on_start: coupling latency 3, smoothing 0.5, impulse 2"));
 }
 
 static void record_writes_a_video(void **state)

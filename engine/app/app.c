@@ -61,6 +61,8 @@ const char *eng_app_set_keys(void)
     const pbf_param_info *t = pbf_param_table(&n);
     size_t len = 0;
     for (int i = 0; i < n; i++) len += (size_t)snprintf(keys + len, sizeof keys - len, "fluid.%s, ", t[i].name);
+    const cpl_setting_info *ct = cpl_setting_table(&n);
+    for (int i = 0; i < n; i++) len += (size_t)snprintf(keys + len, sizeof keys - len, "coupling.%s, ", ct[i].name);
     snprintf(keys + len, sizeof keys - len, "gravity.x, gravity.y, gravity.z, capacity");
     return keys;
 }

@@ -40,6 +40,12 @@ static int apply_sets(app *a, eng_scene_config *c, char *err, size_t err_size)
             snprintf(fluid_keys[fluid_count], sizeof fluid_keys[0], "%s", key + 6);
             fluid_names[fluid_count] = fluid_keys[fluid_count];
             fluid_values[fluid_count++] = v;
+        } else if (strncmp(key, "coupling.", 9) == 0) {
+            char cerr[256];
+            if (cpl_def_set(&c->coupling, key + 9, v, cerr, sizeof cerr) != CPL_OK) {
+                snprintf(err, err_size, "seiche: --set %s: %s", key, cerr);
+                return ENG_EXIT_USAGE;
+            }
         } else if (strcmp(key, "capacity") == 0) {
             if (v < 1 || v > 67108864 || v != floor(v)) {
                 snprintf(err, err_size, "seiche: --set capacity must be a whole number in [1, 67108864] (got %s)", eq + 1);
@@ -253,7 +259,7 @@ static int create_worlds(app *a, instance *in, char *err, size_t err_size)
         snprintf(err, err_size, "%sseiche.scene: the Bullet world could not be created", where);
         return ENG_EXIT_USAGE;
     }
-    cpl_def cd = cpl_default_def();
+    cpl_def cd = c->coupling;
     cd.phys = in->phys;
     cd.fluid = in->world;
     cd.log = cpl_log;

@@ -50,6 +50,7 @@ eng_scene_config eng_default_scene_config(void)
     c.camera_fov = 50.0f;
     c.camera_mode = ENG_CAMERA_ORBIT;
     c.look = eng_default_look();
+    c.coupling = cpl_default_def();
     return c;
 }
 

@@ -63,6 +63,8 @@ typedef struct eng_scene_config {
     unsigned fluid_look_generation;           ///< counts seiche.render calls (0: none): the app
                                               ///< applies fluid_look when this changes
     char scene_where[192];                    ///< "file:line:" of seiche.scene, "" if none
+    cpl_def coupling;                         ///< seiche.coupling{...}: its settings (worlds and
+                                              ///< log unset: the app fills them in)
 } eng_scene_config;
 
 eng_scene_config eng_default_scene_config(void);

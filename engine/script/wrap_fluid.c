@@ -1,5 +1,6 @@
 // Binds the fluid: its parameters (seiche.set_param, param, params), gravity (set_gravity,
-// gravity) and content (seiche.block, sphere, particles).
+// gravity), the coupling's settings (seiche.coupling) and content (seiche.block, sphere,
+// particles).
 #include "engine/script/script_internal.h"
 
 #include <stdio.h>
@@ -90,6 +91,42 @@ static int l_gravity(lua_State *L)
     return 1;
 }
 
+// ---- seiche.coupling{...} / seiche.coupling() -------------------------------------------------
+
+static int l_coupling(lua_State *L)
+{
+    eng_script *s = scr_get_script(L);
+    const char *fn = "seiche.coupling";
+    int n;
+    const cpl_setting_info *tab = cpl_setting_table(&n);
+    if (!lua_isnoneornil(L, 1)) {
+        if (s->host.world)
+            scr_raise(L, "%s: the coupling is built with the world, from the scene description: set it in the main "
+                      "chunk", fn);
+        scr_check_table_arg(L, 1, fn, "force_latency, force_smoothing, impulse_limit, mesh_cell");
+        const char *known[8] = { NULL };
+        for (int i = 0; i < n && i < 7; i++) known[i] = tab[i].name;
+        scr_check_fields(L, 1, fn, known);
+        cpl_def d = s->config.coupling;
+        for (int i = 0; i < n; i++) {
+            double v;
+            int flags = (tab[i].is_int ? WHOLE : 0) | (strcmp(tab[i].name, "mesh_cell") == 0 ? OPEN_LO : 0);
+            if (!scr_opt_number(L, 1, fn, tab[i].name, tab[i].min, tab[i].max, flags, tab[i].unit, &v)) continue;
+            char err[256];
+            if (cpl_def_set(&d, tab[i].name, v, err, sizeof err) != CPL_OK) scr_raise(L, "%s: %s", fn, err);
+        }
+        s->config.coupling = d;
+        return 0;
+    }
+    // The live coupling's settings once it exists, else the description's (with --set).
+    cpl_def live;
+    const cpl_def *d = s->host.coupling && cpl_get_def(s->host.coupling, &live) == CPL_OK ? &live
+                                                                                        : &scr_config_view(s)->coupling;
+    lua_createtable(L, 0, n);
+    for (int i = 0; i < n; i++) scr_set_num(L, tab[i].name, cpl_def_get(d, &tab[i]));
+    return 1;
+}
+
 // ---- fluid content --------------------------------------------------------------------
 
 static void check_velocity_field(lua_State *L, int t, const char *fn, const char *field, float out[3])
@@ -177,7 +214,7 @@ static int l_particles(lua_State *L)
 
 static const luaL_Reg functions[] = {
     { "set_param", l_set_param }, { "param", l_param }, { "params", l_params }, { "set_gravity", l_set_gravity },
-    { "gravity", l_gravity }, { "block", l_block }, { "sphere", l_sphere }, { "particles", l_particles },
+    { "gravity", l_gravity }, { "coupling", l_coupling }, { "block", l_block }, { "sphere", l_sphere }, { "particles", l_particles },
     { NULL, NULL },
 };
 

@@ -85,8 +85,28 @@ typedef struct cpl_def {
 /// Defaults: no worlds, force_latency 1, force_smoothing 0.5, mesh_cell 0.02 m, no log.
 cpl_def cpl_default_def(void);
 
+/// The numeric settings of cpl_def by name, for scripts and command lines (seiche.coupling,
+/// --set coupling.NAME): force_latency, force_smoothing, impulse_limit, mesh_cell.
+typedef struct cpl_setting_info {
+    const char *name;
+    double min, max;    ///< allowed range, inclusive (mesh_cell: min excluded)
+    bool is_int;
+    const char *unit;   ///< "steps", "m", "" ...
+} cpl_setting_info;
+/// The table of settings; *count receives its length. Never NULL.
+const cpl_setting_info *cpl_setting_table(int *count);
+/// The setting called `name`, or NULL.
+const cpl_setting_info *cpl_setting_find(const char *name);
+/// Sets one setting of a def after checking it (name known, value in range and whole where
+/// it must be); on error def is unchanged and err names the setting, value and range.
+cpl_result cpl_def_set(cpl_def *def, const char *name, double value, char *err, size_t err_size);
+/// The value of one setting of a def.
+double cpl_def_get(const cpl_def *def, const cpl_setting_info *info);
+
 /// Creates a coupling. Returns NULL and a message naming the field on bad input.
 cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size);
+/// The def a coupling was created with (worlds, settings, log). CPL_ERR_INVALID_ARG on NULL.
+cpl_result cpl_get_def(const cpl_coupling *coupling, cpl_def *out);
 /// Removes the colliders the coupling made; bodies and worlds stay. NULL does nothing.
 void cpl_destroy(cpl_coupling *coupling);
 
