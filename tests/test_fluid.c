@@ -300,6 +300,70 @@ static void larger_kernel_at_run_time_grows_the_neighbour_lists(void **state)
     pbf_world_destroy(w);
 }
 
+/// The GPU's reductions of a step (mass, kinetic energy, momentum, centre of mass, speed_max)
+/// against the same sums over the particles read back (pbf_world_region_stats), in a block
+/// thrown sideways in zero gravity; and a box's statistics against a hand count.
+static void step_stats_match_the_particles_read_back(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 1, 1, 1 };
+    float r = 0.02f;
+    pbf_world *w = make_world(r, lo, hi, 4096);
+    pbf_params p = *pbf_world_params(w);
+    p.gravity[1] = 0.0f;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    pbf_block_def b = pbf_default_block_def();
+    const float bmin[3] = { 0.3f, 0.3f, 0.3f }, bmax[3] = { 0.5f, 0.5f, 0.5f };
+    memcpy(b.min, bmin, sizeof bmin);
+    memcpy(b.max, bmax, sizeof bmax);
+    b.velocity[0] = 0.5f;
+    b.velocity[2] = -0.25f;
+    uint32_t n = 0;
+    assert_int_equal(pbf_world_add_block(w, &b, &n), PBF_OK);
+    assert_int_equal(n, 125u);
+    for (int s = 0; s < 6; s++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_step_stats st, last;
+    memset(&last, 0, sizeof last);
+    while (pbf_world_poll_stats(w, &st, 1, true) == 1) last = st;
+    assert_int_equal(last.step, 5u);
+    pbf_region_stats all;
+    assert_int_equal(pbf_world_region_stats(w, NULL, NULL, &all), PBF_OK);
+    double m = pbf_world_particle_mass(w);
+    assert_int_equal(all.particles, n);
+    assert_true(fabs(all.mass - n * m) < 1e-9 * n * m);
+    assert_true(fabs(last.mass - all.mass) < 1e-6 * all.mass);
+    // Free flight: momentum as thrown (0.5, 0, -0.25) m/s, kinetic energy with it.
+    double p0[3] = { 0.5 * n * m, 0.0, -0.25 * n * m };
+    double ke0 = 0.5 * n * m * (0.25 + 0.0625);
+    for (int k = 0; k < 3; k++) {
+        assert_true(fabs(all.momentum[k] - p0[k]) < 1e-3 * n * m);
+        assert_true(fabs(last.momentum[k] - all.momentum[k]) < 1e-4 * n * m);
+        assert_true(fabs(last.center_of_mass[k] - all.center_of_mass[k]) < 1e-5);
+    }
+    assert_true(fabs(all.kinetic_energy - ke0) < 0.02 * ke0);
+    assert_true(fabs(last.kinetic_energy - all.kinetic_energy) < 1e-4 * ke0);
+    assert_true(fabs(last.speed_max - all.speed_max) < 1e-5);
+    // The centre moved 6 steps x 0.1 s at the block's speed.
+    assert_true(fabs(all.center_of_mass[0] - (0.4 + 0.5 * 0.1)) < 0.005);
+    // Half the block by x (the particles at x < centre) against a hand count.
+    float *x = malloc((size_t)n * 3 * sizeof(float));
+    assert_non_null(x);
+    uint32_t got = 0;
+    assert_int_equal(pbf_world_read_fields(w, NULL, NULL, x, NULL, NULL, n, &got), PBF_OK);
+    assert_int_equal(got, n);
+    float cut = (float)all.center_of_mass[0];
+    uint32_t left = 0;
+    for (uint32_t i = 0; i < n; i++) left += x[3 * i] <= cut;
+    const float hmin[3] = { -1, -1, -1 }, hmax[3] = { cut, 2, 2 };
+    pbf_region_stats half;
+    assert_int_equal(pbf_world_region_stats(w, hmin, hmax, &half), PBF_OK);
+    assert_int_equal(half.particles, left);
+    assert_true(half.particles > 0 && half.particles < n);
+    assert_true(half.center_of_mass[0] < cut);
+    free(x);
+    pbf_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -309,6 +373,7 @@ int main(void)
         cmocka_unit_test(same_scene_gives_the_same_state_hash),
         cmocka_unit_test(adding_beyond_capacity_is_refused),
         cmocka_unit_test(larger_kernel_at_run_time_grows_the_neighbour_lists),
+        cmocka_unit_test(step_stats_match_the_particles_read_back),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
