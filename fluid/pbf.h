@@ -56,9 +56,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 3
+#define PBF_VERSION_MINOR 4
 #define PBF_VERSION_PATCH 0
-#define PBF_VERSION_STRING "0.3.0"
+#define PBF_VERSION_STRING "0.4.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -119,6 +119,11 @@ typedef struct pbf_params {
     float surface_tension;  ///< gamma of the cohesion and curvature forces (Akinci et al.
                             ///< 2013, with the rest volume in place of the mass), m/s^2,
                             ///< [0, 1000]; 0 (the default) skips both passes
+    float cfl;              ///< time-step guard: a step takes more substeps (up to
+                            ///< max_substeps) when the fastest particle would move more than
+                            ///< cfl particle spacings in one substep, [0, 10]; 0 turns it off
+    int max_substeps;       ///< the most substeps the guard may take, [1, 64] (at least
+                            ///< `substeps` are always taken)
 } pbf_params;
 
 /// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).
@@ -410,6 +415,8 @@ typedef struct pbf_step_stats {
     float speed_max;          ///< m/s: the largest particle speed
     double stage_ms[PBF_STAGE_COUNT]; ///< GPU time per stage (all substeps and iterations)
     double step_ms;           ///< GPU time of the whole step (sum of stages but metrics)
+    int substeps;             ///< substeps the step took (params.substeps, or more by the
+                              ///< time-step guard: params.cfl)
 } pbf_step_stats;
 
 /// Returns up to `max` completed step records, oldest first, each once. With `wait`, waits

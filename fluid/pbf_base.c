@@ -4,6 +4,7 @@
 #include "fluid/pbf_uniforms.h"
 
 #include <epoxy/gl.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -140,6 +141,13 @@ static void grow_staging(pbf_world *w, uint32_t n)
 pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32_t n)
 {
     if (n == 0) return PBF_OK;
+    // The time-step guard sees these before the metrics of a step do.
+    float *fastest = &w->added_speed[w->step_index % RING];
+    for (uint32_t i = 0; i < n; i++) {
+        const float *v = vel4 + 4 * (size_t)i;
+        float s = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        if (s > *fastest) *fastest = s; // NaN is never larger
+    }
     uint32_t *ids = malloc((size_t)n * 4);
     if (!ids) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
     for (uint32_t i = 0; i < n; i++) ids[i] = w->next_id + i;

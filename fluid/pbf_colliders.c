@@ -114,7 +114,7 @@ static float force_scale(const pbf_world *w, float r)
     float gm = len3(g);
     if (gm < 9.81f) gm = 9.81f;
     double weight = (double)w->params.rest_density * (4.0 / 3.0) * PI_F * (double)r * r * r * gm;
-    double range = 1000.0 * weight * (double)w->params.substeps;
+    double range = 1000.0 * weight * (double)w->step_substeps;
     double s = 2147483647.0 / range;
     if (s > 1048576.0) s = 1048576.0;
     if (s < 1e-3) s = 1e-3;
@@ -316,7 +316,7 @@ static void upload(pbf_world *w, bool span_step)
         if (!s->used) continue;
         s->gpu_index = (int)n;
         bool m = moved(&s->gpu);
-        s->gpu.linear_velocity.w = span_step && m ? (float)w->params.substeps : 1.0f;
+        s->gpu.linear_velocity.w = span_step && m ? (float)w->step_substeps : 1.0f;
         tmp[n++] = s->gpu;
         if (!span_step && m) {
             // Swept in this substep; it stands still from here unless moved again.

@@ -159,7 +159,10 @@ static float force_scale(const pbf_cpu_world *w, float r)
     float gm = len3f(w->params.gravity);
     if (gm < 9.81f) gm = 9.81f;
     double weight = (double)w->params.rest_density * (4.0 / 3.0) * 3.14159265f * (double)r * r * r * gm;
-    double range = 1000.0 * weight * (double)w->params.substeps;
+    // The substeps of the step under way (set before its colliders begin; the time-step
+    // guard may take more than params.substeps).
+    int substeps = w->report_substeps > 0 ? (int)w->report_substeps : w->params.substeps;
+    double range = 1000.0 * weight * (double)substeps;
     double s = 2147483647.0 / range;
     if (s > 1048576.0) s = 1048576.0;
     if (s < 1e-3) s = 1e-3;
@@ -330,7 +333,7 @@ void pbf_cpu_colliders_begin_step(pbf_cpu_world *w)
     for (uint32_t b = 0; b < w->collider_count; b++) {
         pbf_gpu_collider *g = &w->colliders[b];
         g->center_of_mass.w = force_scale(w, g->position.w);
-        g->linear_velocity.w = moved(g) ? (float)w->params.substeps : 1.0f;
+        g->linear_velocity.w = moved(g) ? (float)w->report_substeps : 1.0f;
         w->gpu[b] = *g;
     }
     w->gpu_count = w->collider_count;

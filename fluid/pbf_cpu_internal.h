@@ -50,6 +50,9 @@ struct pbf_cpu_world {
     uint64_t steps;          // steps taken (the latest report's step is steps - 1)
     uint32_t report_substeps;// substeps of the latest step (forces are averaged over them)
     uint32_t last_substep;   // P.substep of the latest substep (the metrics pass sees it)
+    // The time-step guard, as pbf_world.c keeps it: the fastest speed at the end of step k
+    // at [k % 8], the fastest particle added before step k at [k % 8].
+    float speed_of[8], added_speed[8];
 
     // Particle slots in the GPU's layout (each array is the twin of a storage buffer, see
     // pbf_cpu_world_binding); the second of each pair is the ping-pong partner, flipped by

@@ -142,6 +142,13 @@ struct pbf_world {
     uint64_t step_index;
     double time;
 
+    // the time-step guard (params.cfl): speeds seen, by step
+    float speed_of[RING];       // speed_max of step k at [k % RING] once its metrics were read
+    uint64_t speed_step[RING];  // 1 + the step each holds (0: none)
+    float added_speed[RING];    // fastest particle appended before step k, at [k % RING]
+    bool guard_capped;          // the guard wanted more than max_substeps (warned once)
+    int step_substeps;          // substeps of the step being issued (or the next one)
+
     // latest forces read back, per slot (N, N m)
     float force[PBF_MAX_COLLIDERS][6];
     uint64_t force_step[PBF_MAX_COLLIDERS];

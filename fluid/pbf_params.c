@@ -28,6 +28,8 @@ pbf_params pbf_default_params(void)
     p.damping = 0.0f;
     p.max_speed = 20.0f;
     p.surface_tension = 0.0f;
+    p.cfl = 0.5f;
+    p.max_substeps = 32;
     return p;
 }
 
@@ -43,6 +45,7 @@ pbf_params pbf_seed_params(void)
     p.scorr_k = 0.1f;
     p.scorr_n = 4.0f;
     p.scorr_dq = 0.2f;
+    p.cfl = 0.0f; // the seed had no guard; with more substeps its s_corr adds energy faster
     return p;
 }
 
@@ -149,6 +152,9 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
           (double)p->max_speed, "in (0, 1000] m/s");
     CHECK(isfinite(p->surface_tension) && p->surface_tension >= 0.0f && p->surface_tension <= 1000.0f,
           "surface_tension", "%g", (double)p->surface_tension, "in [0, 1000] m/s^2 (0: off)");
+    CHECK(isfinite(p->cfl) && p->cfl >= 0.0f && p->cfl <= 10.0f, "cfl", "%g", (double)p->cfl,
+          "in [0, 10] particle spacings per substep (0: off)");
+    CHECK(p->max_substeps >= 1 && p->max_substeps <= 64, "max_substeps", "%d", p->max_substeps, "in [1, 64]");
     if (err && err_size) err[0] = 0;
     return PBF_OK;
 }
@@ -171,6 +177,8 @@ static const pbf_param_info param_table[] = {
     F(damping, "1/s", 0.0, 100.0, "linear velocity damping"),
     F(max_speed, "m/s", 0.0, 1000.0, "particle speed clamp, (0, 1000]"),
     F(surface_tension, "m/s^2", 0.0, 1000.0, "surface tension gamma: cohesion and curvature (Akinci 2013); 0 off"),
+    F(cfl, "", 0.0, 10.0, "time-step guard: most particle spacings the fastest particle moves per substep (0 off)"),
+    I(max_substeps, "", 1, 64, "most substeps the time-step guard may take"),
 };
 #undef F
 #undef I
@@ -302,6 +310,28 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->surface_tension = p->surface_tension;
     // V0 * 32 / (pi h^9), V0 = m / rho0 the rest volume of a particle.
     g->cohesion_norm = (float)((double)k->mass / p->rest_density * 32.0 / (PBF_PI * pow(h, 9)));
+}
+
+int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, float seen, float added, bool *capped)
+{
+    if (capped) *capped = false;
+    int base = p->substeps;
+    if (!(p->cfl > 0.0f) || !(spacing > 0.0f)) return base;
+    if (seen != seen || seen > 1e30f) return base; // diverged: the host's check reports it
+    float v = 0.0f;
+    if (seen > 0.0f) {
+        float g = sqrtf(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] + p->gravity[2] * p->gravity[2]);
+        v = seen + g * dt * (float)PBF_GUARD_LATENCY;
+    }
+    if (added > v) v = added;
+    if (v > p->max_speed) v = p->max_speed; // the solver clamps faster particles
+    double needed = ceil((double)v * dt / ((double)p->cfl * spacing));
+    int most = p->max_substeps > base ? p->max_substeps : base;
+    if (needed > most) {
+        if (capped) *capped = true;
+        return most;
+    }
+    return needed > base ? (int)needed : base;
 }
 
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,

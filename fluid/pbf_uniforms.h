@@ -23,6 +23,21 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
 
+/// Steps the time-step guard looks back: it takes the fastest speed of step (now -
+/// PBF_GUARD_LATENCY), which a GPU has normally finished, so the guard neither stalls nor
+/// depends on timing (the same substeps on every machine).
+#define PBF_GUARD_LATENCY 2
+
+/// The time-step guard (pbf_params.cfl): the substeps a step of dt seconds takes.
+/// `seen` is the fastest particle speed of step (now - PBF_GUARD_LATENCY), m/s, negative
+/// when there is none yet; `added` the fastest particle added since. The speed expected is
+/// seen + |g| dt PBF_GUARD_LATENCY (what gravity adds meanwhile) or `added`, whichever is
+/// larger, clamped to max_speed; the step takes enough substeps that it covers at most cfl
+/// spacings in one, at least params.substeps and at most max(substeps, max_substeps).
+/// *capped (may be NULL) says whether more were needed than allowed. Shared by the GPU and
+/// CPU worlds.
+int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, float seen, float added, bool *capped);
+
 /// The most cells the virtual grid may have along one axis (rows, y + dims_y * z, must fit
 /// 32 bits).
 #define PBF_GRID_MAX_AXIS_CELLS 65536u

@@ -178,7 +178,8 @@ static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
     int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3 + 2; // + 2: tension
-    int need = 1 + per_substep * p->substeps + 4;
+    int most = p->cfl > 0.0f && p->max_substeps > p->substeps ? p->max_substeps : p->substeps;
+    int need = 1 + per_substep * most + 4;
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
         stats_slot *r = &w->ring[s];
@@ -285,6 +286,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     }
     w->max_groups = (uint32_t)max_groups;
     w->params = def->params;
+    w->step_substeps = def->params.substeps;
     w->capacity = def->capacity;
     w->max_neighbours = def->max_neighbours;
     w->cells_per_kernel = def->grid_cells_per_kernel;
@@ -400,6 +402,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     }
     derive(w);
     stats_alloc(w);
+    if (!w->in_step) w->step_substeps = p->substeps;
     return PBF_OK;
 }
 
@@ -717,6 +720,9 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     out->mass = (double)m.count * w->k.mass;
     out->kinetic_energy = m.momentum.w;
     out->speed_max = m.center_of_mass.w;
+    out->substeps = r->substeps;
+    w->speed_of[r->step % RING] = m.center_of_mass.w;
+    w->speed_step[r->step % RING] = r->step + 1;
     for (int k = 0; k < 3; k++) {
         out->momentum[k] = (&m.momentum.x)[k];
         out->center_of_mass[k] = (&m.center_of_mass.x)[k];
@@ -767,6 +773,62 @@ int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
 
 pbf_result pbf_world_step(pbf_world *w, float dt) { return pbf_world_step_with(w, dt, NULL, NULL); }
 
+// Reads a pending step record now, waiting for its fence if need be, and keeps it for the
+// next poll. With no poll at all, the oldest kept records make room.
+static void read_early(pbf_world *w, stats_slot *slot)
+{
+    glClientWaitSync(slot->fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10000000000ull);
+    if (w->done_count == RING) {
+        memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
+        w->done_count--;
+    }
+    read_slot(w, slot, &w->done[w->done_count++]);
+    glDeleteSync(slot->fence);
+    slot->fence = NULL;
+    slot->pending = false;
+}
+
+// The fastest particle speed of a finished step, read (waiting for it) if not yet; -1 when
+// that step's record is gone.
+static float speed_of_step(pbf_world *w, uint64_t step)
+{
+    int k = (int)(step % RING);
+    if (w->speed_step[k] == step + 1) return w->speed_of[k];
+    for (int i = 0; i < RING; i++) {
+        stats_slot *r = &w->ring[i];
+        if (r->pending && r->step == step) {
+            read_early(w, r);
+            return w->speed_step[k] == step + 1 ? w->speed_of[k] : -1.0f;
+        }
+    }
+    return -1.0f;
+}
+
+// The time-step guard (params.cfl, pbf_guard_substeps): the substeps this step takes, with
+// a warning (once while it lasts) when max_substeps is not enough.
+static int guard_substeps(pbf_world *w, float dt)
+{
+    const pbf_params *p = &w->params;
+    if (!(p->cfl > 0.0f)) return p->substeps;
+    float seen = w->step_index >= PBF_GUARD_LATENCY ? speed_of_step(w, w->step_index - PBF_GUARD_LATENCY) : -1.0f;
+    float added = 0.0f;
+    for (int k = 0; k < PBF_GUARD_LATENCY && (uint64_t)k <= w->step_index; k++) {
+        float a = w->added_speed[(w->step_index - (uint64_t)k) % RING];
+        if (a > added) added = a;
+    }
+    bool capped;
+    int n = pbf_guard_substeps(p, w->k.spacing, dt, seen, added, &capped);
+    if (capped && !w->guard_capped && w->log) {
+        char msg[384];
+        snprintf(msg, sizeof msg, "time-step guard: the fastest particles need more than max_substeps = %d substeps of "
+                 "a %.3g s step to move at most cfl = %.3g spacings in one: the solver may diverge (lower the step, "
+                 "or raise max_substeps)", n, (double)dt, (double)p->cfl);
+        w->log(w->log_user, 2, msg);
+    }
+    w->guard_capped = capped;
+    return n;
+}
+
 pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, void *user)
 {
     if (!w) return PBF_ERR_INVALID_ARG;
@@ -776,35 +838,25 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     if (!(dt >= PBF_MIN_DT && dt <= 1.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in [%g, 1] s (got %g)", (double)PBF_MIN_DT,
                         (double)dt);
-    const pbf_params *p = &w->params;
     pbf_result er = pbf_emitters_emit(w, dt);
     if (er != PBF_OK) return er;
     w->sinks_active = false;
     for (int k = 0; k < PBF_MAX_SINKS; k++) w->sinks_active |= w->sinks[k].used;
     int slot_index = w->ring_head;
     stats_slot *slot = &w->ring[slot_index];
-    if (slot->pending) {
-        // The GPU is RING steps behind, or nobody polls: read the oldest record now (waiting
-        // for it if need be) and keep it for the next poll. With no poll at all, the
-        // oldest kept records make room.
-        glClientWaitSync(slot->fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10000000000ull);
-        if (w->done_count == RING) {
-            memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
-            w->done_count--;
-        }
-        read_slot(w, slot, &w->done[w->done_count++]);
-        glDeleteSync(slot->fence);
-        slot->pending = false;
-    }
+    // The GPU is RING steps behind, or nobody polls: read the oldest record now.
+    if (slot->pending) read_early(w, slot);
+    int substeps = guard_substeps(w, dt);
+    w->step_substeps = substeps;
     slot->nq = 0;
     slot->step = w->step_index;
     slot->appended_total = w->appended_total;
-    slot->substeps = p->substeps;
+    slot->substeps = substeps;
     pbf_colliders_begin_step(w, slot);
     step_ctx s = { w, slot, 0 };
     mark(&s, PBF_STAGE_PREDICT);
-    float sub_dt = dt / (float)p->substeps;
-    for (int k = 0; k < p->substeps; k++) {
+    float sub_dt = dt / (float)substeps;
+    for (int k = 0; k < substeps; k++) {
         if (hook) {
             w->in_step = true;
             hook(user, w, k, sub_dt);
@@ -826,6 +878,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     slot->pending = true;
     w->ring_head = (w->ring_head + 1) % RING;
     w->step_index++;
+    w->added_speed[w->step_index % RING] = 0.0f; // appends from here belong to the next step
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return pbf_fail(w, PBF_ERR_GL, "pbf_world_step: GL error 0x%x", e);
     return PBF_OK;

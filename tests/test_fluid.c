@@ -364,6 +364,69 @@ static void step_stats_match_the_particles_read_back(void **state)
     pbf_world_destroy(w);
 }
 
+typedef struct log_capture {
+    int warnings;
+    char last[512];
+} log_capture;
+
+static void capture_log(void *user, int level, const char *msg)
+{
+    log_capture *c = user;
+    if (level != 2) return;
+    c->warnings++;
+    snprintf(c->last, sizeof c->last, "%s", msg);
+}
+
+/// The substeps of one step of a block thrown at `speed` m/s in zero gravity.
+static int substeps_at(float speed, float cfl, int max_substeps, log_capture *log)
+{
+    pbf_world_def d = pbf_default_world_def();
+    d.params.particle_radius = 0.01f;
+    d.params.kernel_radius = 0.04f;
+    d.params.gravity[1] = 0.0f;
+    d.params.cfl = cfl;
+    d.params.max_substeps = max_substeps;
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.capacity = 1024;
+    const float lo[3] = { 0, 0, 0 }, hi[3] = { 4, 1, 1 };
+    memcpy(d.domain_min, lo, sizeof lo);
+    memcpy(d.domain_max, hi, sizeof hi);
+    d.log = capture_log;
+    d.log_user = log;
+    char err[512];
+    pbf_world *w = pbf_world_create(&d, err, sizeof err);
+    assert_non_null(w);
+    pbf_block_def b = pbf_default_block_def();
+    const float bmin[3] = { 0.2f, 0.4f, 0.4f }, bmax[3] = { 0.3f, 0.5f, 0.5f };
+    memcpy(b.min, bmin, sizeof bmin);
+    memcpy(b.max, bmax, sizeof bmax);
+    b.velocity[0] = speed;
+    assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_OK);
+    int most = 0;
+    for (int k = 0; k < 4; k++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_step_stats st;
+    while (pbf_world_poll_stats(w, &st, 1, true) == 1) most = st.substeps > most ? st.substeps : most;
+    pbf_world_destroy(w);
+    return most;
+}
+
+/// The time-step guard (pbf_params.cfl): particles at 5.9 m/s in a 1/60 s step with 2 cm
+/// spacing need ceil(5.9 / 60 / (0.5 x 0.02)) = 10 substeps to move at most half a spacing in
+/// each; slow ones keep the 4 asked for; the guard off keeps 4; a cap of 6 takes 6 and warns
+/// once, naming max_substeps.
+static void time_step_guard_takes_substeps_for_fast_particles(void **state)
+{
+    (void)state;
+    log_capture log = { 0, "" };
+    assert_int_equal(substeps_at(5.9f, 0.5f, 32, &log), 10);
+    assert_int_equal(substeps_at(0.5f, 0.5f, 32, &log), 4);
+    assert_int_equal(substeps_at(6.0f, 0.0f, 32, &log), 4);
+    assert_int_equal(log.warnings, 0);
+    assert_int_equal(substeps_at(6.0f, 0.5f, 6, &log), 6);
+    assert_int_equal(log.warnings, 1);
+    assert_non_null(strstr(log.last, "max_substeps = 6"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -374,6 +437,7 @@ int main(void)
         cmocka_unit_test(adding_beyond_capacity_is_refused),
         cmocka_unit_test(larger_kernel_at_run_time_grows_the_neighbour_lists),
         cmocka_unit_test(step_stats_match_the_particles_read_back),
+        cmocka_unit_test(time_step_guard_takes_substeps_for_fast_particles),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -29,7 +29,7 @@ static void usage(FILE *f)
             "  --metrics FILE.csv    one row per frame: frame, time, particles, rho0, rho_max, rho_avg,\n"
             "                        step_ms, <stage>_ms ..., nan, outside, overflow, rho_err_avg,\n"
             "                        kinetic_energy, speed_max, com_x, com_y, com_z, momentum_x,\n"
-            "                        momentum_y, momentum_z\n"
+            "                        momentum_y, momentum_z, substeps\n"
             "  --screenshot FILE.png the last frame\n"
             "  --record FILE.mp4     frames to video through ffmpeg\n"
             "  --junit FILE.xml      a JUnit XML report: each seiche.check call site and the run\n"

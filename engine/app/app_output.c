@@ -17,7 +17,7 @@ void app_write_metrics_header(app *a)
     fprintf(a->metrics, "frame,time,particles,rho0,rho_max,rho_avg,step_ms");
     for (int s = 0; s < PBF_STAGE_COUNT; s++) fprintf(a->metrics, ",%s_ms", pbf_stage_name((pbf_stage)s));
     fprintf(a->metrics, ",nan,outside,overflow,rho_err_avg,kinetic_energy,speed_max,com_x,com_y,com_z,momentum_x,"
-                       "momentum_y,momentum_z\n");
+                       "momentum_y,momentum_z,substeps\n");
 }
 
 void app_take_stats(app *a, bool wait)
@@ -32,10 +32,10 @@ void app_take_stats(app *a, bool wait)
                         s->particles, (double)s->rest_density, (double)s->density_max, (double)s->density_avg,
                         s->step_ms);
                 for (int k = 0; k < PBF_STAGE_COUNT; k++) fprintf(a->metrics, ",%.4f", s->stage_ms[k]);
-                fprintf(a->metrics, ",%u,%u,%u,%.6f,%.6g,%.5f,%.6f,%.6f,%.6f,%.6g,%.6g,%.6g\n", s->nan_count,
+                fprintf(a->metrics, ",%u,%u,%u,%.6f,%.6g,%.5f,%.6f,%.6f,%.6f,%.6g,%.6g,%.6g,%d\n", s->nan_count,
                         s->outside_count, s->overflow_count, (double)s->density_error_avg, s->kinetic_energy,
                         (double)s->speed_max, s->center_of_mass[0], s->center_of_mass[1], s->center_of_mass[2],
-                        s->momentum[0], s->momentum[1], s->momentum[2]);
+                        s->momentum[0], s->momentum[1], s->momentum[2], s->substeps);
             }
             double e = s->rest_density > 0 ? s->density_max / s->rest_density - 1.0 : 0.0;
             if (e > a->rho_err_max) a->rho_err_max = e;

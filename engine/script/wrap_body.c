@@ -476,21 +476,36 @@ static int m_body_shape(lua_State *L)
     return 1;
 }
 
-static int m_body_fluid_force(lua_State *L)
+// The water's force and torque on a body (latest measured step); raises for a body whose
+// force is not measured.
+static void body_fluid_stats(lua_State *L, const char *fn, cpl_body_stats *st)
 {
     eng_script *s = scr_get_script(L);
-    obj *o = scr_check_self(L, OBJ_BODY, "body:fluid_force", NULL);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
     const body_rec *b = &o->u.body;
     phys_body_type t = b->def.type;
     if (!b->measure_force && (t == PHYS_BODY_STATIC || (t == PHYS_BODY_DYNAMIC && !b->two_way)))
-        scr_raise(L, "body:fluid_force: the body is %s and the water's force on it is not measured: create it with "
-                  "measure_force = true", t == PHYS_BODY_STATIC ? "static" : "one-way (two_way = false)");
+        scr_raise(L, "%s: the body is %s and the water's force on it is not measured: create it with "
+                  "measure_force = true", fn, t == PHYS_BODY_STATIC ? "static" : "one-way (two_way = false)");
+    memset(st, 0, sizeof *st);
+    if (o->state == OBJ_LIVE && s->host.coupling) cpl_body_get_stats(s->host.coupling, o->u.body.id, st);
+}
+
+static int m_body_fluid_force(lua_State *L)
+{
     cpl_body_stats st;
-    memset(&st, 0, sizeof st);
-    if (o->state == OBJ_LIVE && s->host.coupling) cpl_body_get_stats(s->host.coupling, o->u.body.id, &st);
+    body_fluid_stats(L, "body:fluid_force", &st);
     scr_push_vec3(L, st.force[0], st.force[1], st.force[2]);
     scr_push_vec3(L, st.torque[0], st.torque[1], st.torque[2]);
     return 2;
+}
+
+static int m_body_fluid_torque(lua_State *L)
+{
+    cpl_body_stats st;
+    body_fluid_stats(L, "body:fluid_torque", &st);
+    scr_push_vec3(L, st.torque[0], st.torque[1], st.torque[2]);
+    return 1;
 }
 
 // A queued edit of a body that must be dynamic (forces) or may not be static (velocities).
@@ -832,6 +847,7 @@ static const luaL_Reg body_methods[] = {
     { "position", m_body_position }, { "rotation", m_body_rotation }, { "velocity", m_body_velocity },
     { "angular_velocity", m_body_angular_velocity }, { "velocity_at", m_body_velocity_at }, { "mass", m_body_mass },
     { "kind", m_body_kind }, { "shape", m_body_shape }, { "fluid_force", m_body_fluid_force },
+    { "fluid_torque", m_body_fluid_torque },
     { "apply_force", m_body_apply_force }, { "apply_torque", m_body_apply_torque },
     { "apply_impulse", m_body_apply_impulse }, { "apply_angular_impulse", m_body_apply_angular_impulse },
     { "set_velocity", m_body_set_velocity }, { "set_angular_velocity", m_body_set_angular_velocity },

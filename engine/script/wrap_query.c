@@ -28,6 +28,8 @@ static int l_stats(lua_State *L)
     scr_set_num(L, "mass", st ? st->mass : 0.0);
     scr_set_num(L, "kinetic_energy", st ? st->kinetic_energy : 0.0);
     scr_set_num(L, "speed_max", st ? st->speed_max : 0.0);
+    lua_pushinteger(L, st ? st->substeps : scr_current_params(s)->substeps);
+    lua_setfield(L, -2, "substeps");
     scr_set_num(L, "rho_err_avg", st ? st->density_error_avg : 0.0);
     const double zero[3] = { 0, 0, 0 };
     const double *mom = st ? st->momentum : zero, *com = st ? st->center_of_mass : zero;
