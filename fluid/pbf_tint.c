@@ -22,7 +22,7 @@ float pbf_tint_encode(const float rgb[3])
 bool pbf_tint_decode(float w, float rgb[3])
 {
     if (!(w <= -1.0f && w >= -TINT_LIMIT)) return false;
-    uint32_t code = (uint32_t)(-w - 1.0f + 0.5f);
+    uint32_t code = (uint32_t)lrintf(-w - 1.0f); // exact: an integer below 2^24
     if (rgb) {
         rgb[0] = (float)((code >> 16) & 255u) / 255.0f;
         rgb[1] = (float)((code >> 8) & 255u) / 255.0f;

@@ -26,7 +26,7 @@ layout(std430, binding = ENG_RENDER_PARTICLE_SSBO_BINDING) readonly buffer Parti
 bool is_tint(float w) { return w <= -1.0 && w >= -16777216.0; }
 vec3 tint_colour(float w)
 {
-    uint code = uint(-w - 1.0 + 0.5);
+    uint code = uint(round(-w - 1.0)); // exact: an integer below 2^24
     return vec3(float((code >> 16) & 255u), float((code >> 8) & 255u), float(code & 255u)) / 255.0;
 }
 
