@@ -9,8 +9,8 @@
 --   build/bin/seiche --headless --frames 240 --screenshot showcase.png scripts/scenes/showcase.lua
 --
 -- Mouse: left button on a crate (or the boat) grabs it; drag and let go to throw it.
--- Keys: g opens / closes the lock gate (its motor turns it to the limit); c drops a new
--- crate; e turns the springs on and off.
+-- Keys: g opens / closes the lock gate (its motor turns it to the limit); b drops a new
+-- crate (box); e turns the springs on and off. The HUD sits right of the panel (F1 hides it).
 
 seiche.scene {
     name = "showcase",
@@ -122,7 +122,7 @@ function on_key(key, action)
     if action ~= "press" then return end
     if key == "g" then
         set_gate(not gate_open)
-    elseif key == "c" then
+    elseif key == "b" then
         drop_crate()
     elseif key == "e" then
         local on = not springs[1]:get().enabled
@@ -139,9 +139,10 @@ end
 
 function on_step(dt, t)
     seiche.check(seiche.stats().nan == 0, "no particle may become NaN")
-    seiche.text(16, 14, string.format("score %d", showcase.score), { size = 30, colour = { 1, 0.85, 0.2 } })
-    seiche.text(16, 50, string.format("time %5.1f s   water %d   wheel %4.1f rad/s", t, seiche.particle_count(),
-                                      wheel:angular_velocity().z))
-    seiche.text(16, 72, string.format("gate %s (g)   crate (c)   springs (e)   drag a crate onto the boat",
-                                      gate_open and "open" or "shut"), { size = 16, colour = { 0.85, 0.9, 1, 0.9 } })
+    local x = 520 -- right of the parameter panel
+    seiche.text(x, 14, string.format("score %d", showcase.score), { size = 30, colour = { 1, 0.85, 0.2 } })
+    seiche.text(x, 50, string.format("time %5.1f s   water %d   wheel %4.1f rad/s", t, seiche.particle_count(),
+                                     wheel:angular_velocity().z))
+    seiche.text(x, 72, string.format("gate %s (g)   new crate (b)   springs (e)   throw crates onto the boat",
+                                     gate_open and "open" or "shut"), { size = 16, colour = { 0.1, 0.1, 0.2, 0.9 } })
 end
