@@ -284,6 +284,26 @@ pbf_result pbf_world_set_emitter(pbf_world *world, pbf_emitter_id id, const pbf_
 pbf_result pbf_world_remove_emitter(pbf_world *world, pbf_emitter_id id);
 bool pbf_emitter_is_valid(const pbf_world *world, pbf_emitter_id id);
 
+/// ---- tints: per-particle colour on the GPU ------------------------------------------
+/// A particle's colour lives in the w of its position (pbf_gpu_buffers.positions), which
+/// the solver carries with the particle wherever it sorts it: w in [0, 1] is the colour
+/// parameter (the initial height, the renderer's height map; every particle starts so); a
+/// tinted particle has w = -(1 + R * 65536 + G * 256 + B) with R, G, B in 0..255, an
+/// integer-valued float (exact: at most 2^24), so w <= -1 means "tinted". Nothing changes
+/// for a world that never tints (no ABI change: new functions only).
+/// The w of a tint of rgb (each in [0, 1], clamped; rounded to 8 bits).
+float pbf_tint_encode(const float rgb[3]);
+/// True when w is a tint (w <= -1), with its colour in rgb (may be NULL); false otherwise
+/// (w is the height parameter; rgb untouched).
+bool pbf_tint_decode(float w, float rgb[3]);
+/// Tints every live particle inside the box [min, max] (m): rgb each in [0, 1]; NULL gives
+/// the particles back their height parameter. A compute pass over the particles on the
+/// GPU, nothing read back; the tint then travels with each particle.
+pbf_result pbf_world_tint_box(pbf_world *world, const float min[3], const float max[3], const float rgb[3]);
+/// The tint of the particles an emitter pours from now on (rgb each in [0, 1]; NULL: the
+/// height parameter, the default). Kept through pbf_world_set_emitter.
+pbf_result pbf_world_set_emitter_tint(pbf_world *world, pbf_emitter_id id, const float rgb[3]);
+
 /// A sink removes every particle that enters the box [min, max] (m), on the GPU.
 typedef struct pbf_sink_id {
     uint16_t index1;
@@ -428,7 +448,8 @@ int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wa
 /// the contract at the top of this header). The positions and velocities buffers swap
 /// each step: ask again after every step.
 typedef struct pbf_gpu_buffers {
-    unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1]
+    unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1],
+                          ///< or a tint (w <= -1: pbf_tint_decode)
     unsigned velocities;  ///< SSBO of vec4: xyz m/s, w the particle's volume m^3 (mass_density / density
                           ///< of the step's last density pass; 0 for particles added since the step)
     unsigned draw_indirect; ///< DrawArraysIndirectCommand {4, particles, 0, 0}, written on the GPU

@@ -173,6 +173,22 @@ pbf_result pbf_world_set_emitter(pbf_world *w, pbf_emitter_id id, const pbf_emit
     return e->disc ? PBF_OK : pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_set_emitter: out of memory");
 }
 
+pbf_result pbf_world_set_emitter_tint(pbf_world *w, pbf_emitter_id id, const float rgb[3])
+{
+    if (!w) return PBF_ERR_INVALID_ARG;
+    emitter_slot *e = get_emitter(w, id, "pbf_world_set_emitter_tint");
+    if (!e) return PBF_ERR_STALE_ID;
+    if (rgb) {
+        for (int c = 0; c < 3; c++)
+            if (!(rgb[c] >= 0.0f && rgb[c] <= 1.0f))
+                return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_emitter_tint: rgb[%d] must be in [0, 1] (got %g)",
+                                c, (double)rgb[c]);
+        e->tint = pbf_tint_encode(rgb);
+    }
+    e->tinted = rgb != NULL;
+    return PBF_OK;
+}
+
 pbf_result pbf_world_remove_emitter(pbf_world *w, pbf_emitter_id id)
 {
     if (!w) return PBF_ERR_INVALID_ARG;
@@ -257,7 +273,7 @@ pbf_result pbf_emitters_emit(pbf_world *w, float dt)
                     float lo = w->domain_min[c] + w->params.particle_radius, hi = w->domain_max[c] - w->params.particle_radius;
                     p[c] = p[c] < lo ? lo : p[c] > hi ? hi : p[c];
                 }
-                p[3] = pbf_colour_of(w, p[1]);
+                p[3] = e->tinted ? e->tint : pbf_colour_of(w, p[1]);
                 v[3] = 0.0f;
                 made++;
             }

@@ -32,6 +32,7 @@ enum program_id {
     PROG_GRID_CLEAR,
     PROG_NORMALS,
     PROG_TENSION,
+    PROG_TINT,
     PROG_COUNT
 };
 
@@ -47,6 +48,8 @@ typedef struct emitter_slot {
     int cursor;         // next disc point to use (rotates so partial layers spread out)
     double travel;      // m the last layer has moved since it left the nozzle
     double credit;      // particles owed
+    bool tinted;        // pours particles of tint `tint` (pbf_world_set_emitter_tint)
+    float tint;         // the w of that tint (pbf_tint_encode)
 } emitter_slot;
 
 typedef struct sink_slot {
@@ -109,7 +112,7 @@ struct pbf_world {
     uint32_t grid_dims[3], cells;
 
     GLuint programs[PROG_COUNT];
-    GLint u_scan_n[2], u_frame;
+    GLint u_scan_n[2], u_frame, u_tint[4];
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
     GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, normal, scan, colliders, forces,
@@ -184,6 +187,8 @@ void pbf_bind_particles(pbf_world *w);
 void pbf_bind_all(pbf_world *w);
 /// Colour parameter of a particle at height y: its place in the domain's height, [0, 1].
 float pbf_colour_of(const pbf_world *w, float y);
+/// Looks up the tint pass's uniforms (pbf_tint.c), once its program is built.
+void pbf_tint_locate(pbf_world *w);
 /// Emitters (pbf_emitters.c): particles they owe for a step of dt, appended.
 pbf_result pbf_emitters_emit(pbf_world *w, float dt);
 void pbf_emitters_free(pbf_world *w);

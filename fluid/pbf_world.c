@@ -37,7 +37,7 @@ static const char *const program_files[PROG_COUNT] = {
     "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp", "fluid/collide.comp",
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
     "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
-    "fluid/grid_clear.comp", "fluid/normals.comp", "fluid/tension.comp",
+    "fluid/grid_clear.comp", "fluid/normals.comp", "fluid/tension.comp", "fluid/tint.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
@@ -171,6 +171,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
     w->u_scan_n[0] = glGetUniformLocation(w->programs[PROG_SCAN_BLOCK], "scan_n");
     w->u_scan_n[1] = glGetUniformLocation(w->programs[PROG_SCAN_ADD], "scan_n");
     w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
+    pbf_tint_locate(w);
     return PBF_OK;
 }
 

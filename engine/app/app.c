@@ -201,6 +201,16 @@ static void draw_ui(app *a)
     f.error = a->error_text;
     f.params = params;
     f.param_count = p ? n : 0;
+    // The script's HUD (seiche.text) of this frame.
+    const eng_script_text *texts = NULL;
+    int text_count = in->script ? eng_script_texts(in->script, &texts) : 0;
+    eng_ui_text hud[ENG_SCRIPT_MAX_TEXTS];
+    for (int i = 0; i < text_count; i++) {
+        hud[i] = (eng_ui_text){ .x = texts[i].x, .y = texts[i].y, .size = texts[i].size, .text = texts[i].text };
+        memcpy(hud[i].colour, texts[i].colour, sizeof hud[i].colour);
+    }
+    f.texts = hud;
+    f.text_count = text_count;
     eng_ui_draw(a->ui, &f);
     a->show_panel = f.show_panel;
     if (f.toggle_pause) a->paused = !a->paused;
@@ -404,6 +414,9 @@ int eng_app_run(const eng_app_options *o)
     while (status == ENG_EXIT_OK && !done) {
         eng_input_begin_frame(a->input);
         eng_context_poll(a->ctx);
+        // seiche.text draws for one frame: a frame that steps starts the HUD afresh (a paused
+        // one keeps the last, and adds what its input callbacks draw).
+        if (a->inst.script && (!a->paused || a->step_once)) eng_script_begin_frame(a->inst.script);
         if (a->inst.script) eng_script_deliver_input(a->inst.script);
         handle_input(a, &status);
         if (status != ENG_EXIT_OK) break;

@@ -35,6 +35,14 @@ typedef struct eng_ui_param {
     bool changed;            ///< out
 } eng_ui_param;
 
+/// A line of the script's HUD (seiche.text), drawn over everything, panel or not.
+typedef struct eng_ui_text {
+    float x, y;              ///< pixels of the window from its top-left corner
+    float size;              ///< pixels, the font's height
+    float colour[4];         ///< rgba, 0..1
+    const char *text;        ///< UTF-8
+} eng_ui_text;
+
 /// What one frame of the UI shows (in) and what the user did (out).
 typedef struct eng_ui_frame {
     const char *title;       ///< scene name
@@ -57,6 +65,8 @@ typedef struct eng_ui_frame {
     const char *error;       ///< NULL or "": none; else shown in red until dismissed
     eng_ui_param *params;
     int param_count;
+    const eng_ui_text *texts; ///< the script's HUD of this frame (drawn on the foreground draw list)
+    int text_count;
     // out
     bool toggle_pause, step, reset, reload, dismiss_error;
 } eng_ui_frame;

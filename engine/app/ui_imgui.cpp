@@ -198,6 +198,12 @@ void eng_ui_draw(eng_ui *ui, eng_ui_frame *f)
     ImGui::NewFrame();
     if (f->show_panel) panel(f);
     if (f->error && *f->error) error_box(f);
+    ImDrawList *fg = ImGui::GetForegroundDrawList();
+    for (int i = 0; i < f->text_count; i++) {
+        const eng_ui_text *t = &f->texts[i];
+        ImU32 col = ImGui::GetColorU32(ImVec4(t->colour[0], t->colour[1], t->colour[2], t->colour[3]));
+        fg->AddText(ImGui::GetFont(), t->size, ImVec2(t->x, t->y), col, t->text);
+    }
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }

@@ -82,6 +82,7 @@ typedef struct surface_targets {
     GLuint fluid_ds;     // D32F at the water's size: the scene's depth, then the particles'
     GLuint depth_fbo, depth;   // raw eye depth (R32F) + fluid_ds
     GLuint thick_fbo, thick;   // thickness (R16F) + fluid_ds (tested only)
+    GLuint tint;               // the tinted share (RGBA16F), thick_fbo's second target
     GLuint smooth_fbo[2], smooth[2], smooth_thick[2]; // [0] along y, [1] then along x
     bool drawn;          // the latest frame drew the surface
 } surface_targets;

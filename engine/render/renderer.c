@@ -143,8 +143,8 @@ static bool build_programs(eng_renderer *r, char *err, size_t err_size)
                            err, err_size) &&
            build_particles(r, &r->fluid_depth, "render/fluid_depth.frag", "#define NEAR_QUAD 1\n",
                            "render/fluid_depth", err, err_size) &&
-           build_particles(r, &r->fluid_thick, "render/fluid_thickness.frag", NULL, "render/fluid_thickness", err,
-                           err_size) &&
+           build_particles(r, &r->fluid_thick, "render/fluid_thickness.frag", "#define TINT 1\n",
+                           "render/fluid_thickness", err, err_size) &&
            build_particles(r, &r->fluid_shadow, "render/shadow_fluid.frag", "#define LIGHT_PASS 1\n",
                            "render/shadow_fluid", err, err_size) &&
            build_particles(r, &r->fluid_spray, "render/spray.frag", "#define SPRAY 1\n", "render/spray", err,
@@ -643,7 +643,7 @@ static void reset_state(eng_renderer *r)
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glBindVertexArray(0);
     glUseProgram(0);
-    for (int u = 0; u <= ENG_RENDER_TEX_FLUID_THICK; u++) {
+    for (int u = 0; u <= ENG_RENDER_TEX_FLUID_TINT; u++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)u);
         glBindTexture(GL_TEXTURE_2D, 0);
     }

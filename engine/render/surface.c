@@ -60,7 +60,7 @@ static void free_targets(surface_targets *s)
 {
     GLuint fbos[] = { s->scene_fbo, s->depth_fbo, s->thick_fbo, s->smooth_fbo[0], s->smooth_fbo[1] };
     GLuint tex[] = { s->scene_color, s->scene_depth, s->fluid_ds,        s->depth,          s->thick,
-                     s->smooth[0],   s->smooth[1],   s->smooth_thick[0], s->smooth_thick[1] };
+                     s->smooth[0],   s->smooth[1],   s->smooth_thick[0], s->smooth_thick[1], s->tint };
     for (size_t i = 0; i < sizeof fbos / sizeof fbos[0]; i++)
         if (fbos[i]) glDeleteFramebuffers(1, &fbos[i]);
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; i++)
@@ -96,7 +96,9 @@ bool eng_surface_targets(eng_renderer *r, int w, int h)
     s->smooth_thick[1] = eng_render_texture(GL_R16F, fw, fh, GL_LINEAR, "eng.surface.thickness_smoothed");
     s->scene_fbo = eng_render_framebuffer(&s->scene_color, 1, s->scene_depth, "eng.surface.scene_fbo");
     s->depth_fbo = eng_render_framebuffer(&s->depth, 1, s->fluid_ds, "eng.surface.depth_fbo");
-    s->thick_fbo = eng_render_framebuffer(&s->thick, 1, s->fluid_ds, "eng.surface.thickness_fbo");
+    s->tint = eng_render_texture(GL_RGBA16F, fw, fh, GL_LINEAR, "eng.surface.tint");
+    const GLuint thick_tint[2] = { s->thick, s->tint };
+    s->thick_fbo = eng_render_framebuffer(thick_tint, 2, s->fluid_ds, "eng.surface.thickness_fbo");
     for (int i = 0; i < 2; i++) {
         const GLuint both[2] = { s->smooth[i], s->smooth_thick[i] };
         s->smooth_fbo[i] = eng_render_framebuffer(both, 2, 0, i == 0 ? "eng.surface.smooth_y_fbo" : "eng.surface.smoothed_fbo");
@@ -140,6 +142,7 @@ static void pass_thickness(eng_renderer *r)
     glViewport(0, 0, s->fw, s->fh);
     const float zero[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
     glClearBufferfv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_COLOR, 1, zero);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_FALSE);
@@ -220,6 +223,7 @@ static void pass_composite(eng_renderer *r, const GLuint smoothed[2], float radi
     bind_texture(ENG_RENDER_TEX_SCENE_DEPTH, s->scene_depth);
     bind_texture(ENG_RENDER_TEX_FLUID_DEPTH, smoothed[0]);
     bind_texture(ENG_RENDER_TEX_FLUID_THICK, smoothed[1]);
+    bind_texture(ENG_RENDER_TEX_FLUID_TINT, s->tint);
     glUseProgram(r->composite_prog);
     glUniform2f(r->comp_fluid_size, (float)s->fw, (float)s->fh);
     glUniform1f(r->comp_layer, 6.0f * radius);

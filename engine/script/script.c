@@ -85,6 +85,7 @@ static void open_api(scr_api *api)
     scr_open_joint(api);
     scr_open_events(api);
     scr_open_mesh(api);
+    scr_open_look(api);
     for (int k = 0; k < OBJ_KIND_COUNT; k++) assert(api->methods[k]);
 }
 
@@ -453,6 +454,7 @@ void eng_script_destroy(eng_script *s)
     free(s->objs);
     free(s->timers);
     free(s->cache);
+    free(s->texts);
     free(s->events);
     free(s->contacts);
     free(s->hits);

@@ -187,6 +187,23 @@ typedef struct eng_check_site {
 /// ENG_SCRIPT_MAX_CHECK_SITES; later new sites are not recorded).
 int eng_script_check_sites(const eng_script *s, const eng_check_site **out);
 
+/// seiche.text: what the script's HUD shows. The app draws the list over the frame (the
+/// window's UI: Dear ImGui's foreground draw list); headless runs check the calls and draw
+/// nothing. The list is cleared by eng_script_begin_frame.
+#define ENG_SCRIPT_MAX_TEXTS 256     ///< texts one frame may show
+#define ENG_SCRIPT_TEXT_BYTES 256    ///< the longest text, bytes (UTF-8)
+typedef struct eng_script_text {
+    float x, y;          ///< pixels of the window from its top-left corner (the text's top-left)
+    float size;          ///< pixels, the font's height
+    float colour[4];     ///< rgba, each in [0, 1]
+    char text[ENG_SCRIPT_TEXT_BYTES + 1];
+} eng_script_text;
+/// The texts the frame's callbacks asked for, in call order.
+int eng_script_texts(const eng_script *s, const eng_script_text **out);
+/// A new frame whose simulation steps: forgets the previous frame's texts. (A paused frame
+/// keeps them, so a HUD drawn from on_step stays while the scene is paused.)
+void eng_script_begin_frame(eng_script *s);
+
 /// Changes a fluid parameter as seiche.set_param would (the parameter panel uses it).
 /// False with a message in err when the name or value is refused.
 bool eng_script_set_param(eng_script *s, const char *name, double value, char *err, size_t err_size);

@@ -317,10 +317,15 @@ static eng_script_status apply_one(eng_script *s, const command *c)
                           (double)d->rate, (double)max_rate, (double)d->radius, (double)d->speed);
         pbf_result r = c->type == CMD_EMITTER_ADD ? pbf_world_add_emitter(fw, d, &o->u.emitter.id)
                                                   : pbf_world_set_emitter(fw, o->u.emitter.id, d);
+        if (r == PBF_OK) r = pbf_world_set_emitter_tint(fw, o->u.emitter.id, c->tinted ? c->tint : NULL);
         if (r != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         o->state = OBJ_LIVE;
         break;
     }
+    case CMD_TINT:
+        if (pbf_world_tint_box(fw, c->u.block.min, c->u.block.max, c->tinted ? c->tint : NULL) != PBF_OK)
+            return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
+        break;
     case CMD_EMITTER_REMOVE:
         if (pbf_emitter_is_valid(fw, c->u.emitter_id)) pbf_world_remove_emitter(fw, c->u.emitter_id);
         break;

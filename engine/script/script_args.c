@@ -213,6 +213,27 @@ bool scr_opt_color(lua_State *L, int t, const char *fn, const char *field, float
     return scr_opt_vec(L, t, fn, field, 3, 0.0, 1.0, 0, "", out);
 }
 
+// A water tint: {r, g, b} each in [0, 1] (*tinted = true) or false (no tint: the height
+// colour). False when the field is absent (nothing changes).
+bool scr_opt_tint(lua_State *L, int t, const char *fn, const char *field, bool *tinted, float rgb[3])
+{
+    if (!scr_field_present(L, t, field)) return false;
+    char got[64];
+    int type = lua_type(L, -1);
+    if (type == LUA_TBOOLEAN && !lua_toboolean(L, -1)) {
+        lua_pop(L, 1);
+        *tinted = false;
+        return true;
+    }
+    if (type != LUA_TTABLE)
+        scr_raise(L, "%s: field '%s' must be a colour {r, g, b} with each in [0, 1], or false for none (got %s)", fn, field,
+                  scr_describe(L, -1, got, sizeof got));
+    lua_pop(L, 1);
+    scr_opt_color(L, t, fn, field, rgb);
+    *tinted = true;
+    return true;
+}
+
 // One of a list of names; returns its index or -1 when the field is absent.
 int scr_opt_enum(lua_State *L, int t, const char *fn, const char *field, const char *const *names, int n)
 {

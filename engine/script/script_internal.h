@@ -139,7 +139,7 @@ typedef struct obj {
     uint32_t generation;
     int ref;                // registry reference to the userdata (LUA_NOREF: none yet)
     union {
-        struct { pbf_emitter_def def; pbf_emitter_id id; bool full_rate; } emitter;
+        struct { pbf_emitter_def def; pbf_emitter_id id; bool full_rate, tinted; float tint[3]; } emitter;
         struct { float min[3], max[3]; pbf_sink_id id; } sink;
         body_rec body;
         struct { double due, period; int fn; } timer;
@@ -171,7 +171,7 @@ typedef enum cmd_type {
     CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
     CMD_JOINT_ADD, CMD_JOINT_MOTOR, CMD_JOINT_LIMITS, CMD_JOINT_REMOVE,
     CMD_PARAMS, CMD_GRAVITY, CMD_CAMERA,
-    CMD_FILL,
+    CMD_FILL, CMD_TINT,
 } cmd_type;
 
 typedef struct command {
@@ -180,8 +180,10 @@ typedef struct command {
     const char *fn;         // "seiche.block", "body:move_to", ...
     uint32_t slot, gen;     // the object it concerns, if any
     bool full_rate;         // emitters: pour the most the nozzle can (no rate given)
+    bool tinted;            // emitters and CMD_TINT: `tint` (else the height parameter)
+    float tint[3];
     union {
-        pbf_block_def block;
+        pbf_block_def block;    // CMD_BLOCK; CMD_TINT: its box
         struct { float center[3], radius, velocity[3]; } sphere;
         struct { float *pos, *vel; uint32_t n; } particles;
         struct { eng_mesh_data *mesh; float pos[3], rot[4], vel[3], clearance; } fill; // mesh owned
@@ -278,6 +280,9 @@ struct eng_script {
     uint32_t cache_count, cache_cap;
     uint64_t cache_frame;
     bool cache_valid;
+    // seiche.text (wrap_look.c): what the HUD shows this frame (ENG_SCRIPT_MAX_TEXTS at most).
+    eng_script_text *texts;
+    int text_count;
 };
 
 // ---- registration (script.c) -----------------------------------------------------------
@@ -307,6 +312,7 @@ void scr_open_measure(scr_api *api);  // wrap_measure.c
 void scr_open_joint(scr_api *api);    // wrap_joint.c
 void scr_open_events(scr_api *api);   // wrap_events.c
 void scr_open_mesh(scr_api *api);     // wrap_mesh.c
+void scr_open_look(scr_api *api);     // wrap_look.c
 
 // ---- callbacks (script.c) ------------------------------------------------------------------
 
@@ -410,6 +416,7 @@ void scr_arg_vec(lua_State *L, int idx, const char *fn, const char *name, double
                  float out[3]);
 bool scr_opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *out);
 bool scr_opt_color(lua_State *L, int t, const char *fn, const char *field, float out[3]);
+bool scr_opt_tint(lua_State *L, int t, const char *fn, const char *field, bool *tinted, float rgb[3]);
 int scr_opt_enum(lua_State *L, int t, const char *fn, const char *field, const char *const *names, int n);
 void scr_check_table_arg(lua_State *L, int idx, const char *fn, const char *fields);
 void scr_check_table_field(lua_State *L, int idx, const char *fn, const char *field, const char *fields);

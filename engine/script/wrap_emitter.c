@@ -7,12 +7,14 @@
 
 // ---- emitters ----------------------------------------------------------------------------
 
-// Reads the emitter fields of table t over `d` (which holds the current values).
+// Reads the emitter fields of table t over `d` and the tint (which hold the current values).
 // Returns true when the table gave a rate.
-static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d, bool full_rate)
+static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d, bool full_rate,
+                         bool *tinted, float tint[3])
 {
-    static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", NULL };
+    static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", "colour", NULL };
     scr_check_fields(L, t, fn, known);
+    scr_opt_tint(L, t, fn, "colour", tinted, tint);
     scr_opt_position(L, t, fn, "position", d->position);
     float dir[3];
     if (scr_opt_vec(L, t, fn, "direction", 3, -1e6, 1e6, 0, "", dir)) {
@@ -53,21 +55,27 @@ static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf
 static int l_emitter(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
-    scr_check_table_arg(L, 1, "seiche.emitter", "position, direction, speed, rate, radius, enabled");
+    scr_check_table_arg(L, 1, "seiche.emitter", "position, direction, speed, rate, radius, enabled, colour");
     pbf_emitter_def d = pbf_default_emitter_def();
     lua_getfield(L, 1, "position");
     bool has_pos = !lua_isnil(L, -1);
     lua_pop(L, 1);
     if (!has_pos) scr_raise(L, "seiche.emitter: field 'position' is required: a table of 3 numbers {x, y, z} in m (got nil)");
-    bool full = !read_emitter(L, s, 1, "seiche.emitter", &d, true);
+    bool tinted = false;
+    float tint[3] = { 0, 0, 0 };
+    bool full = !read_emitter(L, s, 1, "seiche.emitter", &d, true, &tinted, tint);
     uint32_t slot = scr_obj_new(L, s, OBJ_EMITTER);
     s->objs[slot].u.emitter.def = d;
     s->objs[slot].u.emitter.full_rate = full;
+    s->objs[slot].u.emitter.tinted = tinted;
+    memcpy(s->objs[slot].u.emitter.tint, tint, sizeof tint);
     command *c = scr_push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
     c->slot = slot;
     c->gen = s->objs[slot].generation;
     c->full_rate = full;
     c->u.emitter = d;
+    c->tinted = tinted;
+    memcpy(c->tint, tint, sizeof tint);
     scr_push_handle(L, s, slot);
     return 1;
 }
@@ -77,15 +85,22 @@ static int m_emitter_set(lua_State *L)
     eng_script *s = scr_get_script(L);
     uint32_t slot;
     obj *o = scr_check_self(L, OBJ_EMITTER, "emitter:set", &slot);
-    scr_check_table_arg(L, 2, "emitter:set", "position, direction, speed, rate, radius, enabled");
+    scr_check_table_arg(L, 2, "emitter:set", "position, direction, speed, rate, radius, enabled, colour");
     pbf_emitter_def d = o->u.emitter.def;
-    if (read_emitter(L, s, 2, "emitter:set", &d, o->u.emitter.full_rate)) o->u.emitter.full_rate = false;
+    bool tinted = o->u.emitter.tinted;
+    float tint[3];
+    memcpy(tint, o->u.emitter.tint, sizeof tint);
+    if (read_emitter(L, s, 2, "emitter:set", &d, o->u.emitter.full_rate, &tinted, tint)) o->u.emitter.full_rate = false;
     o->u.emitter.def = d;
+    o->u.emitter.tinted = tinted;
+    memcpy(o->u.emitter.tint, tint, sizeof tint);
     command *c = scr_push_command(L, s, CMD_EMITTER_SET, "emitter:set");
     c->slot = slot;
     c->gen = o->generation;
     c->full_rate = o->u.emitter.full_rate;
     c->u.emitter = d;
+    c->tinted = tinted;
+    memcpy(c->tint, tint, sizeof tint);
     return 0;
 }
 
@@ -103,6 +118,8 @@ static int m_emitter_set_enabled(lua_State *L)
     c->gen = o->generation;
     c->full_rate = o->u.emitter.full_rate;
     c->u.emitter = o->u.emitter.def;
+    c->tinted = o->u.emitter.tinted;
+    memcpy(c->tint, o->u.emitter.tint, sizeof c->tint);
     return 0;
 }
 
@@ -123,6 +140,9 @@ static int m_emitter_get(lua_State *L)
     scr_set_num(L, "radius", d->radius);
     lua_pushboolean(L, d->enabled);
     lua_setfield(L, -2, "enabled");
+    if (o->u.emitter.tinted) scr_push_vec3(L, o->u.emitter.tint[0], o->u.emitter.tint[1], o->u.emitter.tint[2]);
+    else lua_pushboolean(L, false);
+    lua_setfield(L, -2, "colour");
     return 1;
 }
 

@@ -13,6 +13,7 @@ layout(binding = ENG_RENDER_TEX_SCENE_COLOR) uniform sampler2D u_scene_color;
 layout(binding = ENG_RENDER_TEX_SCENE_DEPTH) uniform sampler2D u_scene_depth;
 layout(binding = ENG_RENDER_TEX_FLUID_DEPTH) uniform sampler2D u_fluid_depth; // smoothed, m
 layout(binding = ENG_RENDER_TEX_FLUID_THICK) uniform sampler2D u_fluid_thick; // m
+layout(binding = ENG_RENDER_TEX_FLUID_TINT) uniform sampler2D u_fluid_tint;   // rgb colour x m, a m
 
 uniform vec2 u_fluid_size;   // pixels of the water's textures
 uniform float u_layer;       // m: depths further apart than this are different layers
@@ -132,9 +133,20 @@ void main()
 
     vec3 l = normalize(u_light_dir.xyz);
     vec3 vis = light_visibility(pw, n);
-    vec3 transmit = exp(-u_absorption * thick);
+    vec3 absorption = u_absorption;
+    vec3 scatter = u_scatter;
+    // Tinted water (seiche.colour): its share f of the thickness, of mean colour `dye`,
+    // scatters that colour and absorbs the others (a dye: 6 / m at colour 1/e).
+    vec4 tint = textureLod(u_fluid_tint, uv, 0.0);
+    if (tint.a > 0.0) {
+        vec3 dye = tint.rgb / tint.a;
+        float f = clamp(tint.a / max(thick, 1e-4), 0.0, 1.0);
+        absorption = mix(absorption, -6.0 * log(clamp(dye, vec3(0.02), vec3(1.0))), f);
+        scatter = mix(scatter, dye, f);
+    }
+    vec3 transmit = exp(-absorption * thick);
     vec3 lit = u_ambient.rgb + u_light_color.rgb * vis * (0.35 + 0.65 * max(dot(n, l), 0.0));
-    vec3 inside = behind * transmit + u_scatter * lit * (1.0 - transmit);
+    vec3 inside = behind * transmit + scatter * lit * (1.0 - transmit);
 
     float cos_v = clamp(dot(n, v), 0.0, 1.0);
     float fresnel = u_reflection + (1.0 - u_reflection) * pow(1.0 - cos_v, 5.0);

@@ -9,6 +9,8 @@
 //                shader declares (depth_greater) so that early depth tests stay on
 //   LIGHT_PASS   the light's orthographic view (the shadow map)
 //   COLOR_MODES  also the colour of the sphere modes: initial height, density or speed
+//   TINT         also each particle's tint (v_tint: rgb, 1; zero when untinted), for
+//                the surface's thickness pass
 //   SPRAY        only spray: particles faster than u_spray_speed whose density is below
 //                u_spray_density rho0 (few neighbours: drops in the air); v_alpha rises
 //                with the speed. The others are dropped here.
@@ -16,8 +18,17 @@
 #include "frame.glsl"
 
 layout(std430, binding = ENG_RENDER_PARTICLE_SSBO_BINDING) readonly buffer Particles {
-    vec4 particles[]; // xyz: position m, w: colour parameter 0..1
+    vec4 particles[]; // xyz: position m, w: colour parameter 0..1, or a tint (w <= -1)
 };
+
+// A tint's colour from a position's w (fluid/pbf.h, pbf_tint_decode: w = -(1 + R 65536 +
+// G 256 + B), R, G, B in 0..255); tests/test_tint.c checks that both read the same colour.
+bool is_tint(float w) { return w <= -1.0 && w >= -16777216.0; }
+vec3 tint_colour(float w)
+{
+    uint code = uint(round(-w - 1.0)); // exact: an integer below 2^24
+    return vec3(float((code >> 16) & 255u), float((code >> 8) & 255u), float(code & 255u)) / 255.0;
+}
 
 uniform float u_radius; // m
 uniform int u_count;    // particles the buffers hold; instances past it are dropped
@@ -84,8 +95,13 @@ vec3 particle_color(uint i, float param)
         float s = length(velocities[i].xyz);
         return speed_map((s - u_color_range.x) / max(u_color_range.y - u_color_range.x, 1e-6));
     }
+    if (is_tint(param)) return tint_colour(param);
     return gradient3(u_color_low, u_color_mid, u_color_high, param);
 }
+#endif
+
+#ifdef TINT
+flat out vec4 v_tint; // rgb: the particle's tint, a: 1 (all zero when untinted)
 #endif
 
 out vec3 v_view_pos;    // this corner on the quad, view space (the light's in LIGHT_PASS)
@@ -101,6 +117,9 @@ void skip()
 #endif
 #ifdef SPRAY
     v_alpha = 0.0;
+#endif
+#ifdef TINT
+    v_tint = vec4(0.0);
 #endif
 }
 
@@ -157,5 +176,8 @@ void main()
 #endif
 #ifdef COLOR_MODES
     v_color = particle_color(uint(gl_InstanceID), p.w);
+#endif
+#ifdef TINT
+    v_tint = is_tint(p.w) ? vec4(tint_colour(p.w), 1.0) : vec4(0.0);
 #endif
 }

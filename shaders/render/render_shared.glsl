@@ -23,9 +23,11 @@
 #define ENG_RENDER_TEX_SCENE_DEPTH 4   // its depth (D32F, window depth 0..1)
 #define ENG_RENDER_TEX_FLUID_DEPTH 5   // eye depth of the water, m (R32F, 0 = no water)
 #define ENG_RENDER_TEX_FLUID_THICK 6   // water thickness along the view ray, m (R16F)
+#define ENG_RENDER_TEX_FLUID_TINT 7    // RGBA16F: tinted particles' colour times thickness
+                                       // (rgb) and their thickness (a), m: unsmoothed
 
 // Colour modes of the sphere impostors (eng_fluid_mode's sphere modes).
-#define ENG_RENDER_COLOR_HEIGHT 0  // the w of each position (initial height)
+#define ENG_RENDER_COLOR_HEIGHT 0  // the w of each position (initial height, or a tint: w <= -1)
 #define ENG_RENDER_COLOR_DENSITY 1 // particle_mass / velocity.w against rho0
 #define ENG_RENDER_COLOR_SPEED 2   // |velocity.xyz|
 
