@@ -318,11 +318,9 @@ int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, float seen,
     int base = p->substeps;
     if (!(p->cfl > 0.0f) || !(spacing > 0.0f)) return base;
     if (seen != seen || seen > 1e30f) return base; // diverged: the host's check reports it
-    float v = 0.0f;
-    if (seen > 0.0f) {
-        float g = sqrtf(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] + p->gravity[2] * p->gravity[2]);
-        v = seen + g * dt * (float)PBF_GUARD_LATENCY;
-    }
+    // Unknown (the first steps) counts as at rest: what gravity adds is still expected.
+    float g = sqrtf(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] + p->gravity[2] * p->gravity[2]);
+    float v = (seen > 0.0f ? seen : 0.0f) + g * dt * (float)PBF_GUARD_LATENCY;
     if (added > v) v = added;
     if (v > p->max_speed) v = p->max_speed; // the solver clamps faster particles
     double needed = ceil((double)v * dt / ((double)p->cfl * spacing));

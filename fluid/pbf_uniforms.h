@@ -30,7 +30,7 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 
 /// The time-step guard (pbf_params.cfl): the substeps a step of dt seconds takes.
 /// `seen` is the fastest particle speed of step (now - PBF_GUARD_LATENCY), m/s, negative
-/// when there is none yet; `added` the fastest particle added since. The speed expected is
+/// when there is none yet (then taken as 0); `added` the fastest particle added since. The speed expected is
 /// seen + |g| dt PBF_GUARD_LATENCY (what gravity adds meanwhile) or `added`, whichever is
 /// larger, clamped to max_speed; the step takes enough substeps that it covers at most cfl
 /// spacings in one, at least params.substeps and at most max(substeps, max_substeps).
