@@ -59,7 +59,7 @@ FUZZ_ARGS ?=
 FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-pointer \
 	-fsanitize=fuzzer,address,undefined,float-cast-overflow -fno-sanitize-recover=all \
 	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
-FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api
+FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
 FLUID_SOURCES = $(filter-out fluid/pbf_cpu%.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
 FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
@@ -76,6 +76,11 @@ build/fuzz/bin/fuzz_pbf_api: tests/fuzz/fuzz_pbf_api.c $(FLUID_SOURCES) engine/g
 		engine/core/log.c $(FLUID_HEADERS)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lglfw -lm
+
+build/fuzz/bin/fuzz_cli: tests/fuzz/fuzz_cli.c engine/app/app_args.c engine/render/render_def.c engine/core/log.c $(FLUID_SOURCES) \
+		engine/app/app_args.h engine/app/app.h $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lm
 
 # Written by premake with build/Makefile (and rewritten when a shader changes).
 build/gen/shaders_fluid.c: | build/Makefile
