@@ -224,10 +224,9 @@ static void table_value(gen *g, int depth)
     int n = byte(g) % 6;
     for (int i = 0; i < n; i++) {
         if (how & 1) out(g, "%s = ", pick(g, FIELDS, COUNT(FIELDS)));
-        else if (how & 2) {
-            out(g, "[");
-            value(g, depth + 1);
-            out(g, "] = ");
+        else if (how & 2) { // keys that are no field name (nil and NaN keys are errors of their own)
+            if (byte(g) & 1) out(g, "[%d] = ", (int)(int8_t)byte(g));
+            else out(g, "[\"%s\"] = ", pick(g, WORDS, COUNT(WORDS)));
         }
         value(g, depth + 1);
         out(g, ", ");
@@ -300,10 +299,12 @@ static void value(gen *g, int depth)
     }
 }
 
-static void args(gen *g, int depth)
+// 0 to 4 arguments; each after ", " when `after_comma` (following a function), else
+// separated by commas (a call's own list).
+static void args(gen *g, int depth, bool after_comma)
 {
     for (int i = 0, n = byte(g) % 5; i < n; i++) {
-        if (i) out(g, ", ");
+        if (i || after_comma) out(g, ", ");
         value(g, depth);
     }
 }
@@ -358,28 +359,33 @@ static void block(gen *g, int depth)
 
 static void statement(gen *g, int depth)
 {
+    if (depth == 0 && byte(g) < 96) { // protected, so that an error does not end the main chunk
+        out(g, "pcall(function()\n");
+        statement(g, 1);
+        out(g, "end)\n");
+        return;
+    }
     uint8_t how = byte(g);
     int h = 1 + byte(g) % HANDLES;
     if (depth >= MAX_DEPTH && how >= 150) how %= 150;
     if (how < 40) {
-        out(g, "pcall(seiche.%s, ", functions[byte(g) % function_count]);
-        args(g, 0);
+        out(g, "pcall(seiche.%s", functions[byte(g) % function_count]);
+        args(g, 0, true);
         out(g, ")\n");
     } else if (how < 70) {
         out(g, "H[%d] = select(2, pcall(seiche.%s", h, functions[byte(g) % function_count]);
-        if (byte(g) & 1) out(g, ", ");
-        args(g, 0);
+        args(g, 0, true);
         out(g, "))\n");
     } else if (how < 95) {
         template_call(g);
     } else if (how < 125) {
         const char *m = method_count ? methods[byte(g) % method_count] : "get";
         out(g, "pcall(function() return H[%d]%s%s(", h, byte(g) < 230 ? ":" : ".", m);
-        args(g, 0);
+        args(g, 0, false);
         out(g, ") end)\n");
     } else if (how < 130) { // a direct call: an error ends the script
         out(g, "seiche.%s(", functions[byte(g) % function_count]);
-        args(g, 1);
+        args(g, 1, false);
         out(g, ")\n");
     } else if (how < 140) {
         out(g, "V[%d] = ", h);
@@ -422,8 +428,8 @@ static void statement(gen *g, int depth)
         block(g, depth);
         out(g, "end)\npcall(V[%d]) pcall(V[%d]) pcall(V[%d])\n", h, h, h);
     } else if (how < 203) { // loops of protected calls
-        out(g, "for i = 1, %d do pcall(seiche.%s, ", 1 << (byte(g) % 11), functions[byte(g) % function_count]);
-        args(g, 1);
+        out(g, "for i = 1, %d do pcall(seiche.%s", 1 << (byte(g) % 11), functions[byte(g) % function_count]);
+        args(g, 1, true);
         out(g, ") end\n");
     } else if (how < 208) {
         out(g, "xpcall(function()\n");
@@ -437,8 +443,8 @@ static void statement(gen *g, int depth)
         out(g, "end}) end\n");
     } else if (how < 218) { // string functions with fuzzed patterns
         static const char *const fns[] = { "find", "match", "gsub", "rep", "format", "byte", "char", "sub", "gmatch" };
-        out(g, "pcall(string.%s, ", pick(g, fns, COUNT(fns)));
-        args(g, 1);
+        out(g, "pcall(string.%s", pick(g, fns, COUNT(fns)));
+        args(g, 1, true);
         out(g, ")\n");
     } else if (how < 222) {
         static const char *const gc[] = { "collect", "step", "incremental", "generational", "count", "stop", "restart" };
