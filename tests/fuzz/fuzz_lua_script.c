@@ -44,6 +44,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define RAW_MODE 24       // first byte below this: the rest is the script's text
 #define MAX_SCRIPT 65536  // bytes of generated script
@@ -52,6 +53,7 @@
 #define HANDLES 8         // H[1..8], V[1..8] in the script
 #define FRAMES 2
 #define BUDGET_S 0.25     // the script's time budget per frame (and for the load)
+#define CALL_LIMIT_S 5.25 // the longest one call into the host may take (sanitizers, llvmpipe, shared cores)
 
 static eng_context *ctx;
 static pbf_world *base;
@@ -505,6 +507,7 @@ typedef struct run {
     bool have_stats;
     uint64_t frame;
     double time;
+    double since; // monotonic s when the call being checked began
 } run;
 
 static void host(run *r, bool worlds)
@@ -532,10 +535,26 @@ static void host(run *r, bool worlds)
     eng_script_set_host(r->script, &h);
 }
 
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void mark(run *r) { r->since = now_s(); }
+#define STEP(r, call, what) (mark(r), ok((r), (call), (what)))
+
 // false when the script stopped (an error, a failed check, quit); a status must come with
-// a message.
+// a message. A call (since mark) that ran CALL_LIMIT_S is a hang: the budget did not stop it.
 static bool ok(run *r, eng_script_status st, const char *what)
 {
+    double took = now_s() - r->since;
+    if (took > CALL_LIMIT_S) {
+        fprintf(stderr, "fuzz_lua_script: %s ran %.2f s: past the script's budget of %.2f s and a slack of %.1f s\n",
+                what, took, BUDGET_S, CALL_LIMIT_S - BUDGET_S);
+        abort();
+    }
     if (st == ENG_SCRIPT_OK) return !eng_script_quit_requested(r->script);
     if (st != ENG_SCRIPT_CHECK_FAILED && st != ENG_SCRIPT_ERROR) {
         fprintf(stderr, "fuzz_lua_script: %s returned %d, not an eng_script_status\n", what, (int)st);
@@ -573,6 +592,7 @@ static bool deliver(run *r)
         const char *action = e.action == ENG_PRESS ? "press" : e.action == ENG_RELEASE ? "release" : "repeat";
         eng_script_status st = ENG_SCRIPT_OK;
         bool consumed = false;
+        mark(r);
         switch (e.type) {
         case ENG_EVENT_KEY: {
             const char *name = eng_key_name(e.key);
@@ -590,9 +610,9 @@ static bool deliver(run *r)
 
 static void frames(run *r, fuzz_input *in)
 {
-    if (!ok(r, eng_script_apply(r->script), "eng_script_apply (main chunk)")) return;
-    if (!ok(r, eng_script_on_start(r->script), "eng_script_on_start")) return;
-    if (!ok(r, eng_script_apply(r->script), "eng_script_apply (on_start)")) return;
+    if (!STEP(r, eng_script_apply(r->script), "eng_script_apply (main chunk)")) return;
+    if (!STEP(r, eng_script_on_start(r->script), "eng_script_on_start")) return;
+    if (!STEP(r, eng_script_apply(r->script), "eng_script_apply (on_start)")) return;
     const double dt = 1.0 / 60.0;
     for (int f = 0; f < FRAMES; f++) {
         eng_input_begin_frame(input);
@@ -601,14 +621,14 @@ static void frames(run *r, fuzz_input *in)
         // The callbacks once each, with arguments from the input.
         uint8_t b = fuzz_u8(in);
         bool consumed;
-        if (!ok(r, eng_script_on_key(r->script, eng_key_name(32 + b % 64) ? eng_key_name(32 + b % 64) : "a",
+        if (!STEP(r, eng_script_on_key(r->script, eng_key_name(32 + b % 64) ? eng_key_name(32 + b % 64) : "a",
                                      b & 1 ? "press" : "release", fuzz_double(in), 3.0), "eng_script_on_key") ||
-            !ok(r, eng_script_on_mouse(r->script, 1 + b % 3, "press", fuzz_double(in), 5.0, &consumed), "eng_script_on_mouse") ||
-            !ok(r, eng_script_on_mouse_move(r->script, 1.0, 2.0, fuzz_double(in), 0.5), "eng_script_on_mouse_move") ||
-            !ok(r, eng_script_on_scroll(r->script, 0.0, fuzz_double(in)), "eng_script_on_scroll"))
+            !STEP(r, eng_script_on_mouse(r->script, 1 + b % 3, "press", fuzz_double(in), 5.0, &consumed), "eng_script_on_mouse") ||
+            !STEP(r, eng_script_on_mouse_move(r->script, 1.0, 2.0, fuzz_double(in), 0.5), "eng_script_on_mouse_move") ||
+            !STEP(r, eng_script_on_scroll(r->script, 0.0, fuzz_double(in)), "eng_script_on_scroll"))
             return;
         host(r, true);
-        if (!ok(r, eng_script_apply(r->script), "eng_script_apply")) return;
+        if (!STEP(r, eng_script_apply(r->script), "eng_script_apply")) return;
         if (cpl_step(r->coupling, (float)dt) != CPL_OK) {
             if (!cpl_last_error(r->coupling)[0]) abort();
             return; // the runner exits 2 with the message
@@ -622,7 +642,7 @@ static void frames(run *r, fuzz_input *in)
             r->have_stats = true;
         }
         host(r, true);
-        if (!ok(r, eng_script_on_step(r->script, dt, r->time), "eng_script_on_step")) return;
+        if (!STEP(r, eng_script_on_step(r->script, dt, r->time), "eng_script_on_step")) return;
     }
 }
 
@@ -689,7 +709,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     r.script = eng_script_create(&sd);
     if (!r.script) abort();
     host(&r, false); // what the main chunk may read before the worlds exist
-    if (ok(&r, eng_script_load_string(r.script, "fuzz.lua", text), "eng_script_load_string")) {
+    if (STEP(&r, eng_script_load_string(r.script, "fuzz.lua", text), "eng_script_load_string")) {
         take_scene(&r);
         host(&r, true);
         frames(&r, &in);
