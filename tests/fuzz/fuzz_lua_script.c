@@ -171,7 +171,9 @@ static const char *const WORDS[] = {
     "hinge", "slider", "fixed", "point", "surface", "spheres", "density", "speed", "orbit", "fly", "press",
     "release", "repeat", "left", "right", "space", "a", "f5", "r", "escape", "iterations", "substeps",
     "viscosity", "vorticity", "particle_radius", "kernel_radius", "rest_density", "relaxation", "surface_tension",
-    "assets/boat.obj", "../../../../etc/passwd", "/dev/zero", "/proc/self/mem", "", "\\0", "\\255\\254",
+    "assets/boat.obj", "tests/fixtures/cup.obj", "tests/fixtures/open_box.obj", "tests/fixtures/tetrahedron.glb",
+    "tests/fixtures/tetrahedron.gltf", "tests/fixtures/not_a_mesh.txt", "tests/fixtures/surface_spheres.png",
+    "tests/fixtures", "tests/fixtures/", "tests/fixtures/tiny_scene", "tests//fixtures/./cube.obj", "../../../../etc/passwd", "/dev/zero", "/proc/self/mem", "", "\\0", "\\255\\254",
     "%", "%b()", "(.-)*", "%f[%w]", "[^", "%1", "level", "mean", "top", "x", "y", "z", "xyz", "nan", "inf",
 };
 static const char *const FIELDS[] = {
@@ -180,7 +182,8 @@ static const char *const FIELDS[] = {
     "direction", "speed", "rate", "enabled", "name", "fluid", "capacity", "container", "domain", "camera", "eye",
     "target", "fov", "mode", "look", "sky", "light", "water", "ground", "ground_height", "panel", "closed_top",
     "gravity", "a", "b", "pivot", "anchor", "axis", "limits", "motor", "collide", "color", "visible", "offset",
-    "scale", "mesh", "fill", "spacing", "seed", "two_way", "linear_damping", "angular_damping", "center",
+    "scale", "mesh", "fill", "spacing", "seed", "centre", "flat", "axle", "linear_factor", "angular_factor",
+    "spray_speed", "density_range", "speed_max", "refraction", "reflection", "specular", "shininess", "centre", "flat", "axle", "linear_factor", "angular_factor", "spray_speed", "density_range", "speed_max", "refraction", "reflection", "specular", "shininess", "two_way", "linear_damping", "angular_damping", "center",
     "normal", "clearance", "absorption", "scatter", "smoothing", "spray", "shadows", "view", "iterations",
     "substeps", "viscosity", "particle_radius", "kernel_radius", "fields", "period", "delay", "count", "max_force",
     "max_torque", "x", "y", "z", "w", "resolution", "level", "from", "to", "threshold",
@@ -328,8 +331,12 @@ static void template_call(gen *g)
         { "render", "mode = \"spheres\"", "smoothing = 4", NULL },
         { "set_look", "sky = {0.1, 0.2, 0.3}", "ground = true", NULL },
         { "particle_data", "fields = {\"position\", \"velocity\"}", NULL },
-        { "region_stats", "min = {0, 0, 0}", "max = {1, 1, 1}", NULL },
-        { "fill", "shape = \"box\"", "size = {0.2, 0.2, 0.2}", "position = {0.5, 0.5, 0.5}", NULL },
+        { "body", "mesh = \"tests/fixtures/cup.obj\"", "density = 300", "position = {0.5, 0.5, 0.5}", "scale = 0.5", NULL },
+        { "body", "mesh = \"tests/fixtures/open_box.obj\"", "kind = \"static\"", "position = {0.5, 0.1, 0.5}", NULL },
+        { "fill", "mesh = \"tests/fixtures/tetrahedron.glb\"", "scale = 0.2", "position = {0.5, 0.5, 0.5}", NULL },
+        { "joint", "kind = \"hinge\"", "a = H[1]", "pivot = {0.5, 0.5, 0.5}", "axis = {0, 0, 1}", NULL },
+        { "fill", "mesh = \"tests/fixtures/cup.obj\"", "scale = 0.3", "position = {0.5, 0.4, 0.5}", "clearance = 0.01", NULL },
+        { "particle_data", "fields = {\"position\", \"density\"}", "min = {0, 0, 0}", "max = {1, 1, 1}", "flat = true", NULL },
     };
     const char *const *t = templates[byte(g) % COUNT(templates)];
     int spoil = byte(g) % 6; // 0: none
