@@ -173,7 +173,8 @@ static const char *const WORDS[] = {
     "viscosity", "vorticity", "particle_radius", "kernel_radius", "rest_density", "relaxation", "surface_tension",
     "assets/boat.obj", "tests/fixtures/cup.obj", "tests/fixtures/open_box.obj", "tests/fixtures/tetrahedron.glb",
     "tests/fixtures/tetrahedron.gltf", "tests/fixtures/not_a_mesh.txt", "tests/fixtures/surface_spheres.png",
-    "tests/fixtures", "tests/fixtures/", "tests/fixtures/tiny_scene", "tests//fixtures/./cube.obj", "../../../../etc/passwd", "/dev/zero", "/proc/self/mem", "", "\\0", "\\255\\254",
+    "tests/fixtures", "tests/fixtures/", "tests/fixtures/tiny_scene", "tests//fixtures/./cube.obj",
+    "../../../../etc/passwd", "/dev/zero", "/proc/self/mem", "", "\\0", "\\255\\254",
     "%", "%b()", "(.-)*", "%f[%w]", "[^", "%1", "level", "mean", "top", "x", "y", "z", "xyz", "nan", "inf",
 };
 static const char *const FIELDS[] = {
@@ -183,7 +184,8 @@ static const char *const FIELDS[] = {
     "target", "fov", "mode", "look", "sky", "light", "water", "ground", "ground_height", "panel", "closed_top",
     "gravity", "a", "b", "pivot", "anchor", "axis", "limits", "motor", "collide", "color", "visible", "offset",
     "scale", "mesh", "fill", "spacing", "seed", "centre", "flat", "axle", "linear_factor", "angular_factor",
-    "spray_speed", "density_range", "speed_max", "refraction", "reflection", "specular", "shininess", "centre", "flat", "axle", "linear_factor", "angular_factor", "spray_speed", "density_range", "speed_max", "refraction", "reflection", "specular", "shininess", "two_way", "linear_damping", "angular_damping", "center",
+    "spray_speed", "density_range", "speed_max", "refraction", "reflection", "specular", "shininess", "two_way",
+    "linear_damping", "angular_damping", "center",
     "normal", "clearance", "absorption", "scatter", "smoothing", "spray", "shadows", "view", "iterations",
     "substeps", "viscosity", "particle_radius", "kernel_radius", "fields", "period", "delay", "count", "max_force",
     "max_torque", "x", "y", "z", "w", "resolution", "level", "from", "to", "threshold",
