@@ -575,6 +575,13 @@ static bool ok(run *r, eng_script_status st, const char *what)
         fprintf(stderr, "fuzz_lua_script: %s failed (%d) without a message\n", what, (int)st);
         abort();
     }
+    // Every message starts with the file:line it was raised at (docs/runner.md): this
+    // script's, or that of a chunk it loaded.
+    if (strncmp(e, "fuzz.lua:", 9) != 0 && strncmp(e, "[string \"", 9) != 0) {
+        fprintf(stderr, "fuzz_lua_script: %s failed (%d) with a message that has no file:line first: %s\n", what,
+                (int)st, e);
+        abort();
+    }
     return false;
 }
 
@@ -652,7 +659,32 @@ static void frames(run *r, fuzz_input *in)
         }
         host(r, true);
         if (!STEP(r, eng_script_on_step(r->script, dt, r->time), "eng_script_on_step")) return;
+        eng_script_sync_nodes(r->script); // as before drawing
+        // A slider of the parameter panel, as the app applies it.
+        uint8_t p = fuzz_u8(in);
+        if (p < 64) {
+            int count = 0;
+            const pbf_param_info *t = pbf_param_table(&count);
+            char err[512];
+            err[0] = 0;
+            const char *name = p < 60 && count > 0 ? t[p % count].name : p == 60 ? "" : "no_such_parameter";
+            if (!eng_script_set_param(r->script, name, fuzz_double(in), err, sizeof err) && !err[0]) {
+                fprintf(stderr, "fuzz_lua_script: eng_script_set_param refused '%s' without a message\n", name);
+                abort();
+            }
+        }
     }
+    // The check sites the reports list: each with a file, a line and counts that add up.
+    const eng_check_site *sites = NULL;
+    int n = eng_script_check_sites(r->script, &sites);
+    if (n < 0 || n > ENG_SCRIPT_MAX_CHECK_SITES || (n > 0 && !sites)) abort();
+    for (int i = 0; i < n; i++)
+        if (!memchr(sites[i].source, 0, sizeof sites[i].source) || !memchr(sites[i].message, 0, sizeof sites[i].message) ||
+            sites[i].passed + sites[i].failed == 0) {
+            fprintf(stderr, "fuzz_lua_script: check site %d is malformed\n", i);
+            abort();
+        }
+    if (fuzz_u8(in) < 32) (void)STEP(r, eng_script_on_reload(r->script), "eng_script_on_reload");
 }
 
 // The fluid world back as it was (as fuzz_pbf_api does): no colliders, emitters, sinks,
