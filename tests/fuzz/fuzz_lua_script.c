@@ -266,6 +266,16 @@ static void hostile_table(gen *g, int depth)
         "__close = function() error(\"__close\") end",
         "__unm = function() coroutine.yield() end",
         "__concat = function() error(\"__concat\") end",
+        // Re-entry: the API called while C code reads an argument.
+        "__index = function(t, k) for i = 1, 3 do pcall(seiche.body, {shape = \"sphere\", radius = 0.03, "
+        "position = {0.5, 0.5, 0.5}}) end return 0.5 end",
+        "__index = function(t, k) for _, h in pairs(H) do pcall(function() h:destroy() end) pcall(function() "
+        "h:remove() end) pcall(function() h:cancel() end) pcall(function() h:release() end) end collectgarbage() "
+        "return 0.5 end",
+        "__index = function(t, k) for i = 1, 8 do H[i] = nil end collectgarbage() return 0.25 end",
+        "__len = function() pcall(seiche.block, {min = {0.1, 0.1, 0.1}, max = {0.2, 0.2, 0.2}}) return 3 end",
+        "__index = function(t, k) coroutine.yield(k) end",
+        "__index = function(t, k) seiche.quit() return 1 end",
     };
     out(g, "setmetatable(");
     if (byte(g) < 128) out(g, "{1, 2, 3}");
