@@ -39,7 +39,6 @@ for name in $names; do
         echo "fuzz: $name: $(echo "$regressions" | wc -l) regression inputs pass"
     fi
     echo "fuzz: $name for ${seconds}s (corpus $corpus)"
-    # shellcheck disable=SC2086
     seeds=""
     [ ! -d "tests/fuzz/seeds/$name" ] || seeds="tests/fuzz/seeds/$name"
     # shellcheck disable=SC2086
