@@ -54,12 +54,13 @@ sanitize: sanitize-build
 # straight from the sources. make fuzz runs each for FUZZ_SECONDS (FUZZ_ARGS go to libFuzzer)
 # with its corpus in build/fuzz/corpus/NAME; tests/run.sh runs each for a few seconds.
 FUZZ_CC ?= clang-14
+FUZZ_CXX ?= clang++-14
 FUZZ_SECONDS ?= 60
 FUZZ_ARGS ?=
 FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-pointer \
 	-fsanitize=fuzzer,address,undefined,float-cast-overflow -fno-sanitize-recover=all \
 	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
-FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api
+FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli fuzz_lua_script
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
 FLUID_SOURCES = $(filter-out fluid/pbf_cpu%.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
 FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
@@ -77,8 +78,40 @@ build/fuzz/bin/fuzz_pbf_api: tests/fuzz/fuzz_pbf_api.c $(FLUID_SOURCES) engine/g
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lglfw -lm
 
+build/fuzz/bin/fuzz_cli: tests/fuzz/fuzz_cli.c engine/app/app_args.c engine/render/render_def.c engine/core/log.c \
+		fluid/bullet/coupling_settings.c $(FLUID_SOURCES) \
+		engine/app/app_args.h engine/app/app.h $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -o $@ $(filter %.c,$^) -lepoxy -lm
+
+# The script harness needs most of the engine, Bullet's wrapper (C++) and Lua: compiled once
+# into objects (build/fuzz/obj/, instrumented, header dependencies tracked), then linked.
+FUZZ_OBJ_FLAGS = -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined,float-cast-overflow \
+	-fno-sanitize-recover=all -I. -I/usr/include/lua5.4 -I/usr/include/bullet -I/usr/include/stb -MMD -MP
+FUZZ_ENGINE_SOURCES = $(wildcard engine/core/*.c engine/gl/*.c engine/render/*.c engine/script/*.c) \
+	build/gen/shaders_render.c fluid/bullet/coupling.c fluid/bullet/coupling_settings.c $(FLUID_SOURCES)
+FUZZ_ENGINE_OBJECTS = $(patsubst %.c,build/fuzz/obj/%.o,$(FUZZ_ENGINE_SOURCES)) \
+	$(patsubst %.cpp,build/fuzz/obj/%.o,$(wildcard fluid/bullet/phys*.cpp))
+FUZZ_ENGINE_LIBS = -lepoxy -lEGL -lglfw -llua5.4 -lassimp -lBulletDynamics -lBulletCollision -lLinearMath -lcglm -lstb \
+	-lstdc++ -lm -ldl -lpthread
+
+build/fuzz/obj/%.o: %.c
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L $(FUZZ_OBJ_FLAGS) -Wall -Wextra -Wno-unused-function -c -o $@ $<
+
+build/fuzz/obj/%.o: %.cpp
+	@mkdir -p $(@D)
+	$(FUZZ_CXX) -std=c++17 $(FUZZ_OBJ_FLAGS) -fno-sanitize=vptr -Wall -Wextra -c -o $@ $<
+
+-include $(FUZZ_ENGINE_OBJECTS:.o=.d)
+
+build/fuzz/bin/fuzz_lua_script: tests/fuzz/fuzz_lua_script.c $(FUZZ_ENGINE_OBJECTS) $(FLUID_HEADERS)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize-link-c++-runtime -I/usr/include/lua5.4 -I/usr/include/bullet -o $@ $(filter %.c %.o,$^) \
+		$(FUZZ_ENGINE_LIBS)
+
 # Written by premake with build/Makefile (and rewritten when a shader changes).
-build/gen/shaders_fluid.c: | build/Makefile
+build/gen/shaders_fluid.c build/gen/shaders_render.c: | build/Makefile
 
 # Without clang (FUZZ_CC) there is nothing to build: tests/run.sh then skips the harnesses.
 fuzz-build: build/Makefile

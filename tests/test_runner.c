@@ -110,6 +110,13 @@ static void option_without_its_value_is_a_usage_error(void **state)
     run(&r, NULL, (const char *const[]){ GOOD, "--frames", NULL });
     assert_int_equal(r.status, 2);
     assert_non_null(strstr(r.err, "--frames needs a value"));
+    // --junit and --tap too: given last they were once taken as "no report" (fuzz_cli).
+    run(&r, NULL, (const char *const[]){ GOOD, "--tap", NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--tap needs a value"));
+    run(&r, NULL, (const char *const[]){ GOOD, "--junit", NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--junit needs a value"));
 }
 
 static void negative_frames_are_refused(void **state)

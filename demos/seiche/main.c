@@ -5,15 +5,13 @@
 #include <signal.h>
 #include <stdbool.h>
 #include <sys/stat.h>
-#include <limits.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "demos/seiche/report.h"
 #include "engine/app/app.h"
-#include "engine/render/renderer.h"
+#include "engine/app/app_args.h"
 #include "fluid/pbf.h"
 
 static void usage(FILE *f)
@@ -140,106 +138,23 @@ static int bad(const char *fmt, const char *a, const char *b)
 
 int main(int argc, char **argv)
 {
-    eng_app_options o = eng_default_app_options();
-    const char *junit = NULL, *tap = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes = strcmp(a, "--frames") == 0 || strcmp(a, "--dt") == 0 || strcmp(a, "--set") == 0 ||
-                     strcmp(a, "--metrics") == 0 || strcmp(a, "--screenshot") == 0 || strcmp(a, "--record") == 0 ||
-                     strcmp(a, "--size") == 0 || strcmp(a, "--shaders") == 0 || strcmp(a, "--budget") == 0 ||
-                     strcmp(a, "--render") == 0;
-        if (takes && !v) return bad("option %s needs a value%s", a, "");
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(stdout);
-            return 0;
-        } else if (strcmp(a, "--version") == 0) {
-            printf("seiche %s\n", pbf_version());
-            return 0;
-        } else if (strcmp(a, "--headless") == 0) {
-            o.headless = true;
-        } else if (strcmp(a, "--hash") == 0) {
-            o.hash = true;
-        } else if (strcmp(a, "--quiet") == 0) {
-            o.quiet = true;
-        } else if (strcmp(a, "--no-watch") == 0) {
-            o.watch = false;
-        } else if (strcmp(a, "--no-ui") == 0) {
-            o.ui = false;
-        } else if (strcmp(a, "--trusted") == 0) {
-            o.trusted = true;
-        } else if (strcmp(a, "--budget") == 0) {
-            char *end;
-            errno = 0;
-            double b = strtod(v, &end);
-            if (*end || end == v || errno || !isfinite(b) || b <= 0.0 || b > 3600.0)
-                return bad("--budget must be a number of seconds in (0, 3600] (got '%s')%s", v, "");
-            o.budget_s = b;
-            i++;
-        } else if (strcmp(a, "--frames") == 0) {
-            char *end;
-            errno = 0;
-            long n = strtol(v, &end, 10);
-            if (*end || end == v || errno || n < 0 || n > 100000000)
-                return bad("--frames must be a whole number in [0, 100000000] (got '%s')%s", v, "");
-            o.frames = n;
-            i++;
-        } else if (strcmp(a, "--dt") == 0) {
-            char *end;
-            errno = 0;
-            double dt = strtod(v, &end);
-            if (*end || end == v || errno || !isfinite(dt) || dt < 1e-5 || dt > 1.0)
-                return bad("--dt must be a number of seconds in [0.00001, 1] (got '%s')%s", v, "");
-            o.dt = dt;
-            i++;
-        } else if (strcmp(a, "--set") == 0) {
-            if (o.set_count >= ENG_APP_MAX_SETS) return bad("at most 64 --set options%s%s", "", "");
-            if (!strchr(v, '=')) return bad("--set expects KEY=VALUE (got '%s')%s", v, "");
-            o.sets[o.set_count++] = v;
-            i++;
-        } else if (strcmp(a, "--junit") == 0) {
-            junit = v;
-            i++;
-        } else if (strcmp(a, "--tap") == 0) {
-            tap = v;
-            i++;
-        } else if (strcmp(a, "--metrics") == 0) {
-            o.metrics_path = v;
-            i++;
-        } else if (strcmp(a, "--screenshot") == 0) {
-            o.screenshot_path = v;
-            i++;
-        } else if (strcmp(a, "--record") == 0) {
-            o.record_path = v;
-            i++;
-        } else if (strcmp(a, "--render") == 0) {
-            eng_fluid_mode mode;
-            if (!eng_fluid_mode_parse(v, &mode))
-                return bad("--render must be one of surface|spheres|density|speed (got '%s')%s", v, "");
-            o.render = v;
-            i++;
-        } else if (strcmp(a, "--shaders") == 0) {
-            o.shader_dir = v;
-            i++;
-        } else if (strcmp(a, "--size") == 0) {
-            char *x, *end;
-            errno = 0;
-            long w = strtol(v, &x, 10);
-            long h = *x == 'x' ? strtol(x + 1, &end, 10) : -1;
-            if (errno || x == v || *x != 'x' || end == x + 1 || *end || w < 16 || h < 16 || w > 16384 || h > 16384)
-                return bad("--size must be WxH with each in [16, 16384] (got '%s')%s", v, "");
-            o.width = (int)w;
-            o.height = (int)h;
-            i++;
-        } else if (a[0] == '-' && a[1]) {
-            return bad("unknown option '%s'%s", a, "");
-        } else if (o.script) {
-            return bad("only one script may be given (got '%s' and '%s')", o.script, a);
-        } else {
-            o.script = a;
-        }
+    eng_app_args args;
+    switch (eng_app_parse_args(argc, argv, &args)) {
+    case ENG_APP_ARGS_HELP:
+        usage(stdout);
+        return 0;
+    case ENG_APP_ARGS_VERSION:
+        printf("seiche %s\n", pbf_version());
+        return 0;
+    case ENG_APP_ARGS_ERROR: {
+        int st = bad("%s%s", args.error ? args.error : "out of memory", "");
+        eng_app_args_free(&args);
+        return st;
     }
-    if (!o.script) return bad("no script given%s%s", "", "");
+    case ENG_APP_ARGS_RUN: break;
+    }
+    eng_app_options o = args.options;
+    const char *junit = args.junit, *tap = args.tap;
     struct stat st;
     if (stat(o.script, &st) != 0) return bad("cannot open script '%s': %s", o.script, strerror(errno));
     bool dir = S_ISDIR(st.st_mode);

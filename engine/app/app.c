@@ -40,33 +40,6 @@ static double now_s(void)
     return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
 }
 
-eng_app_options eng_default_app_options(void)
-{
-    eng_app_options o;
-    memset(&o, 0, sizeof o);
-    o.frames = -1;
-    o.dt = 1.0 / 60.0;
-    o.width = 1280;
-    o.height = 720;
-    o.watch = true;
-    o.ui = true;
-    return o;
-}
-
-const char *eng_app_set_keys(void)
-{
-    static char keys[1024];
-    if (keys[0]) return keys;
-    int n;
-    const pbf_param_info *t = pbf_param_table(&n);
-    size_t len = 0;
-    for (int i = 0; i < n; i++) len += (size_t)snprintf(keys + len, sizeof keys - len, "fluid.%s, ", t[i].name);
-    const cpl_setting_info *ct = cpl_setting_table(&n);
-    for (int i = 0; i < n; i++) len += (size_t)snprintf(keys + len, sizeof keys - len, "coupling.%s, ", ct[i].name);
-    snprintf(keys + len, sizeof keys - len, "gravity.x, gravity.y, gravity.z, capacity");
-    return keys;
-}
-
 // Finds the shaders: the option, then $SEICHE_SHADER_DIR (shader development), else the
 // copies embedded in the libraries ("" here).
 static void find_shader_dir(app *a)

@@ -1,6 +1,7 @@
-// Building a scene (an instance) from a script: the --set options, the fluid and Bullet
+// Building a scene (an instance) from a script: the --set options (app_args.c), the fluid and Bullet
 // worlds and their coupling, the container, the look; loading, resetting and reloading.
 #include "engine/app/app_internal.h"
+#include "engine/app/app_args.h"
 
 #include <epoxy/gl.h>
 #include <errno.h>
@@ -12,70 +13,12 @@
 
 #include "engine/gl/screenshot.h"
 
-static int apply_sets(app *a, eng_scene_config *c, char *err, size_t err_size)
-{
-    // The fluid.* options apply together, checked as a set (pbf_params_apply), so that any
-    // consistent particle_radius / kernel_radius pair is accepted in any order.
-    char fluid_keys[ENG_APP_MAX_SETS][128];
-    const char *fluid_names[ENG_APP_MAX_SETS];
-    double fluid_values[ENG_APP_MAX_SETS];
-    int fluid_count = 0;
-    for (int i = 0; i < a->opt->set_count; i++) {
-        const char *kv = a->opt->sets[i];
-        const char *eq = strchr(kv, '=');
-        char key[128];
-        if (!eq || eq == kv || (size_t)(eq - kv) >= sizeof key) {
-            snprintf(err, err_size, "seiche: --set expects KEY=VALUE (got '%s')", kv);
-            return ENG_EXIT_USAGE;
-        }
-        snprintf(key, sizeof key, "%.*s", (int)(eq - kv), kv);
-        char *end;
-        errno = 0;
-        double v = strtod(eq + 1, &end);
-        if (end == eq + 1 || *end || errno || !isfinite(v)) {
-            snprintf(err, err_size, "seiche: --set %s: value must be a finite number (got '%s')", key, eq + 1);
-            return ENG_EXIT_USAGE;
-        }
-        if (strncmp(key, "fluid.", 6) == 0) {
-            snprintf(fluid_keys[fluid_count], sizeof fluid_keys[0], "%s", key + 6);
-            fluid_names[fluid_count] = fluid_keys[fluid_count];
-            fluid_values[fluid_count++] = v;
-        } else if (strncmp(key, "coupling.", 9) == 0) {
-            char cerr[256];
-            if (cpl_def_set(&c->coupling, key + 9, v, cerr, sizeof cerr) != CPL_OK) {
-                snprintf(err, err_size, "seiche: --set %s: %s", key, cerr);
-                return ENG_EXIT_USAGE;
-            }
-        } else if (strcmp(key, "capacity") == 0) {
-            if (v < 1 || v > 67108864 || v != floor(v)) {
-                snprintf(err, err_size, "seiche: --set capacity must be a whole number in [1, 67108864] (got %s)", eq + 1);
-                return ENG_EXIT_USAGE;
-            }
-            c->capacity = (uint32_t)v;
-        } else if (strncmp(key, "gravity.", 8) == 0 && key[8] >= 'x' && key[8] <= 'z' && !key[9]) {
-            if (fabs(v) > 1000.0) {
-                snprintf(err, err_size, "seiche: --set %s must be in [-1000, 1000] m/s^2 (got %s)", key, eq + 1);
-                return ENG_EXIT_USAGE;
-            }
-            c->params.gravity[key[8] - 'x'] = (float)v;
-        } else {
-            snprintf(err, err_size, "seiche: --set: unknown key '%s' (known: %s)", key, eng_app_set_keys());
-            return ENG_EXIT_USAGE;
-        }
-    }
-    char perr[512];
-    if (pbf_params_apply(&c->params, fluid_names, fluid_values, fluid_count, perr, sizeof perr) != PBF_OK) {
-        snprintf(err, err_size, "seiche: --set fluid: %s", perr);
-        return ENG_EXIT_USAGE;
-    }
-    return ENG_EXIT_OK;
-}
-
 // The script's view of the --set options while its main chunk runs (eng_script_host).
 static bool overrides_for_script(void *user, eng_scene_config *c)
 {
+    const app *a = user;
     char err[512];
-    return apply_sets(user, c, err, sizeof err) == ENG_EXIT_OK;
+    return eng_app_apply_sets(a->opt, c, err, sizeof err) == ENG_EXIT_OK;
 }
 
 static void world_log(void *user, int level, const char *msg)
@@ -387,7 +330,7 @@ int app_load_scene(app *a, bool reload)
         st = ss == ENG_SCRIPT_CHECK_FAILED ? ENG_EXIT_CHECK_FAILED : ENG_EXIT_USAGE;
         snprintf(err, sizeof err, "%s", eng_script_error(in.script));
     }
-    if (st == ENG_EXIT_OK) st = apply_sets(a, eng_script_config(in.script), err, sizeof err);
+    if (st == ENG_EXIT_OK) st = eng_app_apply_sets(a->opt, eng_script_config(in.script), err, sizeof err);
     if (st == ENG_EXIT_OK) st = create_worlds(a, &in, err, sizeof err);
     const eng_scene_config *c = eng_script_config(in.script);
     if (st == ENG_EXIT_OK) {

@@ -134,7 +134,7 @@ static eng_script_status fire_contacts(eng_script *s)
         e->point[0] = c->point.x, e->point[1] = c->point.y, e->point[2] = c->point.z;
         e->normal[0] = sign * c->normal.x, e->normal[1] = sign * c->normal.y, e->normal[2] = sign * c->normal.z;
     }
-    memcpy(s->hits, next, kept * sizeof *next);
+    if (kept) memcpy(s->hits, next, kept * sizeof *next); // next is NULL when no pair touched
     s->hit_count = kept;
     free(next);
     eng_script_status st = ENG_SCRIPT_OK;

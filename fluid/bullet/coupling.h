@@ -102,6 +102,9 @@ const cpl_setting_info *cpl_setting_find(const char *name);
 cpl_result cpl_def_set(cpl_def *def, const char *name, double value, char *err, size_t err_size);
 /// The value of one setting of a def.
 double cpl_def_get(const cpl_def *def, const cpl_setting_info *info);
+/// Checks every setting of a def (not its worlds): CPL_OK, or CPL_ERR_INVALID_ARG and a
+/// message naming the setting, the value and the range.
+cpl_result cpl_def_check(const cpl_def *def, char *err, size_t err_size);
 
 /// Creates a coupling. Returns NULL and a message naming the field on bad input.
 cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size);

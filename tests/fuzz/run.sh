@@ -3,7 +3,8 @@
 # usage: tests/fuzz/run.sh SECONDS NAME... [-- LIBFUZZER_ARGS...]
 # Each NAME (build/fuzz/bin/NAME) first replays every input of tests/fuzz/regressions/NAME/
 # (the crashes found so far: each must pass now), then fuzzes for SECONDS with its corpus in
-# build/fuzz/corpus/NAME (kept between runs). A crash, leak, timeout (FUZZ_TIMEOUT seconds
+# build/fuzz/corpus/NAME (kept between runs; tests/fuzz/seeds/NAME, where there is one, adds
+# starting inputs that are read, never written). A crash, leak, timeout (FUZZ_TIMEOUT seconds
 # for one input, default 20) or memory blow-up (FUZZ_RSS_MB, default 2048) stops it with
 # the input in build/fuzz/artifacts/NAME/. Exit status 1 when any harness failed.
 cd "$(dirname "$0")/../.." || exit 2
@@ -38,8 +39,10 @@ for name in $names; do
         echo "fuzz: $name: $(echo "$regressions" | wc -l) regression inputs pass"
     fi
     echo "fuzz: $name for ${seconds}s (corpus $corpus)"
+    seeds=""
+    [ ! -d "tests/fuzz/seeds/$name" ] || seeds="tests/fuzz/seeds/$name"
     # shellcheck disable=SC2086
-    if "$exe" $opts -max_total_time="$seconds" -print_final_stats=1 "$@" "$corpus" >"build/fuzz/$name.log" 2>&1; then
+    if "$exe" $opts -max_total_time="$seconds" -print_final_stats=1 "$@" "$corpus" $seeds >"build/fuzz/$name.log" 2>&1; then
         echo "fuzz: $name: ok, $(sed -n 's/^stat::number_of_executed_units: *//p' "build/fuzz/$name.log") inputs"
     else
         echo "fuzz: $name FAILED: see build/fuzz/$name.log; the input is in $artifacts/"
