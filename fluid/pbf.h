@@ -304,7 +304,9 @@ pbf_result pbf_world_tint_box(pbf_world *world, const float min[3], const float 
 /// height parameter, the default). Kept through pbf_world_set_emitter.
 pbf_result pbf_world_set_emitter_tint(pbf_world *world, pbf_emitter_id id, const float rgb[3]);
 
-/// A sink removes every particle that enters the box [min, max] (m), on the GPU.
+/// A sink removes every particle that enters the box [min, max] (m), on the GPU, except
+/// those a collider with blocks_sinks shields (inside it, or behind it as seen from the
+/// sink's centre): water held in a static basin is not drained by a sink below it.
 typedef struct pbf_sink_id {
     uint16_t index1;
     uint16_t generation;
@@ -379,6 +381,11 @@ typedef struct pbf_collider_def {
     float position[3];   ///< m
     float rotation[4];   ///< unit quaternion x, y, z, w
     bool two_way;        ///< accumulate the fluid's force and torque on it
+    bool blocks_sinks;   ///< a wall for sinks: a sink leaves the particles this collider
+                         ///< separates from the sink's centre (inside it, or behind it on the
+                         ///< straight line to the centre); a collider that holds the centre
+                         ///< (a drain set into a floor) does not block it. The coupling sets it
+                         ///< for static bodies. Default false.
 } pbf_collider_def;
 #define PBF_MAX_HULL_PLANES 256
 pbf_collider_def pbf_default_collider_def(void);

@@ -194,7 +194,8 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
     uint32_t packed = 0;
     if (d->type == PBF_SHAPE_CONVEX_HULL) packed = d->plane_count;
     if (d->type == PBF_SHAPE_SDF) packed = d->grid.dims[0] | d->grid.dims[1] << 10 | d->grid.dims[2] << 20;
-    g->info = (pbf_uint4){ gpu_type[d->type], d->two_way ? PBF_COLLIDER_TWO_WAY : 0u, 0u, packed };
+    uint32_t flags = (d->two_way ? PBF_COLLIDER_TWO_WAY : 0u) | (d->blocks_sinks ? PBF_COLLIDER_BLOCKS_SINKS : 0u);
+    g->info = (pbf_uint4){ gpu_type[d->type], flags, 0u, packed };
     g->position.w = pbf_collider_bounding_radius(d);
     g->prev_position = g->position;
     g->center_of_mass = g->position;

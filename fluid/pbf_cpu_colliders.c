@@ -263,7 +263,8 @@ pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *w, const pbf_collider_def *
                                          PBF_COLLIDER_GRID };
     uint32_t packed = d->type == PBF_SHAPE_CONVEX_HULL ? d->plane_count
                     : d->type == PBF_SHAPE_SDF ? d->grid.dims[0] | d->grid.dims[1] << 10 | d->grid.dims[2] << 20 : 0u;
-    c.info = (pbf_uint4){ gpu_type[d->type], d->two_way ? PBF_COLLIDER_TWO_WAY : 0u, offset, packed };
+    uint32_t flags = (d->two_way ? PBF_COLLIDER_TWO_WAY : 0u) | (d->blocks_sinks ? PBF_COLLIDER_BLOCKS_SINKS : 0u);
+    c.info = (pbf_uint4){ gpu_type[d->type], flags, offset, packed };
     c.prev_position = c.position;
     c.prev_rotation = c.rotation;
     c.center_of_mass = c.position;

@@ -438,7 +438,7 @@ static uint32_t colliders_in_use(const cpl_coupling *c)
 
 // Adds the collider of one shape (a body's, or a compound child's) at the given pose.
 static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, const float pos[3], const float rot[4],
-                               bool measured, pbf_collider_id *out)
+                               bool measured, bool blocks_sinks, pbf_collider_id *out)
 {
     pbf_collider_def d = pbf_default_collider_def();
     float *planes = NULL, *grid = NULL;
@@ -447,6 +447,7 @@ static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, co
     memcpy(d.position, pos, sizeof d.position);
     memcpy(d.rotation, rot, sizeof d.rotation);
     d.two_way = measured; // the fluid layer's flag: accumulate the force (the coupling applies it or not)
+    d.blocks_sinks = blocks_sinks;
     pbf_result pr = pbf_world_add_collider(c->fluid, &d, out);
     free(planes);
     free(grid);
@@ -519,7 +520,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
         const phys_shape_desc *part = shape.type == PHYS_SHAPE_COMPOUND ? &shape.compound.children[k].desc : &shape;
         float cp[3], cr[4];
         collider_pose(e, k, pos, rot, cp, cr);
-        cpl_result r = add_collider(c, part, cp, cr, measured, &e->colliders[k]);
+        cpl_result r = add_collider(c, part, cp, cr, measured, type == PHYS_BODY_STATIC, &e->colliders[k]);
         if (r != CPL_OK) {
             drop(c, e);
             return r;

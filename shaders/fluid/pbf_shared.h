@@ -91,6 +91,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
                                 // (10 bits each, x lowest); first sample at params.xyz, spacing params.w
 // Collider flags (pbf_gpu_collider.info.y).
 #define PBF_COLLIDER_TWO_WAY 1u // accumulate the fluid's force and torque on it
+#define PBF_COLLIDER_BLOCKS_SINKS 2u // sinks do not drain what it shields (pbf_collider_def.blocks_sinks)
 
 // Force accumulators: PBF_B_FORCES[index * 8 + k], k = 0..2 force, 4..6 torque, as fixed
 // point int(f * scale) summed with atomicAdd (exact and order independent), where scale
