@@ -19,6 +19,8 @@
 
 #include "tests/support.h"
 
+#include <stb/stb_image.h>
+
 typedef struct run_result {
     int status;      // exit status, or 128 + signal
     char out[8192];  // stdout
@@ -294,6 +296,34 @@ static void main_chunk_sees_set_options(void **state)
     assert_non_null(strstr(r.out, "on_start: coupling latency 3, smoothing 0.5, impulse 2"));
 }
 
+// seiche.text shows in a headless screenshot: the script's red HUD text over a dark sky
+// puts red pixels in the band it is drawn in, and none below it.
+static void hud_text_is_in_a_headless_screenshot(void **state)
+{
+    (void)state;
+    const char *png = "/tmp/seiche_test_runner_hud.png";
+    unlink(png);
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "3", "--size", "320x200", "--screenshot", png,
+                                        "tests/fixtures/hud_text.lua", NULL });
+    assert_int_equal(r.status, 0);
+    int w = 0, h = 0, n = 0;
+    unsigned char *img = stbi_load(png, &w, &h, &n, 3);
+    assert_non_null(img);
+    assert_int_equal(w, 320);
+    int in_band = 0, below = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const unsigned char *p = img + 3 * ((size_t)y * w + x);
+            bool red = p[0] > 180 && p[1] < 60 && p[2] < 60;
+            if (red && y >= 15 && y < 90) in_band++;
+            else if (red) below++;
+        }
+    stbi_image_free(img);
+    assert_true(in_band > 300); // "SCORE 42" at 64 px: the strokes fill about a tenth of the band
+    assert_int_equal(below, 0);
+}
+
 static void record_writes_a_video(void **state)
 {
     (void)state;
@@ -330,6 +360,7 @@ int main(void)
         cmocka_unit_test(render_option_picks_the_water_look_and_names_the_modes),
         cmocka_unit_test(main_chunk_sees_dt_and_render_options),
         cmocka_unit_test(main_chunk_sees_set_options),
+        cmocka_unit_test(hud_text_is_in_a_headless_screenshot),
         cmocka_unit_test(record_writes_a_video),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -161,7 +161,7 @@ static void draw_ui(app *a)
     f.step_ms = a->have_stats ? a->last_stats.step_ms : 0;
     f.fps = a->fps;
     f.iterations = p ? p->iterations : 0;
-    f.substeps = p ? p->substeps : 0;
+    f.substeps = a->have_stats ? a->last_stats.substeps : p ? p->substeps : 0; // the time-step guard may take more
     f.compression = a->have_stats ? a->last_stats.density_error_avg : 0;
     f.worst_over = a->rho_err_max;
     const char *stage_names[PBF_STAGE_COUNT];
@@ -184,6 +184,7 @@ static void draw_ui(app *a)
     }
     f.texts = hud;
     f.text_count = text_count;
+    eng_context_size(a->ctx, &f.width, &f.height);
     eng_ui_draw(a->ui, &f);
     a->show_panel = f.show_panel;
     if (f.toggle_pause) a->paused = !a->paused;
@@ -350,8 +351,9 @@ int eng_app_run(const eng_app_options *o)
     a->scene = eng_scene_create(&sd);
     eng_camera_def camd = eng_default_camera_def();
     eng_camera_init(&a->camera, &camd, err, sizeof err);
-    if (!o->headless && o->ui) {
-        a->ui = eng_ui_create(eng_context_window(a->ctx), err, sizeof err);
+    // Headless, the UI only draws the script's HUD text into screenshots and videos.
+    if (o->ui && (!o->headless || o->screenshot_path || o->record_path)) {
+        a->ui = eng_ui_create(o->headless ? NULL : eng_context_window(a->ctx), err, sizeof err);
         if (!a->ui) eng_log(&a->log, ENG_LOG_WARN, "seiche: no on-screen UI: %s", err);
     }
 

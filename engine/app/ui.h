@@ -67,11 +67,14 @@ typedef struct eng_ui_frame {
     int param_count;
     const eng_ui_text *texts; ///< the script's HUD of this frame (drawn on the foreground draw list)
     int text_count;
+    int width, height;       ///< framebuffer pixels (read without a window; a window has its own)
     // out
     bool toggle_pause, step, reset, reload, dismiss_error;
 } eng_ui_frame;
 
-/// NULL (with a message in err) when window is NULL or ImGui cannot start.
+/// NULL (with a message in err) when ImGui cannot start. With window NULL (headless), the
+/// UI draws only the script's HUD text (for screenshots and videos): no panel, no error
+/// box, no input.
 eng_ui *eng_ui_create(struct GLFWwindow *window, char *err, size_t err_size);
 void eng_ui_destroy(eng_ui *ui);
 

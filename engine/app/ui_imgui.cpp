@@ -135,10 +135,6 @@ extern "C" {
 
 eng_ui *eng_ui_create(GLFWwindow *window, char *err, size_t err_size)
 {
-    if (!window) {
-        if (err && err_size) std::snprintf(err, err_size, "eng_ui_create: no window (the UI is for window mode)");
-        return nullptr;
-    }
     eng_ui *ui = new (std::nothrow) eng_ui();
     if (!ui) {
         if (err && err_size) std::snprintf(err, err_size, "eng_ui_create: out of memory");
@@ -152,9 +148,11 @@ eng_ui *eng_ui_create(GLFWwindow *window, char *err, size_t err_size)
     io.LogFilename = nullptr;
     ImGui::StyleColorsDark();
     ImGui::GetStyle().WindowRounding = 4.0f;
-    bool ok = ImGui_ImplGlfw_InitForOpenGL(window, true) && ImGui_ImplOpenGL3_Init("#version 330 core");
+    bool ok = (!window || ImGui_ImplGlfw_InitForOpenGL(window, true)) && ImGui_ImplOpenGL3_Init("#version 330 core");
     if (!ok) {
-        if (err && err_size) std::snprintf(err, err_size, "eng_ui_create: the ImGui GLFW/OpenGL3 backends failed to start");
+        if (err && err_size)
+            std::snprintf(err, err_size, "eng_ui_create: the ImGui %s backends failed to start",
+                          window ? "GLFW/OpenGL3" : "OpenGL3");
         eng_ui_destroy(ui);
         return nullptr;
     }
@@ -194,10 +192,18 @@ void eng_ui_draw(eng_ui *ui, eng_ui_frame *f)
     if (!ui) return;
     current c(ui);
     ImGui_ImplOpenGL3_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
+    if (ui->window) {
+        ImGui_ImplGlfw_NewFrame();
+    } else {
+        // Headless: no platform backend; the frame's size and a nominal time step.
+        ImGuiIO &io = ImGui::GetIO();
+        io.DisplaySize = ImVec2((float)(f->width > 0 ? f->width : 1), (float)(f->height > 0 ? f->height : 1));
+        io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
+        io.DeltaTime = 1.0f / 60.0f;
+    }
     ImGui::NewFrame();
-    if (f->show_panel) panel(f);
-    if (f->error && *f->error) error_box(f);
+    if (ui->window && f->show_panel) panel(f);
+    if (ui->window && f->error && *f->error) error_box(f);
     ImDrawList *fg = ImGui::GetForegroundDrawList();
     for (int i = 0; i < f->text_count; i++) {
         const eng_ui_text *t = &f->texts[i];
