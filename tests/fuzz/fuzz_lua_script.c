@@ -26,8 +26,7 @@
 // past libFuzzer's -timeout is a bug.
 // FUZZ_LUA_VERBOSE=1 prints each script and how it ended (to replay an input by eye).
 // Build and run: make fuzz (docs/testing.md).
-#include "engine/gl/context.h"
-#include "engine/gl/gl_strict.h"
+#include "tests/fuzz/fuzz_gl.h"
 #include "engine/gl/input.h"
 #include "engine/render/camera.h"
 #include "engine/render/mesh.h"
@@ -67,13 +66,6 @@ static const char *methods[160];     // NAME of "kind:NAME"
 static int method_count;
 static bool verbose;                 // FUZZ_LUA_VERBOSE=1: each script and how it ended, on stderr
 
-static void strict_abort(void *user, const char *message)
-{
-    (void)user;
-    fprintf(stderr, "fuzz_lua_script: GL strict mode / driver: %s\n", message);
-    abort();
-}
-
 static void quiet_log(void *user, int level, const char *message)
 {
     (void)user;
@@ -92,31 +84,10 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc;
     (void)argv;
-    setenv("SEICHE_GL_STRICT", "1", 0);
     verbose = getenv("FUZZ_LUA_VERBOSE") && getenv("FUZZ_LUA_VERBOSE")[0] == '1';
     if (!freopen("/dev/null", "w", stdout)) return 1; // the scripts' print()
-    eng_context_def def = eng_default_context_def();
-    def.mode = ENG_CONTEXT_HEADLESS;
-    def.width = 64;
-    def.height = 64;
-    def.vsync = false;
-    def.debug = true;
-    char err[512];
-    eng_context_status st;
-    ctx = eng_context_create(&def, &st, err, (int)sizeof err);
-    if (!ctx) {
-        fprintf(stderr, "fuzz_lua_script: no headless GL 4.3 context: %s\n", err);
-        exit(1);
-    }
-    eng_gl_strict_set_handler(strict_abort, NULL, NULL, NULL);
-    base_def = pbf_default_world_def();
-    base_def.capacity = 2048;
-    base_def.log = quiet_log;
-    base = pbf_world_create(&base_def, err, sizeof err);
-    if (!base) {
-        fprintf(stderr, "fuzz_lua_script: the fluid world: %s\n", err);
-        exit(1);
-    }
+    ctx = fuzz_gl_context("fuzz_lua_script");
+    base = fuzz_gl_base_world("fuzz_lua_script", quiet_log, &base_def);
     eng_scene_def sd = eng_default_scene_def();
     scene = eng_scene_create(&sd);
     eng_mesh_store_def md = eng_default_mesh_store_def();

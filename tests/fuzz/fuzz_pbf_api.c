@@ -14,8 +14,7 @@
 // steps, 4 iterations x 4 substeps, 2048 particles (4096 in a fuzzer-made world, and no
 // world needing more than 64 MiB).
 // Build and run: make fuzz (docs/testing.md).
-#include "engine/gl/context.h"
-#include "engine/gl/gl_strict.h"
+#include "tests/fuzz/fuzz_gl.h"
 #include "fluid/pbf.h"
 #include "fluid/pbf_internal.h"
 #include "tests/fuzz/fuzz_input.h"
@@ -47,13 +46,6 @@ typedef struct state {
     fuzz_input *in;
 } state;
 
-static void strict_abort(void *user, const char *message)
-{
-    (void)user;
-    fprintf(stderr, "fuzz_pbf_api: GL strict mode / driver: %s\n", message);
-    abort();
-}
-
 static void quiet_log(void *user, int level, const char *message)
 {
     (void)user;
@@ -65,29 +57,8 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc;
     (void)argv;
-    setenv("SEICHE_GL_STRICT", "1", 0);
-    eng_context_def def = eng_default_context_def();
-    def.mode = ENG_CONTEXT_HEADLESS;
-    def.width = 64;
-    def.height = 64;
-    def.vsync = false;
-    def.debug = true;
-    char err[512];
-    eng_context_status st;
-    ctx = eng_context_create(&def, &st, err, (int)sizeof err);
-    if (!ctx) {
-        fprintf(stderr, "fuzz_pbf_api: no headless GL 4.3 context: %s\n", err);
-        exit(1);
-    }
-    eng_gl_strict_set_handler(strict_abort, NULL, NULL, NULL);
-    base_def = pbf_default_world_def();
-    base_def.capacity = 2048;
-    base_def.log = quiet_log;
-    base = pbf_world_create(&base_def, err, sizeof err);
-    if (!base) {
-        fprintf(stderr, "fuzz_pbf_api: the base world: %s\n", err);
-        exit(1);
-    }
+    ctx = fuzz_gl_context("fuzz_pbf_api");
+    base = fuzz_gl_base_world("fuzz_pbf_api", quiet_log, &base_def);
     return 0;
 }
 
