@@ -377,8 +377,9 @@ static void capture_log(void *user, int level, const char *msg)
     snprintf(c->last, sizeof c->last, "%s", msg);
 }
 
-/// The substeps of one step of a block thrown at `speed` m/s in zero gravity.
-static int substeps_at(float speed, float cfl, int max_substeps, log_capture *log)
+/// The substeps of one step of a block thrown at `speed` m/s in zero gravity (the most
+/// any of 4 steps took); *hash (may be NULL) receives the state hash after them.
+static int substeps_at(float speed, float cfl, int max_substeps, log_capture *log, uint64_t *hash)
 {
     pbf_world_def d = pbf_default_world_def();
     d.params.particle_radius = 0.01f;
@@ -406,23 +407,27 @@ static int substeps_at(float speed, float cfl, int max_substeps, log_capture *lo
     for (int k = 0; k < 4; k++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
     pbf_step_stats st;
     while (pbf_world_poll_stats(w, &st, 1, true) == 1) most = st.substeps > most ? st.substeps : most;
+    if (hash) *hash = pbf_world_state_hash(w);
     pbf_world_destroy(w);
     return most;
 }
 
 /// The time-step guard (pbf_params.cfl): particles at 5.9 m/s in a 1/60 s step with 2 cm
 /// spacing need ceil(5.9 / 60 / (0.5 x 0.02)) = 10 substeps to move at most half a spacing in
-/// each; slow ones keep the 4 asked for; the guard off keeps 4; a cap of 6 takes 6 and warns
-/// once, naming max_substeps.
+/// each, and the same state twice; slow ones keep the 4 asked for; the guard off keeps 4; a
+/// cap of 6 takes 6 and warns once, naming max_substeps.
 static void time_step_guard_takes_substeps_for_fast_particles(void **state)
 {
     (void)state;
     log_capture log = { 0, "" };
-    assert_int_equal(substeps_at(5.9f, 0.5f, 32, &log), 10);
-    assert_int_equal(substeps_at(0.5f, 0.5f, 32, &log), 4);
-    assert_int_equal(substeps_at(6.0f, 0.0f, 32, &log), 4);
+    uint64_t h1 = 0, h2 = 0;
+    assert_int_equal(substeps_at(5.9f, 0.5f, 32, &log, &h1), 10);
+    assert_int_equal(substeps_at(5.9f, 0.5f, 32, &log, &h2), 10);
+    assert_true(h1 == h2); // the guard's choice is deterministic: the same state twice
+    assert_int_equal(substeps_at(0.5f, 0.5f, 32, &log, NULL), 4);
+    assert_int_equal(substeps_at(6.0f, 0.0f, 32, &log, NULL), 4);
     assert_int_equal(log.warnings, 0);
-    assert_int_equal(substeps_at(6.0f, 0.5f, 6, &log), 6);
+    assert_int_equal(substeps_at(6.0f, 0.5f, 6, &log, NULL), 6);
     assert_int_equal(log.warnings, 1);
     assert_non_null(strstr(log.last, "max_substeps = 6"));
 }
