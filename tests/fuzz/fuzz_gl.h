@@ -11,6 +11,7 @@
 #include "engine/gl/context.h"
 #include "engine/gl/gl_strict.h"
 #include "fluid/pbf.h"
+#include "fluid/pbf_internal.h"
 
 static void fuzz_gl_abort(void *user, const char *message)
 {
@@ -53,6 +54,25 @@ static inline pbf_world *fuzz_gl_base_world(const char *harness, pbf_log_fn *log
     }
     if (def_out) *def_out = d;
     return w;
+}
+
+/// The base world back as it was: no particles, colliders, emitters, sinks or container,
+/// the `first` parameters, and every step's statistics read. The slots are read from the
+/// world (fluid/pbf_internal.h) so that ids an input did not keep are removed too.
+static inline void fuzz_gl_reset_base(pbf_world *base, const pbf_params *first)
+{
+    pbf_world_poll_stats(base, NULL, 0, true);
+    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
+        if (base->slots[i].used)
+            pbf_world_remove_collider(base, (pbf_collider_id){ (uint16_t)(i + 1), base->slots[i].generation });
+    for (int i = 0; i < PBF_MAX_EMITTERS; i++)
+        if (base->emitters[i].used)
+            pbf_world_remove_emitter(base, (pbf_emitter_id){ (uint16_t)(i + 1), base->emitters[i].generation });
+    for (int i = 0; i < PBF_MAX_SINKS; i++)
+        if (base->sinks[i].used) pbf_world_remove_sink(base, (pbf_sink_id){ (uint16_t)(i + 1), base->sinks[i].generation });
+    pbf_world_remove_container(base);
+    if (pbf_world_set_params(base, first) != PBF_OK) abort();
+    pbf_world_clear(base);
 }
 
 #endif

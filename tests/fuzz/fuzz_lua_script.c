@@ -668,24 +668,6 @@ static void frames(run *r, fuzz_input *in)
     if (fuzz_u8(in) < 32) (void)STEP(r, eng_script_on_reload(r->script), "eng_script_on_reload");
 }
 
-// The fluid world back as it was (as fuzz_pbf_api does): no colliders, emitters, sinks,
-// container or particles, the first parameters, every statistic read.
-static void reset_base(void)
-{
-    pbf_world_poll_stats(base, NULL, 0, true);
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
-        if (base->slots[i].used)
-            pbf_world_remove_collider(base, (pbf_collider_id){ (uint16_t)(i + 1), base->slots[i].generation });
-    for (int i = 0; i < PBF_MAX_EMITTERS; i++)
-        if (base->emitters[i].used)
-            pbf_world_remove_emitter(base, (pbf_emitter_id){ (uint16_t)(i + 1), base->emitters[i].generation });
-    for (int i = 0; i < PBF_MAX_SINKS; i++)
-        if (base->sinks[i].used) pbf_world_remove_sink(base, (pbf_sink_id){ (uint16_t)(i + 1), base->sinks[i].generation });
-    pbf_world_remove_container(base);
-    if (pbf_world_set_params(base, &base_def.params) != PBF_OK) abort();
-    pbf_world_clear(base);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -741,7 +723,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (eng_node_is_valid(scene, r.root)) eng_node_destroy(scene, r.root);
     cpl_destroy(r.coupling);
     phys_world_destroy(r.phys);
-    reset_base();
+    fuzz_gl_reset_base(base, &base_def.params);
     free(text);
     return 0;
 }

@@ -542,25 +542,6 @@ static void op(state *s)
     }
 }
 
-// The base world back as it was: no particles, colliders, emitters, sinks or container, the
-// first parameters, and every step's statistics read. The slots are read from the world
-// (fluid/pbf_internal.h) so that ids this input did not keep are removed too.
-static void reset_base(void)
-{
-    pbf_world_poll_stats(base, NULL, 0, true);
-    for (int i = 0; i < PBF_MAX_COLLIDERS; i++)
-        if (base->slots[i].used)
-            pbf_world_remove_collider(base, (pbf_collider_id){ (uint16_t)(i + 1), base->slots[i].generation });
-    for (int i = 0; i < PBF_MAX_EMITTERS; i++)
-        if (base->emitters[i].used)
-            pbf_world_remove_emitter(base, (pbf_emitter_id){ (uint16_t)(i + 1), base->emitters[i].generation });
-    for (int i = 0; i < PBF_MAX_SINKS; i++)
-        if (base->sinks[i].used) pbf_world_remove_sink(base, (pbf_sink_id){ (uint16_t)(i + 1), base->sinks[i].generation });
-    pbf_world_remove_container(base);
-    if (pbf_world_set_params(base, &base_def.params) != PBF_OK) abort();
-    pbf_world_clear(base);
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -571,6 +552,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     s.in = &in;
     for (int i = 0; i < MAX_OPS && in.size > 0; i++) op(&s);
     if (s.own) pbf_world_destroy(s.own);
-    reset_base();
+    fuzz_gl_reset_base(base, &base_def.params);
     return 0;
 }
