@@ -142,7 +142,7 @@ pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32
 {
     if (n == 0) return PBF_OK;
     // The time-step guard sees these before the metrics of a step do.
-    float *fastest = &w->added_speed[w->step_index % RING];
+    float *fastest = &w->added_speed[w->step_index % PBF_GUARD_HISTORY];
     for (uint32_t i = 0; i < n; i++) {
         const float *v = vel4 + 4 * (size_t)i;
         float s = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);

@@ -198,7 +198,7 @@ static void append(pbf_cpu_world *w, const float p[3], const float v[3])
     w->pred[i] = (pbf_float4){ p[0], p[1], p[2], 0.0f };
     w->vel[i] = (pbf_float4){ v[0], v[1], v[2], 0.0f };
     float speed = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    float *fastest = &w->added_speed[w->steps % 8];
+    float *fastest = &w->added_speed[w->steps % PBF_GUARD_HISTORY];
     if (speed > *fastest) *fastest = speed;
     w->id[i] = i; // no removal: ids are 0 .. count - 1 in creation order
     w->nb_valid = false;
@@ -342,11 +342,8 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
     if (!(dt > 0.0f && dt <= 1.0f))
         return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_cpu_world_step: dt must be in (0, 1] s (got %g)", (double)dt);
     // The time-step guard sees what the GPU world sees (pbf_guard_substeps).
-    float seen = w->steps >= PBF_GUARD_LATENCY ? w->speed_of[(w->steps - PBF_GUARD_LATENCY) % 8] : -1.0f;
-    float added = 0.0f;
-    for (uint64_t k = 0; k < PBF_GUARD_LATENCY && k <= w->steps; k++)
-        added = fmaxf(added, w->added_speed[(w->steps - k) % 8]);
-    int substeps = pbf_guard_substeps(&w->params, w->k.spacing, dt, seen, added, NULL);
+    float seen = w->steps >= PBF_GUARD_LATENCY ? w->speed_of[(w->steps - PBF_GUARD_LATENCY) % PBF_GUARD_HISTORY] : -1.0f;
+    int substeps = pbf_guard_substeps(&w->params, w->k.spacing, dt, w->steps, seen, w->added_speed, NULL);
     pbf_gpu_params P = uniforms(w, dt / (float)substeps);
     w->report_substeps = (uint32_t)substeps; // the colliders' force scales follow it
     pbf_cpu_colliders_begin_step(w);
@@ -366,9 +363,9 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
             continue;
         fastest = fmaxf(fastest, sqrtf(v.x * v.x + v.y * v.y + v.z * v.z));
     }
-    w->speed_of[w->steps % 8] = fastest;
+    w->speed_of[w->steps % PBF_GUARD_HISTORY] = fastest;
     w->steps++;
-    w->added_speed[w->steps % 8] = 0.0f;
+    w->added_speed[w->steps % PBF_GUARD_HISTORY] = 0.0f;
     w->nb_valid = true;
     return PBF_OK;
 }

@@ -4,6 +4,7 @@
 #define PBF_CPU_INTERNAL_H
 
 #include "fluid/pbf_cpu.h"
+#include "fluid/pbf_uniforms.h"
 #include "shaders/fluid/pbf_shared.h"
 // The formulas the shaders use (kernels, boundaries, frames, the density constraint) and
 // the vector vocabulary they are written in (pbf_vec3, pbf_add, pbf_scale, ...).
@@ -51,8 +52,8 @@ struct pbf_cpu_world {
     uint32_t report_substeps;// substeps of the latest step (forces are averaged over them)
     uint32_t last_substep;   // P.substep of the latest substep (the metrics pass sees it)
     // The time-step guard, as pbf_world.c keeps it: the fastest speed at the end of step k
-    // at [k % 8], the fastest particle added before step k at [k % 8].
-    float speed_of[8], added_speed[8];
+    // at [k % PBF_GUARD_HISTORY], the fastest particle added before step k at the same index.
+    float speed_of[PBF_GUARD_HISTORY], added_speed[PBF_GUARD_HISTORY];
 
     // Particle slots in the GPU's layout (each array is the twin of a storage buffer, see
     // pbf_cpu_world_binding); the second of each pair is the ping-pong partner, flipped by

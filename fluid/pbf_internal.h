@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 
 #include "fluid/pbf.h"
+#include "fluid/pbf_uniforms.h"
 #include "shaders/fluid/pbf_shared.h"
 
 #define RING 8
@@ -146,9 +147,9 @@ struct pbf_world {
     double time;
 
     // the time-step guard (params.cfl): speeds seen, by step
-    float speed_of[RING];       // speed_max of step k at [k % RING] once its metrics were read
-    uint64_t speed_step[RING];  // 1 + the step each holds (0: none)
-    float added_speed[RING];    // fastest particle appended before step k, at [k % RING]
+    float speed_of[PBF_GUARD_HISTORY];      // speed_max of step k at [k % PBF_GUARD_HISTORY] once read
+    uint64_t speed_step[PBF_GUARD_HISTORY]; // 1 + the step each holds (0: none)
+    float added_speed[PBF_GUARD_HISTORY];   // fastest particle appended before step k, same index
     bool guard_capped;          // the guard wanted more than max_substeps (warned once)
     int step_substeps;          // substeps of the step being issued (or the next one)
 

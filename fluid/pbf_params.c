@@ -312,7 +312,8 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->cohesion_norm = (float)((double)k->mass / p->rest_density * 32.0 / (PBF_PI * pow(h, 9)));
 }
 
-int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, float seen, float added, bool *capped)
+int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
+                       const float added[PBF_GUARD_HISTORY], bool *capped)
 {
     if (capped) *capped = false;
     int base = p->substeps;
@@ -321,7 +322,8 @@ int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, float seen,
     // Unknown (the first steps) counts as at rest: what gravity adds is still expected.
     float g = sqrtf(p->gravity[0] * p->gravity[0] + p->gravity[1] * p->gravity[1] + p->gravity[2] * p->gravity[2]);
     float v = (seen > 0.0f ? seen : 0.0f) + g * dt * (float)PBF_GUARD_LATENCY;
-    if (added > v) v = added;
+    for (uint64_t k = 0; k < PBF_GUARD_LATENCY && k <= step; k++)
+        if (added[(step - k) % PBF_GUARD_HISTORY] > v) v = added[(step - k) % PBF_GUARD_HISTORY];
     if (v > p->max_speed) v = p->max_speed; // the solver clamps faster particles
     double needed = ceil((double)v * dt / ((double)p->cfl * spacing));
     int most = p->max_substeps > base ? p->max_substeps : base;

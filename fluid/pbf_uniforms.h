@@ -28,15 +28,20 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// depends on timing (the same substeps on every machine).
 #define PBF_GUARD_LATENCY 2
 
-/// The time-step guard (pbf_params.cfl): the substeps a step of dt seconds takes.
-/// `seen` is the fastest particle speed of step (now - PBF_GUARD_LATENCY), m/s, negative
-/// when there is none yet (then taken as 0); `added` the fastest particle added since. The speed expected is
+/// Steps of history the guard keeps (speeds per step, at [step % PBF_GUARD_HISTORY]).
+#define PBF_GUARD_HISTORY 8
+
+/// The time-step guard (pbf_params.cfl): the substeps step `step`, of dt seconds, takes.
+/// `seen` is the fastest particle speed of step (step - PBF_GUARD_LATENCY), m/s, negative
+/// when there is none yet (then taken as 0); `added` holds the fastest particle added
+/// before each step, at [k % PBF_GUARD_HISTORY]: those of the steps since count. The speed expected is
 /// seen + |g| dt PBF_GUARD_LATENCY (what gravity adds meanwhile) or `added`, whichever is
 /// larger, clamped to max_speed; the step takes enough substeps that it covers at most cfl
 /// spacings in one, at least params.substeps and at most max(substeps, max_substeps).
 /// *capped (may be NULL) says whether more were needed than allowed. Shared by the GPU and
 /// CPU worlds.
-int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, float seen, float added, bool *capped);
+int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
+                       const float added[PBF_GUARD_HISTORY], bool *capped);
 
 /// The most cells the virtual grid may have along one axis (rows, y + dims_y * z, must fit
 /// 32 bits).

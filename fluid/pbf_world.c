@@ -722,8 +722,8 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     out->kinetic_energy = m.momentum.w;
     out->speed_max = m.center_of_mass.w;
     out->substeps = r->substeps;
-    w->speed_of[r->step % RING] = m.center_of_mass.w;
-    w->speed_step[r->step % RING] = r->step + 1;
+    w->speed_of[r->step % PBF_GUARD_HISTORY] = m.center_of_mass.w;
+    w->speed_step[r->step % PBF_GUARD_HISTORY] = r->step + 1;
     for (int k = 0; k < 3; k++) {
         out->momentum[k] = (&m.momentum.x)[k];
         out->center_of_mass[k] = (&m.center_of_mass.x)[k];
@@ -793,7 +793,7 @@ static void read_early(pbf_world *w, stats_slot *slot)
 // that step's record is gone.
 static float speed_of_step(pbf_world *w, uint64_t step)
 {
-    int k = (int)(step % RING);
+    int k = (int)(step % PBF_GUARD_HISTORY);
     if (w->speed_step[k] == step + 1) return w->speed_of[k];
     for (int i = 0; i < RING; i++) {
         stats_slot *r = &w->ring[i];
@@ -812,13 +812,8 @@ static int guard_substeps(pbf_world *w, float dt)
     const pbf_params *p = &w->params;
     if (!(p->cfl > 0.0f)) return p->substeps;
     float seen = w->step_index >= PBF_GUARD_LATENCY ? speed_of_step(w, w->step_index - PBF_GUARD_LATENCY) : -1.0f;
-    float added = 0.0f;
-    for (int k = 0; k < PBF_GUARD_LATENCY && (uint64_t)k <= w->step_index; k++) {
-        float a = w->added_speed[(w->step_index - (uint64_t)k) % RING];
-        if (a > added) added = a;
-    }
     bool capped;
-    int n = pbf_guard_substeps(p, w->k.spacing, dt, seen, added, &capped);
+    int n = pbf_guard_substeps(p, w->k.spacing, dt, w->step_index, seen, w->added_speed, &capped);
     if (capped && !w->guard_capped && w->log) {
         char msg[384];
         snprintf(msg, sizeof msg, "time-step guard: the fastest particles need more than max_substeps = %d substeps of "
@@ -879,7 +874,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     slot->pending = true;
     w->ring_head = (w->ring_head + 1) % RING;
     w->step_index++;
-    w->added_speed[w->step_index % RING] = 0.0f; // appends from here belong to the next step
+    w->added_speed[w->step_index % PBF_GUARD_HISTORY] = 0.0f; // appends from here belong to the next step
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) return pbf_fail(w, PBF_ERR_GL, "pbf_world_step: GL error 0x%x", e);
     return PBF_OK;
