@@ -38,8 +38,9 @@ static double shape_volume(const body_rec *b)
 static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", "normal", "offset", "points", "vertices",
                                            "indices", "kind", "density", "mass", "position", "rotation", "velocity",
                                            "angular_velocity", "friction", "restitution", "linear_damping",
-                                           "angular_damping", "two_way", "measure_force", "color", "visible", "parts", "linear_factor",
-                                           "angular_factor", "axle", "mesh", "scale", "centre", "hull_points", NULL };
+                                           "angular_damping", "two_way", "measure_force", "color", "visible", "parts",
+                                           "linear_factor", "angular_factor", "axle", "mesh", "scale", "centre",
+                                           "hull_points", NULL };
 
 // The fields each shape takes (besides the common ones).
 static void check_shape_fields(lua_State *L, body_shape shape)

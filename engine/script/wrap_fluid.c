@@ -110,7 +110,7 @@ static int l_coupling(lua_State *L)
         cpl_def d = s->config.coupling;
         for (int i = 0; i < n; i++) {
             double v;
-            int flags = (tab[i].is_int ? WHOLE : 0) | (strcmp(tab[i].name, "mesh_cell") == 0 ? OPEN_LO : 0);
+            int flags = (tab[i].is_int ? WHOLE : 0) | (tab[i].open_min ? OPEN_LO : 0);
             if (!scr_opt_number(L, 1, fn, tab[i].name, tab[i].min, tab[i].max, flags, tab[i].unit, &v)) continue;
             char err[256];
             if (cpl_def_set(&d, tab[i].name, v, err, sizeof err) != CPL_OK) scr_raise(L, "%s: %s", fn, err);
@@ -214,8 +214,8 @@ static int l_particles(lua_State *L)
 
 static const luaL_Reg functions[] = {
     { "set_param", l_set_param }, { "param", l_param }, { "params", l_params }, { "set_gravity", l_set_gravity },
-    { "gravity", l_gravity }, { "coupling", l_coupling }, { "block", l_block }, { "sphere", l_sphere }, { "particles", l_particles },
-    { NULL, NULL },
+    { "gravity", l_gravity }, { "coupling", l_coupling }, { "block", l_block }, { "sphere", l_sphere },
+    { "particles", l_particles }, { NULL, NULL },
 };
 
 void scr_open_fluid(scr_api *api) { scr_api_functions(api, functions); }

@@ -89,7 +89,8 @@ cpl_def cpl_default_def(void);
 /// --set coupling.NAME): force_latency, force_smoothing, impulse_limit, mesh_cell.
 typedef struct cpl_setting_info {
     const char *name;
-    double min, max;    ///< allowed range, inclusive (mesh_cell: min excluded)
+    double min, max;    ///< allowed range, inclusive except min where open_min
+    bool open_min;      ///< min itself is not allowed (mesh_cell: (0, 1])
     bool is_int;
     const char *unit;   ///< "steps", "m", "" ...
 } cpl_setting_info;

@@ -21,10 +21,10 @@ cpl_def cpl_default_def(void)
 enum { SET_LATENCY, SET_SMOOTHING, SET_IMPULSE, SET_MESH_CELL, SET_COUNT };
 
 static const cpl_setting_info settings[SET_COUNT] = {
-    [SET_LATENCY] = { "force_latency", 1, 7, true, "steps" },
-    [SET_SMOOTHING] = { "force_smoothing", 0, 0.95, false, "" },
-    [SET_IMPULSE] = { "impulse_limit", 0, 100, false, "(x the acceleration of full submersion)" },
-    [SET_MESH_CELL] = { "mesh_cell", 0, 1, false, "m" },
+    [SET_LATENCY] = { "force_latency", 1, 7, false, true, "steps" },
+    [SET_SMOOTHING] = { "force_smoothing", 0, 0.95, false, false, "" },
+    [SET_IMPULSE] = { "impulse_limit", 0, 100, false, false, "(x the acceleration of full submersion)" },
+    [SET_MESH_CELL] = { "mesh_cell", 0, 1, true, false, "m" },
 };
 
 const cpl_setting_info *cpl_setting_table(int *count)
@@ -55,12 +55,11 @@ double cpl_def_get(const cpl_def *def, const cpl_setting_info *info)
 // Checks one value against its setting; writes the message and returns false when wrong.
 static bool check_value(const cpl_setting_info *info, double v, char *err, size_t err_size)
 {
-    bool open_lo = info == &settings[SET_MESH_CELL];
-    bool ok = isfinite(v) && (open_lo ? v > info->min : v >= info->min) && v <= info->max &&
+    bool ok = isfinite(v) && (info->open_min ? v > info->min : v >= info->min) && v <= info->max &&
               (!info->is_int || v == floor(v));
     if (!ok)
         snprintf(err, err_size, "cpl_def.%s must be %sin %c%g, %g]%s%s (got %g)", info->name,
-                 info->is_int ? "a whole number " : "", open_lo ? '(' : '[', info->min, info->max,
+                 info->is_int ? "a whole number " : "", info->open_min ? '(' : '[', info->min, info->max,
                  info->unit[0] ? " " : "", info->unit, v);
     return ok;
 }
