@@ -101,6 +101,13 @@ cpl_result cpl_def_set(cpl_def *def, const char *name, double value, char *err, 
         return CPL_ERR_INVALID_ARG;
     }
     if (!check_value(info, value, err, err_size)) return CPL_ERR_INVALID_ARG;
+    // The def holds floats: a value in range may still round out of it (1e-89 is 0).
+    char unused[8];
+    if (!info->is_int && !check_value(info, (double)(float)value, unused, sizeof unused)) {
+        snprintf(err, err_size, "cpl_def.%s: %g is %g as a float, outside %c%g, %g]", info->name, value,
+                 (double)(float)value, info->open_min ? '(' : '[', info->min, info->max);
+        return CPL_ERR_INVALID_ARG;
+    }
     switch (info - settings) {
     case SET_LATENCY: def->force_latency = (int)value; break;
     case SET_SMOOTHING: def->force_smoothing = (float)value; break;

@@ -16,6 +16,7 @@ refused({ force_smoothing = 0.99 }, "field 'force_smoothing'")
 refused({ impulse_limit = -1 }, "field 'impulse_limit'")
 refused({ mesh_cell = 0 }, "field 'mesh_cell' must be a number in (0, 1] m (got 0)")
 refused({ mesh_cel = 0.1 }, "unknown field \"mesh_cel\"")
+refused({ mesh_cell = 1e-89 }, "1e-89 is 0 as a float")
 refused({ force_latency = "2" }, "force_latency")
 seiche.coupling { force_latency = 2, impulse_limit = 0 }
 function on_start()
