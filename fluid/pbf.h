@@ -107,7 +107,7 @@ typedef struct pbf_params {
     int substeps;           ///< substeps per step, [1, 64]
     float relaxation;       ///< epsilon in lambda, relative to sum |grad C|^2 of a filled
                             ///< neighbourhood (dimensionless), [0, 100]
-    float sor;              ///< over-relaxation factor on each correction, (0, 2)
+    float sor;              ///< relaxation factor on each correction, (0, 2); 0.6 (docs/solver.md)
     float scorr_k;          ///< artificial pressure strength k (dimensionless), [0, 1]
     float scorr_n;          ///< artificial pressure exponent n, [1, 8]
     float scorr_dq;         ///< artificial pressure reference distance dq as a fraction of h, (0, 1)
@@ -171,9 +171,9 @@ typedef struct pbf_constants {
                           ///< filled rest lattice has density rest_density exactly
     float lattice_grad2;  ///< 1/m^2, sum |grad C|^2 of a filled rest neighbourhood
     float epsilon;        ///< 1/m^2, relaxation * lattice_grad2
-    float poly6;          ///< 315 / (64 pi h^9)
-    float spiky_grad;     ///< -45 / (pi h^6)
-    float scorr_inv_wdq;  ///< 1 / W_poly6(scorr_dq * h)
+    float poly6;          ///< 315 / (64 pi h^9) (the XSPH viscosity's weight)
+    float spiky_grad;     ///< -45 / (pi h^6); the density kernel is W_spiky = -spiky_grad / 3 (h - r)^3
+    float scorr_inv_wdq;  ///< 1 / W_spiky(scorr_dq * h)
     float boundary_scale; ///< the wall share V(d) and its gradient are multiplied by this:
                           ///< the missing share of a rest lattice whose first layer sits half
                           ///< a spacing from a wall, over the continuous V(spacing / 2), so a
@@ -457,7 +457,7 @@ int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wa
 typedef struct pbf_gpu_buffers {
     unsigned positions;   ///< SSBO of vec4: xyz m, w = colour parameter (initial height) in [0,1],
                           ///< or a tint (w <= -1: pbf_tint_decode)
-    unsigned velocities;  ///< SSBO of vec4: xyz m/s, w the particle's volume m^3 (mass_density / density
+    unsigned velocities;  ///< SSBO of vec4: xyz m/s, w the particle's volume m^3 (mass / density
                           ///< of the step's last density pass; 0 for particles added since the step)
     unsigned draw_indirect; ///< DrawArraysIndirectCommand {4, particles, 0, 0}, written on the GPU
     uint32_t count;       ///< pbf_world_particle_count (draw with draw_indirect, not this)

@@ -501,7 +501,7 @@ uint32_t pbf_cpu_world_vorticity(pbf_cpu_world *w, float *omega, uint32_t max)
     neighbours_at_positions(w, &P);
     // The volumes the velocity pass would leave in vel.w, from the densities at the positions.
     for (uint32_t i = 0; i < w->count; i++)
-        w->vel[i].w = P.mass_density / fmaxf(pbf_cpu_density_at(w, &P, i), 1e-6f * P.rest_density);
+        w->vel[i].w = P.mass / fmaxf(pbf_cpu_density_at(w, &P, i), 1e-6f * P.rest_density);
     pbf_cpu_vorticity(w, &P);
     uint32_t m = w->count < max ? w->count : max;
     for (uint32_t i = 0; i < w->count; i++)

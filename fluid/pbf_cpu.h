@@ -112,7 +112,7 @@ pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *world);
 uint32_t pbf_cpu_world_vorticity(pbf_cpu_world *world, float *omega, uint32_t max);
 
 /// Share of a filled neighbourhood taken by a half-space at distance d (m) from the
-/// particle, for kernel radius h (m): V(d) = integral over z > d of W_poly6 (dimensionless;
+/// particle, for kernel radius h (m): V(d) = integral over z > d of W_spiky (dimensionless;
 /// V(0) = 1/2, V(h) = 0). The closed form of common.glsl's boundary_volume.
 float pbf_cpu_boundary_volume(float d, float h);
 /// G(d) = integral over z > d of |grad W_spiky| z / r (1/m; G(0) = 1.5 / h, G(h) = 0):

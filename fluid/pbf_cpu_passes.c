@@ -165,7 +165,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
         int c[3];
         cell_coord(P, xi, c);
         uint32_t n = 0, *list = w->nb_list + (size_t)i * w->max_neighbours;
-        float sum_w = w_poly6(P, 0.0f);
+        float sum_w = w_spiky(P, 0.0f);
         pbf_vec3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
         // Rows of cells (fixed y, z) in z then y order, each trimmed to the x cells the
@@ -211,7 +211,7 @@ void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_vec3 xi = pbf_xyz(w->pred[i]);
-        float sum_w = w_poly6(P, 0.0f);
+        float sum_w = w_spiky(P, 0.0f);
         pbf_vec3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
         const uint32_t *nb = nb_of(w, i);
@@ -250,7 +250,7 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P)
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
                 pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj));
-                float s = -P->scorr_k * powf(w_poly6(P, pbf_dot(r, r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
+                float s = -P->scorr_k * powf(w_spiky(P, pbf_length(r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
                 dp = pbf_add(dp, pbf_scale(li + pj.w + s, grad_spiky(P, r)));
             }
         } else {
@@ -291,7 +291,7 @@ void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
         pbf_vec3 v = pbf_scale(P->inv_dt, pbf_sub(x, pbf_xyz(w->pos[i])));
         float s = pbf_length(v);
         if (s > P->max_speed) v = pbf_scale(P->max_speed / s, v);
-        float volume = P->mass_density / fmaxf(w->lambda_rho[2 * (size_t)i + 1], 1e-6f * P->rest_density);
+        float volume = P->mass / fmaxf(w->lambda_rho[2 * (size_t)i + 1], 1e-6f * P->rest_density);
         w->vel[i] = (pbf_float4){ v.x, v.y, v.z, volume };
         w->pos[i] = (pbf_float4){ x.x, x.y, x.z, w->pos[i].w };
     }
@@ -370,12 +370,12 @@ void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P)
         pbf_vec3 xi = pbf_xyz(w->pos[i]);
         pbf_float4 vi = w->vel[i];
         pbf_vec3 ni = pbf_xyz(w->normal[i]);
-        float rho_i = P->mass_density / fmaxf(vi.w, 1e-12f);
+        float rho_i = P->mass / fmaxf(vi.w, 1e-12f);
         pbf_vec3 a = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
             uint32_t j = nb[q];
-            float rho_j = P->mass_density / fmaxf(w->vel[j].w, 1e-12f);
+            float rho_j = P->mass / fmaxf(w->vel[j].w, 1e-12f);
             a = pbf_add(a, tension_pair(P, pbf_sub(xi, pbf_xyz(w->pos[j])), rho_i, rho_j, ni, pbf_xyz(w->normal[j])));
         }
         pbf_vec3 v = pbf_sub(pbf_xyz(vi), pbf_scale(P->dt * P->surface_tension, a));
@@ -387,11 +387,11 @@ void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P)
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
 {
     pbf_vec3 xi = pbf_xyz(w->pos[i]);
-    float sum_w = w_poly6(P, 0.0f);
+    float sum_w = w_spiky(P, 0.0f);
     const uint32_t *nb = nb_of(w, i);
     for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
         pbf_vec3 r = pbf_sub(xi, pbf_xyz(w->pos[nb[q]]));
-        sum_w += w_poly6(P, pbf_dot(r, r));
+        sum_w += w_spiky(P, pbf_length(r));
     }
     float rho = P->mass_density * sum_w;
     pbf_vec3 unused_wall_grad;

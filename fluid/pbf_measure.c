@@ -46,7 +46,7 @@ pbf_result pbf_world_read_fields(pbf_world *w, const float box_min[3], const flo
         if (m < max) {
             if (positions) memcpy(positions + 3 * (size_t)m, p + 4 * i, 12);
             if (velocities) memcpy(velocities + 3 * (size_t)m, v + 4 * i, 12);
-            if (densities) densities[m] = vol[i] > 0.0f ? w->k.mass_density / vol[i] : 0.0f;
+            if (densities) densities[m] = vol[i] > 0.0f ? w->k.mass / vol[i] : 0.0f;
         }
         m++;
     }

@@ -16,7 +16,7 @@ pbf_params pbf_default_params(void)
     p.iterations = 2; // "small steps": more substeps beat more iterations (docs/solver.md)
     p.substeps = 4;
     p.relaxation = 0.01f;
-    p.sor = 1.0f;
+    p.sor = 0.6f; // under-relaxed Jacobi: at 1 a tank at rest never settles (docs/solver.md, "Departures")
     p.scorr_k = 0.0f; // the unilateral constraint already prevents clustering
     p.scorr_n = 4.0f;
     p.scorr_dq = 0.2f;
@@ -42,6 +42,8 @@ pbf_params pbf_seed_params(void)
     p.substeps = 1;
     p.vorticity = 0.008f;
     p.viscosity = 0.01f;
+    // The seed had no relaxation factor (1); with the density and its gradient from one
+    // kernel 1 overshoots (docs/solver.md, "Departures"), so the preset keeps the default.
     p.scorr_k = 0.1f;
     p.scorr_n = 4.0f;
     p.scorr_dq = 0.2f;
@@ -51,10 +53,9 @@ pbf_params pbf_seed_params(void)
 
 #define PBF_PI 3.14159265358979323846
 
-static double poly6(double r2, double h)
+static double spiky(double r, double h)
 {
-    double d = h * h - r2;
-    return d > 0.0 ? 315.0 / (64.0 * PBF_PI * pow(h, 9)) * d * d * d : 0.0;
+    return r < h ? 15.0 / (PBF_PI * pow(h, 6)) * (h - r) * (h - r) * (h - r) : 0.0;
 }
 
 static double spiky_grad_mag(double r, double h)
@@ -77,10 +78,10 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
     for (int z = -n; z <= n; z++)
         for (int y = -n; y <= n; y++)
             for (int x = -n; x <= n; x++) {
-                double r2 = s * s * (double)(x * x + y * y + z * z);
-                sw += poly6(r2, h);
-                if (z < 0) missing += poly6(r2, h); // rows beyond a wall half a spacing below
-                double g = spiky_grad_mag(sqrt(r2), h);
+                double r = s * sqrt((double)(x * x + y * y + z * z));
+                sw += spiky(r, h);
+                if (z < 0) missing += spiky(r, h); // rows beyond a wall half a spacing below
+                double g = spiky_grad_mag(r, h);
                 sg2 += g * g;
             }
     c.spacing = (float)s;
@@ -92,12 +93,11 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
     c.poly6 = (float)(315.0 / (64.0 * PBF_PI * pow(h, 9)));
     c.spiky_grad = (float)(-45.0 / (PBF_PI * pow(h, 6)));
     double dq = p->scorr_dq * h;
-    c.scorr_inv_wdq = (float)(1.0 / poly6(dq * dq, h));
+    c.scorr_inv_wdq = (float)(1.0 / spiky(dq, h));
     c.scorr_scale = (float)(1.0 / c.lattice_grad2);
-    // The continuous share of a half-space at d = s/2 (the closed form of common.glsl).
-    double u = 0.5 * s / h, u2 = u * u;
-    double F = u * (1.0 + u2 * (-4.0 / 3.0 + u2 * (6.0 / 5.0 + u2 * (-4.0 / 7.0 + u2 / 9.0))));
-    double v_half = (315.0 / 256.0) * (128.0 / 315.0 - F);
+    // The continuous share of a half-space at d = s/2 (pbf_boundary_volume's closed form).
+    double u = 0.5 * s / h;
+    double v_half = 0.5 * pow(1.0 - u, 5) * (1.0 + 2.0 * u);
     c.boundary_scale = (float)((missing / sw) / v_half);
     return c;
 }
@@ -168,7 +168,7 @@ static const pbf_param_info param_table[] = {
     I(iterations, "", 1, 100, "density solver iterations per substep"),
     I(substeps, "", 1, 64, "substeps per step"),
     F(relaxation, "", 0.0, 100.0, "constraint relaxation epsilon, relative to a filled neighbourhood's sum |grad C|^2"),
-    F(sor, "", 0.0, 2.0, "over-relaxation factor on each position correction, (0, 2)"),
+    F(sor, "", 0.0, 2.0, "relaxation factor on each position correction, (0, 2); 0.6 by default"),
     F(scorr_k, "", 0.0, 1.0, "artificial pressure strength k"),
     F(scorr_n, "", 1.0, 8.0, "artificial pressure exponent n"),
     F(scorr_dq, "", 0.0, 1.0, "artificial pressure reference distance, fraction of kernel_radius, (0, 1)"),

@@ -105,7 +105,7 @@ eng_fluid_draw eng_fluid_draw_of(const pbf_world *world, const eng_particle_styl
     d.velocities = b.velocities; // w: the particle's volume, so density = mass / volume
     d.draw_indirect = b.draw_indirect;
     d.radius = p->particle_radius;
-    d.particle_mass = pbf_derive_constants(p).mass_density;
+    d.particle_mass = pbf_derive_constants(p).mass;
     d.rest_density = p->rest_density;
     d.style = style;
     return d;

@@ -154,7 +154,7 @@ typedef struct eng_fluid_draw {
                             ///< written on the GPU (required)
     float radius;           ///< particle radius, m, > 0
     float particle_mass;    ///< kg, > 0 with velocities: density = mass / volume
-                            ///< (pbf_derive_constants(params).mass_density)
+                            ///< (pbf_derive_constants(params).mass)
     float rest_density;     ///< rho0, kg/m^3, > 0 with velocities (the density map's white)
     const eng_particle_style *style; ///< spheres mode colours; NULL: eng_default_particle_style()
 } eng_fluid_draw;

@@ -24,7 +24,7 @@ void main()
             uint j = nb_at(i, q);
             vec4 pj = pred[j];
             vec3 r = xi - pj.xyz;
-            float s = -P.scorr_k * pow(w_poly6(dot(r, r)) * P.scorr_inv_wdq, P.scorr_n) * P.scorr_scale;
+            float s = -P.scorr_k * pow(w_spiky(length(r)) * P.scorr_inv_wdq, P.scorr_n) * P.scorr_scale;
             dp += (li + pj.w + s) * grad_spiky(r);
         }
     } else {

@@ -1,6 +1,6 @@
 #version 430
 // Stage density (iterations after the first; neighbours.comp does the first): rho_i from
-// the fluid neighbours (poly6) plus the boundaries' share, the constraint
+// the fluid neighbours (spiky) plus the boundaries' share, the constraint
 // C_i = max(rho_i / rho0 - 1, 0) and its multiplier lambda_i = -C_i / (sum |grad C|^2 + eps).
 #define USE_PRED
 #define WRITE_PRED
@@ -18,7 +18,7 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
     vec3 xi = pred[i].xyz;
-    float sum_w = w_poly6(0.0);
+    float sum_w = w_spiky(0.0);
     vec3 grad_i = vec3(0.0);
     float sum_grad2 = 0.0;
     uint nn = nb_len(i);

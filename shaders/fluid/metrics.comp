@@ -35,11 +35,11 @@ void main()
         if (any(isnan(xi)) || any(isinf(xi)) || any(isnan(vi)) || any(isinf(vi))) {
             bad = 1u;
         } else {
-            float sum_w = w_poly6(0.0);
+            float sum_w = w_spiky(0.0);
             uint nn = nb_len(i);
             for (uint q = 0u; q < nn; q++) {
                 vec3 r = xi - pos[nb_at(i, q)].xyz;
-                sum_w += w_poly6(dot(r, r));
+                sum_w += w_spiky(length(r));
             }
             rho = P.mass_density * sum_w;
             vec3 unused_wall_grad;

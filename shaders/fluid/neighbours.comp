@@ -43,7 +43,7 @@ void main()
     float h2 = P.h * P.h;
     uint n = 0u;
     uint base = i * P.max_neighbours;
-    float sum_w = w_poly6(0.0);
+    float sum_w = w_spiky(0.0);
     vec3 grad_i = vec3(0.0);
     float sum_grad2 = 0.0;
     for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1); z++) {

@@ -140,11 +140,23 @@ PBF_FN pbf_float4 pbf_quat_conj(pbf_float4 q) { return (pbf_float4){ -q.x, -q.y,
 
 // ---- kernels (h = P.h) -----------------------------------------------------------------
 
-/// The poly6 kernel W(r) for r^2 = r2 (1/m^3).
+/// The poly6 kernel W(r) for r^2 = r2 (1/m^3): the XSPH viscosity's weight.
 PBF_FN float w_poly6(PBF_P_ARG float r2)
 {
     float d = P.h * P.h - r2;
     return d > 0.0f ? P.poly6 * d * d * d : 0.0f;
+}
+
+/// The spiky kernel W(r) = 15 / (pi h^6) (h - r)^3 for r = |x_i - x_j| (1/m^3): the density
+/// kernel. The constraint's gradient is grad_spiky, the gradient of this same kernel, so a
+/// position correction is the true gradient of the density it corrects. (The paper sums
+/// the density with poly6 and corrects along spiky's gradient; that mismatch makes the
+/// correction a non-conservative force, and a tank left alone kept an rms speed of
+/// 85 mm/s instead of coming to rest: docs/validation.md, "Rest".)
+PBF_FN float w_spiky(PBF_P_ARG float r)
+{
+    float d = P.h - r;
+    return d > 0.0f ? (-1.0f / 3.0f) * P.spiky_grad * d * d * d : 0.0f;
 }
 
 /// Gradient of the spiky kernel with respect to x_i for r = x_i - x_j (1/m^4).
@@ -196,13 +208,13 @@ PBF_FN pbf_vec3 tension_pair(PBF_P_ARG pbf_vec3 r, float rho_i, float rho_j, pbf
 
 // ---- the density constraint (density.glsl) ----------------------------------------------
 
-/// Adds neighbour j at r = x_i - x_j to the sums: sum W (poly6), grad_i C_i (fluid part,
+/// Adds neighbour j at r = x_i - x_j to the sums: sum W (spiky), grad_i C_i (fluid part,
 /// 1/m) and sum_j |grad_j C_i|^2 (1/m^2).
 PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(pbf_vec3) grad_i,
                         PBF_INOUT(float) sum_grad2)
 {
     float k = P.mass_density * P.inv_rest_density;
-    PBF_REF(sum_w) += w_poly6(PBF_P_ pbf_dot(r, r));
+    PBF_REF(sum_w) += w_spiky(PBF_P_ pbf_length(r));
     pbf_vec3 g = pbf_scale(k, grad_spiky(PBF_P_ r));
     PBF_REF(grad_i) = pbf_add(PBF_REF(grad_i), g);
     PBF_REF(sum_grad2) += pbf_dot(g, g);
@@ -220,8 +232,8 @@ PBF_FN float density_lambda(PBF_P_ARG float rho, pbf_vec3 grad_i, float sum_grad
 // ---- boundaries -------------------------------------------------------------------------
 // A boundary is seen by a particle as a half-space at distance d along the inward normal
 // n (the semi-analytic model of docs/solver.md). The share of a filled neighbourhood
-// that the wall takes is V(d) = int_{z>d} W_poly6, and the gradient of that share with
-// respect to the particle is -G(d) n with G(d) = int_{z>d} |grad W_spiky| (z/r).
+// that the wall takes is V(d) = int_{z>d} W_spiky, and the gradient of that share with
+// respect to the particle is -G(d) n with G(d) = -dV/dd = int_{z>d} |grad W_spiky| (z/r).
 // Both are closed-form polynomials in u = d/h, V(0) = 1/2 and G(0) = 1.5/h, times
 // `scale`: P.boundary_scale in the solver, which calibrates the continuous model to the
 // particle lattice (a rest block against a wall starts in balance; see
@@ -230,20 +242,19 @@ PBF_FN float density_lambda(PBF_P_ARG float rho, pbf_vec3 grad_i, float sum_grad
 /// V(d) for kernel radius h (m), times scale (dimensionless).
 PBF_FN float pbf_boundary_volume(float d, float h, float scale)
 {
+    // 30 int_u^1 (1-t)^3 t (t-u) dt, the kernel's mass beyond the plane
     float u = pbf_clamp(d / h, 0.0f, 1.0f);
-    float u2 = u * u;
-    // antiderivative of (1-u^2)^4: u - 4u^3/3 + 6u^5/5 - 4u^7/7 + u^9/9; F(1) = 128/315
-    float F = u * (1.0f + u2 * (-4.0f / 3.0f + u2 * (6.0f / 5.0f + u2 * (-4.0f / 7.0f + u2 / 9.0f))));
-    return scale * (315.0f / 256.0f) * (128.0f / 315.0f - F);
+    float c = 1.0f - u, c2 = c * c;
+    return scale * 0.5f * c2 * c2 * c * (1.0f + 2.0f * u);
 }
 
 /// G(d) for kernel radius h (m), times scale (1/m).
 PBF_FN float pbf_boundary_gradient(float d, float h, float scale)
 {
+    // (30 / h) int_u^1 t (1-t)^3 dt = -dV/dd
     float u = pbf_clamp(d / h, 0.0f, 1.0f);
-    // antiderivative of u(1-u)^3: u^2/2 - u^3 + 3u^4/4 - u^5/5; H(1) = 1/20
-    float H = u * u * (0.5f + u * (-1.0f + u * (0.75f - u * 0.2f)));
-    return scale * (30.0f / h) * (0.05f - H);
+    float c = 1.0f - u, c2 = c * c;
+    return scale * (1.5f / h) * c2 * c2 * (1.0f + 4.0f * u);
 }
 
 /// The solver's V(d) and G(d): calibrated to the lattice.

@@ -18,12 +18,12 @@ void main()
     vec3 xi = pos[i].xyz;
     vec4 vi = vel[i];
     vec3 ni = normal[i].xyz;
-    float rho_i = P.mass_density / max(vi.w, 1e-12);
+    float rho_i = P.mass / max(vi.w, 1e-12);
     vec3 a = vec3(0.0);
     uint nn = nb_len(i);
     for (uint q = 0u; q < nn; q++) {
         uint j = nb_at(i, q);
-        float rho_j = P.mass_density / max(vel[j].w, 1e-12);
+        float rho_j = P.mass / max(vel[j].w, 1e-12);
         a += tension_pair(xi - pos[j].xyz, rho_i, rho_j, ni, normal[j].xyz);
     }
     vel_out[i] = vec4(vi.xyz - P.dt * P.surface_tension * a, vi.w);

@@ -19,6 +19,6 @@ void main()
     if (s > P.max_speed) v *= P.max_speed / s;
     // w: the particle's volume m / rho (m^3) from the last density pass, so the
     // vorticity and viscosity passes read a neighbour's velocity and volume in one load.
-    vel[i] = vec4(v, P.mass_density / max(lambda_rho[i].y, 1e-6 * P.rest_density));
+    vel[i] = vec4(v, P.mass / max(lambda_rho[i].y, 1e-6 * P.rest_density));
     pos[i].xyz = x;
 }
