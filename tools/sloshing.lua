@@ -6,9 +6,13 @@
 -- near both ends; at the end the script prints the period (from the zero crossings of the
 -- difference) against linear theory, T = 2 pi / sqrt(g k tanh(k H)) with k = pi / L, and
 -- the decay: the amplitude of each half-cycle and the damping ratio from their log decrement.
-local s = 2 * seiche.param("particle_radius")
+-- A script that runs this one (dofile) may set the global `sloshing_radius` (m) first, and
+-- reads the figures from the global `sloshing` once it is filled in (at t = 7.9 s).
+local r0 = sloshing_radius or seiche.param("particle_radius")
+local s = 2 * r0
 local L, W, H, A = 0.8, 4 * s, 0.2, 0.02 -- m: a slice four particles wide
-seiche.scene { capacity = 100000, container = { min = { 0, 0, 0 }, max = { L, 0.5, W } } }
+seiche.scene { capacity = 100000, container = { min = { 0, 0, 0 }, max = { L, 0.5, W } },
+               fluid = { particle_radius = r0, kernel_radius = 4 * r0 } }
 local columns = math.floor(L / s + 0.5)
 for c = 0, columns - 1 do
     local x0, x1 = c * L / columns, (c + 1) * L / columns
@@ -66,12 +70,14 @@ analyse = function()
     print(string.format("sloshing: period %.3f s over %d half-cycles, linear theory %.3f s (%+.1f %%)",
                         period, math.max(#zeros - 1, 0), theory, 100 * (period / theory - 1)))
     print("sloshing: amplitude of each half-cycle (level difference, mm): " .. table.concat(amp, " "))
+    local zeta = 0 / 0
     if #peaks >= 3 then
         -- log decrement per full cycle over the half-cycles after the first
         local n = #peaks - 2
         local delta = 2 * math.log(peaks[2] / peaks[#peaks]) / n
-        local zeta = delta / math.sqrt(4 * math.pi ^ 2 + delta ^ 2)
+        zeta = delta / math.sqrt(4 * math.pi ^ 2 + delta ^ 2)
         print(string.format("sloshing: damping ratio %.4f (log decrement %.3f per cycle, amplitude halves in %.1f cycles)",
                             zeta, delta, delta > 0 and math.log(2) / delta or math.huge))
     end
+    sloshing = { period = period, theory = theory, half_cycles = math.max(#zeros - 1, 0), damping_ratio = zeta }
 end
