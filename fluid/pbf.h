@@ -56,9 +56,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 4
+#define PBF_VERSION_MINOR 5
 #define PBF_VERSION_PATCH 0
-#define PBF_VERSION_STRING "0.4.0"
+#define PBF_VERSION_STRING "0.5.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -124,6 +124,10 @@ typedef struct pbf_params {
                             ///< cfl particle spacings in one substep, [0, 10]; 0 turns it off
     int max_substeps;       ///< the most substeps the guard may take, [1, 64] (at least
                             ///< `substeps` are always taken)
+    float wall_friction;    ///< skin-friction coefficient C_f of the container's walls and
+                            ///< floor (dimensionless), [0, 1]: water sliding along a wall at
+                            ///< speed u feels a shear stress rho C_f u^2 against its motion;
+                            ///< 0 makes the walls frictionless (docs/solver.md)
 } pbf_params;
 
 /// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).

@@ -291,6 +291,7 @@ void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
         pbf_vec3 v = pbf_scale(P->inv_dt, pbf_sub(x, pbf_xyz(w->pos[i])));
         float s = pbf_length(v);
         if (s > P->max_speed) v = pbf_scale(P->max_speed / s, v);
+        if (P->wall_friction > 0.0f) v = wall_friction_of(P, x, v);
         float volume = P->mass / fmaxf(w->lambda_rho[2 * (size_t)i + 1], 1e-6f * P->rest_density);
         w->vel[i] = (pbf_float4){ v.x, v.y, v.z, volume };
         w->pos[i] = (pbf_float4){ x.x, x.y, x.z, w->pos[i].w };

@@ -30,6 +30,7 @@ pbf_params pbf_default_params(void)
     p.surface_tension = 0.0f;
     p.cfl = 0.5f;
     p.max_substeps = 32;
+    p.wall_friction = 0.01f; // a rough wall: the dam-break front on Martin & Moyce's (docs/solver.md)
     return p;
 }
 
@@ -155,6 +156,8 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
     CHECK(isfinite(p->cfl) && p->cfl >= 0.0f && p->cfl <= 10.0f, "cfl", "%g", (double)p->cfl,
           "in [0, 10] particle spacings per substep (0: off)");
     CHECK(p->max_substeps >= 1 && p->max_substeps <= 64, "max_substeps", "%d", p->max_substeps, "in [1, 64]");
+    CHECK(isfinite(p->wall_friction) && p->wall_friction >= 0.0f && p->wall_friction <= 1.0f, "wall_friction", "%g",
+          (double)p->wall_friction, "in [0, 1] (0: frictionless walls)");
     if (err && err_size) err[0] = 0;
     return PBF_OK;
 }
@@ -179,6 +182,7 @@ static const pbf_param_info param_table[] = {
     F(surface_tension, "m/s^2", 0.0, 1000.0, "surface tension gamma: cohesion and curvature (Akinci 2013); 0 off"),
     F(cfl, "", 0.0, 10.0, "time-step guard: most particle spacings the fastest particle moves per substep (0 off)"),
     I(max_substeps, "", 1, 64, "most substeps the time-step guard may take"),
+    F(wall_friction, "", 0.0, 1.0, "skin-friction coefficient of the container's walls and floor; 0 frictionless"),
 };
 #undef F
 #undef I
@@ -308,6 +312,7 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->max_speed = p->max_speed;
     g->radius = p->particle_radius;
     g->surface_tension = p->surface_tension;
+    g->wall_friction = p->wall_friction;
     // V0 * 32 / (pi h^9), V0 = m / rho0 the rest volume of a particle.
     g->cohesion_norm = (float)((double)k->mass / p->rest_density * 32.0 / (PBF_PI * pow(h, 9)));
 }

@@ -296,6 +296,34 @@ PBF_FN float container_boundary(PBF_P_ARG pbf_vec3 x, PBF_OUT(pbf_vec3) grad)
     return 1.0f - keep;
 }
 
+// ---- wall friction (velocity.comp) -------------------------------------------------------
+// Water sliding along a wall at speed u feels the shear stress rho C_f u^2 of a rough
+// turbulent boundary (a skin-friction law, as shallow-water models take for a bed), so the
+// force per area, not per particle, is fixed and the effect does not fade as the particles
+// shrink. The stress is carried by the particles within about a spacing of the wall:
+// weight w(d) = 1 for d <= s/2 falling linearly to 0 at d = 3s/2 (a band that holds half a
+// layer's worth of particles, n s/2 per area), so each takes the acceleration
+// 2 C_f w u^2 / s. It is applied implicitly, u' = u / (1 + dt 2 C_f w u / s), which cannot
+// reverse the motion however large dt is.
+
+/// v after the container's friction for a particle at x (m) moving at v (m/s).
+PBF_FN pbf_vec3 wall_friction_of(PBF_P_ARG pbf_vec3 x, pbf_vec3 v)
+{
+    float s = 2.0f * P.radius;
+    for (PBF_UINT p = 0u; p < P.plane_count; p++) {
+        pbf_vec3 n;
+        float d = plane_distance(PBF_P_ p, x, PBF_ADDR(n));
+        float w = pbf_clamp((1.5f * s - d) / s, 0.0f, 1.0f);
+        if (w <= 0.0f) continue;
+        pbf_vec3 vn = pbf_scale(pbf_dot(v, n), n);
+        pbf_vec3 vt = pbf_sub(v, vn);
+        float u = pbf_length(vt);
+        vt = pbf_scale(1.0f / (1.0f + P.dt * 2.0f * P.wall_friction * w * u / s), vt);
+        v = pbf_add(vn, vt);
+    }
+    return v;
+}
+
 /// Share of the kernel beyond a plane at signed distance d (negative: the particle is past
 /// it), and its derivative with respect to d, for the continuous kernel (beyond(0) = 1/2):
 /// V and G above carry the lattice calibration (V(0) = factor / 2), divided out here and

@@ -152,7 +152,7 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT boundary_scale;// calibrates the continuous wall model to the particle lattice
     PBF_FLOAT surface_tension; // gamma, m/s^2 (0: the tension passes do not run)
     PBF_FLOAT cohesion_norm; // 32 / (pi h^9) * m / rho0, 1/m^6: the cohesion spline's factor
-    PBF_FLOAT pad_tension0;
+    PBF_FLOAT wall_friction; // skin-friction coefficient C_f of the container's planes
     PBF_FLOAT pad_tension1;
 } PBF_END(pbf_gpu_params);
 
