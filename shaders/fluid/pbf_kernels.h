@@ -213,9 +213,14 @@ PBF_FN pbf_vec3 tension_pair(PBF_P_ARG pbf_vec3 r, float rho_i, float rho_j, pbf
 PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(pbf_vec3) grad_i,
                         PBF_INOUT(float) sum_grad2)
 {
+    // w_spiky and grad_spiky from one length (the two share it: one square root, not two)
+    float len = pbf_length(r);
+    if (len >= P.h) return;
+    float d = P.h - len;
+    PBF_REF(sum_w) += (-1.0f / 3.0f) * P.spiky_grad * d * d * d;
+    if (len <= 1e-9f * P.h) return;
     float k = P.mass_density * P.inv_rest_density;
-    PBF_REF(sum_w) += w_spiky(PBF_P_ pbf_length(r));
-    pbf_vec3 g = pbf_scale(k, grad_spiky(PBF_P_ r));
+    pbf_vec3 g = pbf_scale(k * P.spiky_grad * d * d / len, r);
     PBF_REF(grad_i) = pbf_add(PBF_REF(grad_i), g);
     PBF_REF(sum_grad2) += pbf_dot(g, g);
 }
