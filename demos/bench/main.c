@@ -31,6 +31,7 @@ typedef struct options {
     int substep_count;
     int steps, warmup;
     double dt;
+    double sor;         // the solver's relaxation factor (pbf_params.sor)
     const char *json;
     const char *shader_dir;
     float tank[3];      // m, the container (and domain) from the origin
@@ -112,6 +113,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     d.params.kernel_radius = (float)(2.0 * spacing);
     d.params.iterations = iterations;
     d.params.substeps = substeps;
+    d.params.sor = (float)o->sor;
     d.params.cfl = 0.0f; // each row measures the iterations x substeps it names: no time-step guard
     d.params.vorticity = 0.0f; // the reference solver runs PBF with XSPH viscosity only
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
@@ -216,9 +218,10 @@ static void print_row(const result *r, float scale, FILE *js, int *first)
 static void usage(FILE *f)
 {
     fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
-               "                    [--steps M] [--warmup W] [--dt SECONDS] [--json FILE] [--shaders DIR]\n"
+               "                    [--steps M] [--warmup W] [--dt SECONDS] [--sor W] [--json FILE] [--shaders DIR]\n"
                "                    [--tank X,Y,Z] [--block S] [--tank-test]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
+               "          --sor 0.6 (the library's default relaxation factor, pbf_params.sor)\n"
                "          --tank 4,3,1.5 (m) --block 1 (m: a block S x S x S at the tank's corner)\n"
                "--tank-test runs each case again in a tank 20x wider and deeper (x, z) and prints the\n"
                "ratios of GPU time per step and of memory: cost should follow the water, not the tank\n"
@@ -241,6 +244,7 @@ int main(int argc, char **argv)
     o.steps = 60;
     o.warmup = 10;
     o.dt = 0.004;
+    o.sor = pbf_default_params().sor;
     o.tank[0] = 4.0f;
     o.tank[1] = 3.0f;
     o.tank[2] = 1.5f;
@@ -281,6 +285,13 @@ int main(int argc, char **argv)
                 fprintf(stderr, "seiche-bench: --dt must be in (0, 1] s (got '%s')\n", v);
                 return 2;
             }
+        } else if (strcmp(a, "--sor") == 0) {
+            char *end;
+            o.sor = strtod(v, &end);
+            if (*end || !(o.sor > 0.0 && o.sor < 2.0)) {
+                fprintf(stderr, "seiche-bench: --sor must be in (0, 2) (got '%s')\n", v);
+                return 2;
+            }
         } else if (strcmp(a, "--tank") == 0) {
             float t[3];
             char tail;
@@ -317,9 +328,10 @@ int main(int argc, char **argv)
     eng_context *ctx = eng_context_create(&cd, &cst, err, sizeof err);
     if (!ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? 3 : 2;
     printf("renderer: %s\n", eng_context_renderer(ctx));
-    printf("scene: dam break, a %g m cube of water in a %g x %g x %g m tank, h = 2 spacings, dt %.4g s, "
-           "XSPH on, vorticity off; median of %d steps after %d warm-up\n",
-           (double)o.block, (double)o.tank[0], (double)o.tank[1], (double)o.tank[2], o.dt, o.steps, o.warmup);
+    printf("scene: dam break, a %g m cube of water in a %g x %g x %g m tank, h = 2 spacings, dt %.4g s, sor %g, "
+           "wall friction %g, XSPH on, vorticity off; median of %d steps after %d warm-up\n",
+           (double)o.block, (double)o.tank[0], (double)o.tank[1], (double)o.tank[2], o.dt, o.sor,
+           (double)pbf_default_params().wall_friction, o.steps, o.warmup);
     FILE *js = NULL;
     if (o.json) {
         js = fopen(o.json, "w");
@@ -328,8 +340,8 @@ int main(int argc, char **argv)
             eng_context_destroy(ctx);
             return 2;
         }
-        fprintf(js, "{\n  \"renderer\": \"%s\",\n  \"dt\": %g,\n  \"steps\": %d,\n  \"warmup\": %d,\n  \"runs\": [",
-                eng_context_renderer(ctx), o.dt, o.steps, o.warmup);
+        fprintf(js, "{\n  \"renderer\": \"%s\",\n  \"dt\": %g,\n  \"sor\": %g,\n  \"steps\": %d,\n  \"warmup\": %d,\n  \"runs\": [",
+                eng_context_renderer(ctx), o.dt, o.sor, o.steps, o.warmup);
     }
     printf("%9s %5s %4s %5s %8s %9s %9s %9s %9s %9s %9s", "particles", "iter", "sub", "tank", "mem_MiB", "step_ms",
            "wall_ms", "cpu_ms", "rho_avg%", "err_avg%", "rho_max%");
