@@ -39,14 +39,7 @@ typedef struct body_entry {
 } body_entry;
 
 struct cpl_coupling {
-    phys_world *phys;
-    pbf_world *fluid;
-    int force_latency;
-    float force_smoothing;
-    float impulse_limit;
-    float mesh_cell;
-    cpl_log_fn *log;
-    void *log_user;
+    cpl_def def; // as created (checked by cpl_def_check); cpl_get_def gives it back
     char error[512];
     body_entry bodies[CPL_MAX_BODIES];
     pbf_collider_id single[CPL_MAX_BODIES]; // the collider of single-shape body i
@@ -68,7 +61,7 @@ static cpl_result fail(cpl_coupling *c, cpl_result r, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(c->error, sizeof c->error, fmt, ap);
     va_end(ap);
-    if (c->log) c->log(c->log_user, c->error);
+    if (c->def.log) c->def.log(c->def.log_user, c->error);
     return r;
 }
 
@@ -80,13 +73,13 @@ static void note(cpl_coupling *c, const char *fmt, ...)
 
 static void note(cpl_coupling *c, const char *fmt, ...)
 {
-    if (!c->log) return;
+    if (!c->def.log) return;
     char msg[512];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    c->log(c->log_user, msg);
+    c->def.log(c->def.log_user, msg);
 }
 
 cpl_body_def cpl_default_body_def(void)
@@ -123,29 +116,14 @@ cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
         snprintf(err, err_size, "cpl_create: out of memory");
         return NULL;
     }
-    c->phys = def->phys;
-    c->fluid = def->fluid;
-    c->force_latency = def->force_latency;
-    c->force_smoothing = def->force_smoothing;
-    c->impulse_limit = def->impulse_limit;
-    c->mesh_cell = def->mesh_cell;
-    c->log = def->log;
-    c->log_user = def->log_user;
+    c->def = *def;
     return c;
 }
 
 cpl_result cpl_get_def(const cpl_coupling *c, cpl_def *out)
 {
     if (!c || !out) return CPL_ERR_INVALID_ARG;
-    memset(out, 0, sizeof *out);
-    out->phys = c->phys;
-    out->fluid = c->fluid;
-    out->force_latency = c->force_latency;
-    out->force_smoothing = c->force_smoothing;
-    out->impulse_limit = c->impulse_limit;
-    out->mesh_cell = c->mesh_cell;
-    out->log = c->log;
-    out->log_user = c->log_user;
+    *out = c->def;
     return CPL_OK;
 }
 
@@ -173,7 +151,7 @@ static body_entry *find(const cpl_coupling *c, phys_body_id body)
 
 static body_entry *find_live(cpl_coupling *c, phys_body_id body, const char *fn)
 {
-    if (!phys_body_is_valid(c->phys, body)) {
+    if (!phys_body_is_valid(c->def.phys, body)) {
         fail(c, CPL_ERR_STALE_ID, "%s: body (index1 %u, generation %u) is null or was destroyed: attempt to use a "
              "destroyed body", fn, body.index1, body.generation);
         return NULL;
@@ -230,7 +208,7 @@ static cpl_result bake_mesh(cpl_coupling *c, const phys_triangle_mesh *m, float 
         lo = (v3){ fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z) };
         hi = (v3){ fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z) };
     }
-    double cell = c->mesh_cell;
+    double cell = c->def.mesh_cell;
     double ext[3] = { hi.x - lo.x + 2 * margin, hi.y - lo.y + 2 * margin, hi.z - lo.z + 2 * margin };
     double biggest = fmax(ext[0], fmax(ext[1], ext[2]));
     if (biggest / cell > 127.0) {
@@ -359,8 +337,8 @@ static cpl_result collider_from_shape(cpl_coupling *c, const phys_shape_desc *s,
         return CPL_OK;
     }
     case PHYS_SHAPE_TRIANGLE_MESH: {
-        float h = pbf_world_params(c->fluid)->kernel_radius;
-        cpl_result r = bake_mesh(c, &s->mesh, h + 2.0f * c->mesh_cell, &d->grid, grid_values);
+        float h = pbf_world_params(c->def.fluid)->kernel_radius;
+        cpl_result r = bake_mesh(c, &s->mesh, h + 2.0f * c->def.mesh_cell, &d->grid, grid_values);
         if (r != CPL_OK) return r;
         d->type = PBF_SHAPE_SDF;
         return CPL_OK;
@@ -409,11 +387,11 @@ static cpl_result sync_pose(cpl_coupling *c, body_entry *e)
 {
     phys_vec3 p, v = { 0, 0, 0 }, w = { 0, 0, 0 };
     phys_quat q;
-    if (phys_body_get_pose(c->phys, e->body, &p, &q) != PHYS_OK)
-        return fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->phys));
+    if (phys_body_get_pose(c->def.phys, e->body, &p, &q) != PHYS_OK)
+        return fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->def.phys));
     if (e->type != PHYS_BODY_STATIC) {
-        phys_body_get_linear_velocity(c->phys, e->body, &v);
-        phys_body_get_angular_velocity(c->phys, e->body, &w);
+        phys_body_get_linear_velocity(c->def.phys, e->body, &v);
+        phys_body_get_angular_velocity(c->def.phys, e->body, &w);
     }
     float pos[3] = { p.x, p.y, p.z }, rot[4] = { q.x, q.y, q.z, q.w };
     float lin[3] = { v.x, v.y, v.z }, ang[3] = { w.x, w.y, w.z };
@@ -422,8 +400,8 @@ static cpl_result sync_pose(cpl_coupling *c, body_entry *e)
         // origin), so a compound's children's torques add up to the body's.
         float cp[3], cr[4];
         collider_pose(e, k, pos, rot, cp, cr);
-        if (pbf_world_set_collider_pose(c->fluid, e->colliders[k], cp, cr, lin, ang, pos) != PBF_OK)
-            return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+        if (pbf_world_set_collider_pose(c->def.fluid, e->colliders[k], cp, cr, lin, ang, pos) != PBF_OK)
+            return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->def.fluid));
     }
     return CPL_OK;
 }
@@ -448,19 +426,19 @@ static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, co
     memcpy(d.rotation, rot, sizeof d.rotation);
     d.two_way = measured; // the fluid layer's flag: accumulate the force (the coupling applies it or not)
     d.blocks_sinks = blocks_sinks;
-    pbf_result pr = pbf_world_add_collider(c->fluid, &d, out);
+    pbf_result pr = pbf_world_add_collider(c->def.fluid, &d, out);
     free(planes);
     free(grid);
     if (pr != PBF_OK)
         return fail(c, pr == PBF_ERR_CAPACITY ? CPL_ERR_CAPACITY : CPL_ERR_FLUID, "cpl_add_body: %s",
-                    pbf_world_last_error(c->fluid));
+                    pbf_world_last_error(c->def.fluid));
     return CPL_OK;
 }
 
 cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *def)
 {
     if (!c) return CPL_ERR_INVALID_ARG;
-    if (!phys_body_is_valid(c->phys, body))
+    if (!phys_body_is_valid(c->def.phys, body))
         return fail(c, CPL_ERR_STALE_ID, "cpl_add_body: body (index1 %u, generation %u) is null or was destroyed: "
                     "attempt to use a destroyed body", body.index1, body.generation);
     if (find(c, body))
@@ -475,9 +453,9 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     phys_shape_desc shape;
     phys_vec3 p;
     phys_quat q;
-    if (phys_body_get_type(c->phys, body, &type) != PHYS_OK || phys_body_get_shape(c->phys, body, &shape) != PHYS_OK ||
-        phys_body_get_pose(c->phys, body, &p, &q) != PHYS_OK)
-        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
+    if (phys_body_get_type(c->def.phys, body, &type) != PHYS_OK || phys_body_get_shape(c->def.phys, body, &shape) != PHYS_OK ||
+        phys_body_get_pose(c->def.phys, body, &p, &q) != PHYS_OK)
+        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->def.phys));
     bool two_way = type == PHYS_BODY_DYNAMIC && bd.two_way;
     bool measured = two_way || type == PHYS_BODY_KINEMATIC || bd.measure_force;
     float pos[3] = { p.x, p.y, p.z }, rot[4] = { q.x, q.y, q.z, q.w };
@@ -527,9 +505,9 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
         }
         e->collider_count = k + 1;
     }
-    if (type == PHYS_BODY_DYNAMIC && phys_body_set_sleep_enabled(c->phys, body, false) != PHYS_OK) {
+    if (type == PHYS_BODY_DYNAMIC && phys_body_set_sleep_enabled(c->def.phys, body, false) != PHYS_OK) {
         drop(c, e);
-        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->phys));
+        return fail(c, CPL_ERR_PHYS, "cpl_add_body: %s", phys_world_last_error(c->def.phys));
     }
     e->collider = e->colliders[0];
     e->stats.two_way = two_way;
@@ -537,7 +515,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     e->stats.collider = e->collider;
     e->volume = shape.volume;
     phys_mass_data md;
-    if (type == PHYS_BODY_DYNAMIC && phys_body_get_mass_data(c->phys, body, &md) == PHYS_OK) e->mass = md.mass;
+    if (type == PHYS_BODY_DYNAMIC && phys_body_get_mass_data(c->def.phys, body, &md) == PHYS_OK) e->mass = md.mass;
 
     return sync_pose(c, e);
 }
@@ -545,7 +523,7 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
 static void drop(cpl_coupling *c, body_entry *e)
 {
     for (uint32_t k = 0; k < e->collider_count; k++)
-        if (pbf_collider_is_valid(c->fluid, e->colliders[k])) pbf_world_remove_collider(c->fluid, e->colliders[k]);
+        if (pbf_collider_is_valid(c->def.fluid, e->colliders[k])) pbf_world_remove_collider(c->def.fluid, e->colliders[k]);
     if (e->local) {
         free(e->colliders);
         free(e->local);
@@ -590,8 +568,8 @@ cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 posit
             return fail(c, CPL_ERR_INVALID_ARG, "cpl_teleport_body: %s must be finite (got %g)", names[k], (double)v[k]);
     body_entry *e = find_live(c, body, "cpl_teleport_body");
     if (!e) return CPL_ERR_STALE_ID;
-    if (phys_body_set_pose(c->phys, body, position, orientation) != PHYS_OK)
-        return fail(c, CPL_ERR_INVALID_ARG, "cpl_teleport_body: %s", phys_world_last_error(c->phys));
+    if (phys_body_set_pose(c->def.phys, body, position, orientation) != PHYS_OK)
+        return fail(c, CPL_ERR_INVALID_ARG, "cpl_teleport_body: %s", phys_world_last_error(c->def.phys));
     // Set twice: the previous pose equals the new one, so nothing is swept.
     cpl_result r = sync_pose(c, e);
     return r == CPL_OK ? sync_pose(c, e) : r;
@@ -601,8 +579,8 @@ cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 posit
 
 static void apply_fluid(cpl_coupling *c, body_entry *e)
 {
-    phys_body_apply_force(c->phys, e->body, (phys_vec3){ e->force[0], e->force[1], e->force[2] }, true);
-    phys_body_apply_torque(c->phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
+    phys_body_apply_force(c->def.phys, e->body, (phys_vec3){ e->force[0], e->force[1], e->force[2] }, true);
+    phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
 
 // The fluid may stop the body's motion against the force and push it with at most
@@ -611,15 +589,15 @@ static void apply_fluid(cpl_coupling *c, body_entry *e)
 // the bounded force, so its tail does not carry the excess either.
 static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
 {
-    if (c->impulse_limit <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
+    if (c->def.impulse_limit <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
     float f = sqrtf(e->force[0] * e->force[0] + e->force[1] * e->force[1] + e->force[2] * e->force[2]);
     if (!(f > 0.0f)) return;
-    phys_vec3 v, g = phys_world_get_gravity(c->phys);
-    if (phys_body_get_linear_velocity(c->phys, e->body, &v) != PHYS_OK) return;
+    phys_vec3 v, g = phys_world_get_gravity(c->def.phys);
+    if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) return;
     float against = -(v.x * e->force[0] + v.y * e->force[1] + v.z * e->force[2]) / f; // m/s into the force
     float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
-    float rho_fluid = pbf_world_params(c->fluid)->rest_density;
-    float accel = c->impulse_limit * gmag * rho_fluid / (e->mass / e->volume);
+    float rho_fluid = pbf_world_params(c->def.fluid)->rest_density;
+    float accel = c->def.impulse_limit * gmag * rho_fluid / (e->mass / e->volume);
     float dv_max = (against > 0.0f ? against : 0.0f) + accel * dt;
     float dv = f * dt / e->mass;
     if (dv <= dv_max) return;
@@ -641,8 +619,8 @@ static void hook(void *user, pbf_world *fluid, int substep, float dt)
         body_entry *e = &c->bodies[i];
         if (e->used && e->two_way) apply_fluid(c, e);
     }
-    if (phys_world_step(c->phys, dt) != PHYS_OK) {
-        c->hook_error = fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->phys));
+    if (phys_world_step(c->def.phys, dt) != PHYS_OK) {
+        c->hook_error = fail(c, CPL_ERR_PHYS, "cpl_step: %s", phys_world_last_error(c->def.phys));
         return;
     }
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
@@ -663,7 +641,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
     // Bodies destroyed behind the coupling's back are uncoupled.
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
-        if (e->used && !phys_body_is_valid(c->phys, e->body)) {
+        if (e->used && !phys_body_is_valid(c->def.phys, e->body)) {
             note(c, "cpl_step: body (index1 %u, generation %u) was destroyed; uncoupled", e->body.index1,
                  e->body.generation);
             drop(c, e);
@@ -675,16 +653,16 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
         if (!e->used || !e->measured) continue;
-        int back = e->two_way || c->force_latency >= 2 ? c->force_latency : 2;
+        int back = e->two_way || c->def.force_latency >= 2 ? c->def.force_latency : 2;
         // A compound's force and torque are the sums over its children (all torques are
         // about the body's centre of mass).
         pbf_collider_report rep;
-        if (pbf_world_collider_report(c->fluid, e->colliders[0], back, true, &rep) != PBF_OK)
-            return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+        if (pbf_world_collider_report(c->def.fluid, e->colliders[0], back, true, &rep) != PBF_OK)
+            return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->def.fluid));
         for (uint32_t k = 1; k < e->collider_count; k++) {
             pbf_collider_report part;
-            if (pbf_world_collider_report(c->fluid, e->colliders[k], back, true, &part) != PBF_OK)
-                return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+            if (pbf_world_collider_report(c->def.fluid, e->colliders[k], back, true, &part) != PBF_OK)
+                return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->def.fluid));
             for (int i = 0; i < 3; i++) {
                 rep.force[i] += part.force[i];
                 rep.torque[i] += part.torque[i];
@@ -701,7 +679,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         e->stats.pushed_out = rep.pushed_out;
         if (!e->two_way) continue;
         // Smoothed from step to step (exponential average; the force's mean is kept).
-        float keep = c->force_smoothing;
+        float keep = c->def.force_smoothing;
         for (int k = 0; k < 3; k++) {
             e->force[k] = keep * e->force[k] + (1.0f - keep) * rep.force[k];
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
@@ -709,9 +687,9 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         limit_impulse(c, e, dt);
     }
     c->hook_error = CPL_OK;
-    pbf_result r = pbf_world_step_with(c->fluid, dt, hook, c);
+    pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);
     if (c->hook_error != CPL_OK) return c->hook_error;
-    if (r != PBF_OK) return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->fluid));
+    if (r != PBF_OK) return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->def.fluid));
     c->steps++;
     return CPL_OK;
 }
