@@ -52,6 +52,19 @@ static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf
     return false;
 }
 
+// Queues `type` for emitter `slot` with its state as the object holds it now.
+static void push_emitter_command(lua_State *L, eng_script *s, cmd_type type, const char *fn, uint32_t slot)
+{
+    command *c = scr_push_command(L, s, type, fn);
+    const obj *o = &s->objs[slot];
+    c->slot = slot;
+    c->gen = o->generation;
+    c->full_rate = o->u.emitter.full_rate;
+    c->u.emitter = o->u.emitter.def;
+    c->tinted = o->u.emitter.tinted;
+    memcpy(c->tint, o->u.emitter.tint, sizeof c->tint);
+}
+
 static int l_emitter(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
@@ -69,13 +82,7 @@ static int l_emitter(lua_State *L)
     s->objs[slot].u.emitter.full_rate = full;
     s->objs[slot].u.emitter.tinted = tinted;
     memcpy(s->objs[slot].u.emitter.tint, tint, sizeof tint);
-    command *c = scr_push_command(L, s, CMD_EMITTER_ADD, "seiche.emitter");
-    c->slot = slot;
-    c->gen = s->objs[slot].generation;
-    c->full_rate = full;
-    c->u.emitter = d;
-    c->tinted = tinted;
-    memcpy(c->tint, tint, sizeof tint);
+    push_emitter_command(L, s, CMD_EMITTER_ADD, "seiche.emitter", slot);
     scr_push_handle(L, s, slot);
     return 1;
 }
@@ -94,13 +101,7 @@ static int m_emitter_set(lua_State *L)
     o->u.emitter.def = d;
     o->u.emitter.tinted = tinted;
     memcpy(o->u.emitter.tint, tint, sizeof tint);
-    command *c = scr_push_command(L, s, CMD_EMITTER_SET, "emitter:set");
-    c->slot = slot;
-    c->gen = o->generation;
-    c->full_rate = o->u.emitter.full_rate;
-    c->u.emitter = d;
-    c->tinted = tinted;
-    memcpy(c->tint, tint, sizeof tint);
+    push_emitter_command(L, s, CMD_EMITTER_SET, "emitter:set", slot);
     return 0;
 }
 
@@ -113,13 +114,7 @@ static int m_emitter_set_enabled(lua_State *L)
     if (!lua_isboolean(L, 2))
         scr_raise(L, "emitter:set_enabled: argument #1 'on' must be true or false (got %s)", scr_describe(L, 2, got, sizeof got));
     o->u.emitter.def.enabled = lua_toboolean(L, 2);
-    command *c = scr_push_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled");
-    c->slot = slot;
-    c->gen = o->generation;
-    c->full_rate = o->u.emitter.full_rate;
-    c->u.emitter = o->u.emitter.def;
-    c->tinted = o->u.emitter.tinted;
-    memcpy(c->tint, o->u.emitter.tint, sizeof c->tint);
+    push_emitter_command(L, s, CMD_EMITTER_SET, "emitter:set_enabled", slot);
     return 0;
 }
 
