@@ -216,9 +216,9 @@ PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(
     // w_spiky and grad_spiky from one length (the two share it: one square root, not two)
     float len = pbf_length(r);
     if (len >= P.h) return;
-    float d = P.h - len;
-    PBF_REF(sum_w) += (-1.0f / 3.0f) * P.spiky_grad * d * d * d;
+    PBF_REF(sum_w) += w_spiky(PBF_P_ len);
     if (len <= 1e-9f * P.h) return;
+    float d = P.h - len;
     float k = P.mass_density * P.inv_rest_density;
     pbf_vec3 g = pbf_scale(k * P.spiky_grad * d * d / len, r);
     PBF_REF(grad_i) = pbf_add(PBF_REF(grad_i), g);
