@@ -103,9 +103,16 @@ static int l_coupling(lua_State *L)
         if (s->host.world)
             scr_raise(L, "%s: the coupling is built with the world, from the scene description: set it in the main "
                       "chunk", fn);
-        scr_check_table_arg(L, 1, fn, "force_latency, force_smoothing, impulse_limit, mesh_cell");
+        // The fields are the settings' names (cpl_setting_table), listed in messages as
+        // "force_latency, force_smoothing, ...".
         const char *known[8] = { NULL };
-        for (int i = 0; i < n && i < 7; i++) known[i] = tab[i].name;
+        char listed[256] = "";
+        for (int i = 0, len = 0; i < n && i < 7; i++) {
+            known[i] = tab[i].name;
+            len += snprintf(listed + len, sizeof listed - (size_t)len, "%s%s", i ? ", " : "", tab[i].name);
+            if (len >= (int)sizeof listed) break;
+        }
+        scr_check_table_arg(L, 1, fn, listed);
         scr_check_fields(L, 1, fn, known);
         cpl_def d = s->config.coupling;
         for (int i = 0; i < n; i++) {
