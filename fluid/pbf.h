@@ -107,7 +107,8 @@ typedef struct pbf_params {
     int substeps;           ///< substeps per step, [1, 64]
     float relaxation;       ///< epsilon in lambda, relative to sum |grad C|^2 of a filled
                             ///< neighbourhood (dimensionless), [0, 100]
-    float sor;              ///< relaxation factor on each correction, (0, 2); 0.6 (docs/solver.md)
+    float sor;              ///< 0 (default): the per-iteration relaxation schedule (docs/solver.md);
+                            ///< in (0, 2): that constant factor on every correction
     float scorr_k;          ///< artificial pressure strength k (dimensionless), [0, 1]
     float scorr_n;          ///< artificial pressure exponent n, [1, 8]
     float scorr_dq;         ///< artificial pressure reference distance dq as a fraction of h, (0, 1)

@@ -113,7 +113,7 @@ struct pbf_world {
     uint32_t grid_dims[3], cells;
 
     GLuint programs[PROG_COUNT];
-    GLint u_scan_n[2], u_frame, u_tint[4];
+    GLint u_scan_n[2], u_frame, u_tint[4], u_relax[2]; // u_relax: delta, collide
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
     GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, normal, scan, colliders, forces,

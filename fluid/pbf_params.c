@@ -16,7 +16,7 @@ pbf_params pbf_default_params(void)
     p.iterations = 2; // "small steps": more substeps beat more iterations (docs/solver.md)
     p.substeps = 4;
     p.relaxation = 0.01f;
-    p.sor = 0.6f; // under-relaxed Jacobi: at 1 a tank at rest never settles (docs/solver.md, "Departures")
+    p.sor = 0.0f; // a factor per iteration (pbf_relaxation): at a constant 1 a tank at rest never settles
     p.scorr_k = 0.0f; // the unilateral constraint already prevents clustering
     p.scorr_n = 4.0f;
     p.scorr_dq = 0.2f;
@@ -132,7 +132,8 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
     CHECK(p->substeps >= 1 && p->substeps <= 64, "substeps", "%d", p->substeps, "in [1, 64]");
     CHECK(isfinite(p->relaxation) && p->relaxation >= 0.0f && p->relaxation <= 100.0f, "relaxation",
           "%g", (double)p->relaxation, "in [0, 100]");
-    CHECK(isfinite(p->sor) && p->sor > 0.0f && p->sor < 2.0f, "sor", "%g", (double)p->sor, "in (0, 2)");
+    CHECK(isfinite(p->sor) && p->sor >= 0.0f && p->sor < 2.0f, "sor", "%g", (double)p->sor,
+          "0 (the relaxation schedule) or a constant factor in (0, 2)");
     CHECK(isfinite(p->scorr_k) && p->scorr_k >= 0.0f && p->scorr_k <= 1.0f, "scorr_k", "%g",
           (double)p->scorr_k, "in [0, 1]");
     CHECK(isfinite(p->scorr_n) && p->scorr_n >= 1.0f && p->scorr_n <= 8.0f, "scorr_n", "%g",
@@ -171,7 +172,7 @@ static const pbf_param_info param_table[] = {
     I(iterations, "", 1, 100, "density solver iterations per substep"),
     I(substeps, "", 1, 64, "substeps per step"),
     F(relaxation, "", 0.0, 100.0, "constraint relaxation epsilon, relative to a filled neighbourhood's sum |grad C|^2"),
-    F(sor, "", 0.0, 2.0, "relaxation factor on each position correction, (0, 2); 0.6 by default"),
+    F(sor, "", 0.0, 2.0, "0 (default): the relaxation schedule of docs/solver.md; in (0, 2): that factor on every correction"),
     F(scorr_k, "", 0.0, 1.0, "artificial pressure strength k"),
     F(scorr_n, "", 1.0, 8.0, "artificial pressure exponent n"),
     F(scorr_dq, "", 0.0, 1.0, "artificial pressure reference distance, fraction of kernel_radius, (0, 1)"),
@@ -300,7 +301,7 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->mass_density = k->mass_density;
     g->mass = k->mass;
     g->epsilon = k->epsilon;
-    g->omega = p->sor;
+    g->omega = pbf_relaxation(p, 0); // the CPU reference sets each iteration's (the GPU: uniform relax)
     g->scorr_k = p->scorr_k;
     g->scorr_n = p->scorr_n;
     g->scorr_inv_wdq = k->scorr_inv_wdq;
@@ -359,6 +360,22 @@ uint32_t pbf_hash_buckets(uint32_t capacity)
     uint64_t want = 4ull * capacity, t = 4096;
     while (t < want && t < (1ull << 28)) t <<= 1;
     return (uint32_t)t;
+}
+
+// The relaxation factors (sor 0; docs/solver.md, "Under-relaxed Jacobi"). On a filled
+// lattice the Jacobi iteration matrix has eigenvalues mu in (0, PBF_JACOBI_MU_MAX]; K
+// iterations with factors w_k multiply a mode's error by p(mu) = prod (1 - w_k mu), and a
+// PBD step is stable only while p stays in (-1/3, 1). A constant 0.6 keeps an even count
+// inside; an odd count starts with the triple (1, 1, w3) whose p(mu_max) = 0.25 and p >= 0
+// elsewhere (at 0.6 three iterations give p(mu_max) = -0.31, one -0.68: a tank boils); one
+// iteration alone takes 0.35 (0.43, p(mu_max) = -0.2, still left a tank at 42 mm/s).
+float pbf_relaxation(const pbf_params *p, int it)
+{
+    if (p->sor > 0.0f) return p->sor;
+    const double m = PBF_JACOBI_MU_MAX;
+    if (p->iterations == 1) return 0.35f;
+    if (p->iterations % 2 == 1 && it < 3) return it < 2 ? 1.0f : (float)((1.0 - 0.25 / ((1.0 - m) * (1.0 - m))) / m);
+    return 0.6f;
 }
 
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],

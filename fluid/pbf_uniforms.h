@@ -11,6 +11,15 @@
 /// artificial pressure, vorticity, viscosity, damping, speed clamp, particle radius.
 void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt);
 
+/// The largest eigenvalue of the Jacobi iteration matrix A D^-1 on a filled cubic lattice at
+/// h = 2 spacings (spiky kernel), which pbf_relaxation keeps stable: docs/solver.md,
+/// "Under-relaxed Jacobi"; tests/test_solver.c computes it.
+#define PBF_JACOBI_MU_MAX 2.8
+
+/// The relaxation factor of iteration `it` (0-based) of p->iterations: the uniform `relax`
+/// of delta.comp and collide.comp, P->omega of the CPU reference's iteration.
+float pbf_relaxation(const pbf_params *p, int it);
+
 /// The space's part: the grid (origin m, cells per axis, total cells, cell size m), the
 /// domain (m) and the container planes (inward normal xyz, offset w).
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],

@@ -171,6 +171,8 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
     w->u_scan_n[0] = glGetUniformLocation(w->programs[PROG_SCAN_BLOCK], "scan_n");
     w->u_scan_n[1] = glGetUniformLocation(w->programs[PROG_SCAN_ADD], "scan_n");
     w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
+    w->u_relax[0] = glGetUniformLocation(w->programs[PROG_DELTA], "relax");
+    w->u_relax[1] = glGetUniformLocation(w->programs[PROG_COLLIDE], "relax");
     pbf_tint_locate(w);
     return PBF_OK;
 }
@@ -660,6 +662,9 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
             dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
             stage_done(s, PBF_STAGE_DENSITY, it);
         }
+        float relax = pbf_relaxation(p, it);
+        glProgramUniform1f(w->programs[PROG_DELTA], w->u_relax[0], relax);
+        glProgramUniform1f(w->programs[PROG_COLLIDE], w->u_relax[1], relax);
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
         stage_done(s, PBF_STAGE_DELTA, it);
         if (w->gpu_colliders > 0) {

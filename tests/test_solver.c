@@ -15,6 +15,7 @@
 
 #include "fluid/pbf.h"
 #include "fluid/pbf_cpu.h"
+#include "fluid/pbf_uniforms.h"
 
 #define PI 3.14159265358979323846
 
@@ -482,6 +483,73 @@ static void same_scene_gives_identical_state_twice_on_gpu_and_on_cpu(void **stat
     free(bytes[1]);
 }
 
+// ---- relaxation schedule: every lattice mode damped, the low modes stiffer ------------------
+
+// The Jacobi sweep's iteration matrix A D^-1 on a filled cubic lattice at h = 2 spacings:
+// mu(q) = |sum_j grad W(r_j) sin(q . r_j)|^2 / sum_j |grad W(r_j)|^2 (spiky gradient; the
+// constant factors cancel), largest over the Brillouin zone.
+static double lattice_mu_max(void)
+{
+    double best = 0.0;
+    const int steps = 24;
+    for (int a = 0; a <= steps; a++)
+        for (int b = 0; b <= steps; b++)
+            for (int c = 0; c <= steps; c++) {
+                double q[3] = { PI * a / steps, PI * b / steps, PI * c / steps };
+                double g[3] = { 0, 0, 0 }, norm = 0.0;
+                for (int x = -2; x <= 2; x++)
+                    for (int y = -2; y <= 2; y++)
+                        for (int z = -2; z <= 2; z++) {
+                            double r = sqrt((double)(x * x + y * y + z * z));
+                            if (r == 0.0 || r >= 2.0) continue;
+                            double mag = (2.0 - r) * (2.0 - r) / r; // |grad W| / r, spiky
+                            double d[3] = { x * mag, y * mag, z * mag };
+                            double sn = sin(q[0] * x + q[1] * y + q[2] * z);
+                            for (int k = 0; k < 3; k++) g[k] += d[k] * sn;
+                            norm += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                        }
+                double mu = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) / norm;
+                if (mu > best) best = mu;
+            }
+    return best;
+}
+
+static void relaxation_schedule_damps_every_lattice_mode_and_stiffens_the_low_ones(void **state)
+{
+    (void)state;
+    double mu_max = lattice_mu_max();
+    print_message("lattice: largest eigenvalue of A D^-1 %.3f (PBF_JACOBI_MU_MAX %.2f)\n", mu_max, PBF_JACOBI_MU_MAX);
+    assert_true(mu_max > PBF_JACOBI_MU_MAX - 0.1 && mu_max <= PBF_JACOBI_MU_MAX + 0.02);
+    pbf_params p = pbf_default_params();
+    assert_true(p.sor == 0.0f); // the schedule is the default
+    for (int k = 1; k <= 100; k++) {
+        p.iterations = k;
+        // A mode's error after the k iterations: prod (1 - w_i mu). A PBD step keeps it
+        // stable only in (-1/3, 1): check it with a margin up to the lattice's largest mu,
+        // and inside the bounds over 7 % more (disordered neighbourhoods).
+        double lo = 1.0, hi = -1.0, edge = -1.0, sum = 0.0;
+        for (int i = 0; i < k; i++) sum += pbf_relaxation(&p, i);
+        for (int m = 1; m <= 3210; m++) {
+            double mu = PBF_JACOBI_MU_MAX * m / 3000.0, e = 1.0;
+            for (int i = 0; i < k; i++) e *= 1.0 - pbf_relaxation(&p, i) * mu;
+            if (e < lo) lo = e;
+            if (m <= 3000 && mu >= 0.5 && e > hi) hi = e;
+            if (m > 3000 && e > edge) edge = e;
+        }
+        if (k <= 4 || k == 100)
+            print_message("%3d iterations: sum of factors %.3f; error factor over mu in (0, 1.07 mu_max] >= %.3f, "
+                          "at most %.3f over [0.5, mu_max], %.3f beyond\n", k, sum, lo, hi, edge);
+        assert_true(lo > -0.3 && hi < 0.9 && edge < 1.0);
+        // The low modes (mu -> 0) lose sum * mu per step: an odd count is stiffer than at a
+        // constant 0.6 (which leaves three iterations at the edge and one unstable).
+        if (k % 2 == 1 && k >= 3) assert_true(sum > 0.6 * k + 0.5);
+    }
+    // A positive sor is a constant factor on every iteration.
+    p.sor = 1.2f;
+    p.iterations = 3;
+    for (int i = 0; i < 3; i++) assert_true(pbf_relaxation(&p, i) == 1.2f);
+}
+
 // ---- 5. parameter checks name the field, the value and the range -------------------------
 
 static void bad_parameters_are_rejected_naming_field_value_and_range(void **state)
@@ -566,6 +634,7 @@ static const struct CMUnitTest tests[] = {
     cmocka_unit_test(rigid_rotation_has_vorticity_twice_the_angular_velocity),
     cmocka_unit_test(vorticity_confinement_adds_energy_to_a_swirl_on_cpu_and_gpu),
     cmocka_unit_test(same_scene_gives_identical_state_twice_on_gpu_and_on_cpu),
+    cmocka_unit_test(relaxation_schedule_damps_every_lattice_mode_and_stiffens_the_low_ones),
     cmocka_unit_test(bad_parameters_are_rejected_naming_field_value_and_range),
 };
 

@@ -221,7 +221,8 @@ static void usage(FILE *f)
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--sor W] [--json FILE] [--shaders DIR]\n"
                "                    [--tank X,Y,Z] [--block S] [--tank-test]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
-               "          --sor 0.6 (the library's default relaxation factor, pbf_params.sor)\n"
+               "          --sor 0 (the library's default, pbf_params.sor: the relaxation schedule; W in (0, 2):\n"
+               "          that constant factor on every iteration)\n"
                "          --tank 4,3,1.5 (m) --block 1 (m: a block S x S x S at the tank's corner)\n"
                "--tank-test runs each case again in a tank 20x wider and deeper (x, z) and prints the\n"
                "ratios of GPU time per step and of memory: cost should follow the water, not the tank\n"
@@ -288,8 +289,8 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--sor") == 0) {
             char *end;
             o.sor = strtod(v, &end);
-            if (*end || !(o.sor > 0.0 && o.sor < 2.0)) {
-                fprintf(stderr, "seiche-bench: --sor must be in (0, 2) (got '%s')\n", v);
+            if (*end || !(o.sor >= 0.0 && o.sor < 2.0)) {
+                fprintf(stderr, "seiche-bench: --sor must be 0 (the relaxation schedule) or in (0, 2) (got '%s')\n", v);
                 return 2;
             }
         } else if (strcmp(a, "--tank") == 0) {
@@ -328,10 +329,10 @@ int main(int argc, char **argv)
     eng_context *ctx = eng_context_create(&cd, &cst, err, sizeof err);
     if (!ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? 3 : 2;
     printf("renderer: %s\n", eng_context_renderer(ctx));
-    printf("scene: dam break, a %g m cube of water in a %g x %g x %g m tank, h = 2 spacings, dt %.4g s, sor %g, "
+    printf("scene: dam break, a %g m cube of water in a %g x %g x %g m tank, h = 2 spacings, dt %.4g s, sor %g%s, "
            "wall friction %g, XSPH on, vorticity off; median of %d steps after %d warm-up\n",
            (double)o.block, (double)o.tank[0], (double)o.tank[1], (double)o.tank[2], o.dt, o.sor,
-           (double)pbf_default_params().wall_friction, o.steps, o.warmup);
+           o.sor == 0.0 ? " (the relaxation schedule)" : "", (double)pbf_default_params().wall_friction, o.steps, o.warmup);
     FILE *js = NULL;
     if (o.json) {
         js = fopen(o.json, "w");

@@ -14,6 +14,7 @@
 #include "common.glsl"
 #include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;
+uniform float relax; // this iteration's relaxation factor (pbf_relaxation)
 
 void main()
 {
@@ -21,8 +22,8 @@ void main()
     if (i >= particle_count()) return;
     vec4 pi = pred[i];   // the iteration's start: position, and lambda in w
     vec3 bdp = vec3(0.0);
-    colliders_delta(pi.xyz, pi.w, bdp);
-    vec3 x = pred_out[i].xyz + P.omega * bdp;
+    colliders_delta(pi.xyz, pi.w, relax, bdp);
+    vec3 x = pred_out[i].xyz + relax * bdp;
     x = colliders_collide(i, x);
     for (uint p = 0u; p < P.plane_count; p++) {
         vec3 n;

@@ -100,10 +100,10 @@ void add_force(uint b, vec3 f, vec3 at)
 }
 
 // The colliders' part of the position correction of particle x with multiplier lambda;
-// the particle's reaction pushes two-way colliders (f = -m dx / dt^2, dx = omega * bdp).
-void colliders_delta(vec3 x, float lambda, inout vec3 dp)
+// the particle's reaction pushes two-way colliders (f = -m dx / dt^2, dx = relax * bdp).
+void colliders_delta(vec3 x, float lambda, float relax, inout vec3 dp)
 {
-    float to_force = -P.mass * P.inv_dt * P.inv_dt * P.omega;
+    float to_force = -P.mass * P.inv_dt * P.inv_dt * relax;
     for (uint b = 0u; b < P.collider_count; b++) {
         float V;
         vec3 gradV;

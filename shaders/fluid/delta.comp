@@ -10,6 +10,7 @@
 #define USE_NB
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
+uniform float relax; // this iteration's relaxation factor (pbf_relaxation)
 
 void main()
 {
@@ -48,7 +49,7 @@ void main()
     vec3 wall_grad;
     container_boundary(xi, wall_grad);
     dp += li * wall_grad;
-    vec3 x = xi + P.omega * dp;
+    vec3 x = xi + relax * dp;
     // Collisions: keep a particle radius away from every boundary.
     for (uint p = 0u; p < P.plane_count; p++) {
         vec3 n;
