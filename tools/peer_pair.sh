@@ -4,7 +4,8 @@
 # ROUNDS times, so both see the same machine in the same minutes.
 #   PEER_RUN=/path/to/run_peer.sh tools/peer_pair.sh [SIZES] [ROUNDS] [OUT]
 # PEER_RUN N must run the peer on the same scene (a 1 m cube of water in a 4 x 3 x 1.5 m
-# tank, N particles, 3 iterations, 1 substep, dt 4 ms, steps 11-300) and print, last, a line
+# tank, N particles, ITERATIONS iterations (default 3; exported to the peer's script as
+# PEER_ITERATIONS), 1 substep, dt 4 ms, steps 11-300) and print, last, a line
 # "peer N=... median_ms=... mean_ms=... mean_compression=...% max=...%". Seiche runs the same
 # window: 290 steps after 10 warm-up. SIZES default 15625,64000 (a cube number each, so
 # both place the same lattice); ROUNDS default 3. Writes OUT (default
@@ -16,9 +17,11 @@ sizes=${1:-15625,64000}
 rounds=${2:-3}
 out=${3:-docs/bench/peer_pair.txt}
 bin=${SEICHE_BIN:-build/bin}
+iterations=${ITERATIONS:-3}
+export PEER_ITERATIONS=$iterations
 mkdir -p "$(dirname "$out")"
 {
-    echo "# tools/peer_pair.sh $sizes $rounds, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores"
+    echo "# tools/peer_pair.sh $sizes $rounds, $iterations iterations, $(date -u '+%Y-%m-%d %H:%M UTC'), $(nproc) cores"
     echo "# $($bin/seiche-bench --particles 1000 --steps 1 --warmup 0 | sed -n 's/^renderer: //p')"
     echo "# PEER_RUN=$PEER_RUN OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}"
 } > "$out"
@@ -26,7 +29,7 @@ for n in $(echo "$sizes" | tr ',' ' '); do
     r=1
     while [ "$r" -le "$rounds" ]; do
         # particles iter sub tank mem_MiB step_ms wall_ms cpu_ms rho_avg% err_avg% rho_max% ... metrics
-        "$bin/seiche-bench" --particles "$n" --iterations 3 --substeps 1 --steps 290 --warmup 10 |
+        "$bin/seiche-bench" --particles "$n" --iterations "$iterations" --substeps 1 --steps 290 --warmup 10 |
             awk -v r="$r" '$1 ~ /^[0-9]+$/ { printf "seiche N=%d round=%d gpu_ms=%.2f wall_ms=%.2f metrics_ms=%.2f mean_compression=%.3f%% max=%.2f%%\n",
                                             $1, r, $6, $7, $NF, $10, $11 }' | tee -a "$out"
         "$PEER_RUN" "$n" 2>&1 | grep '^peer N=' | tail -n 1 | sed "s/^peer N=$n /peer N=$n round=$r /" | tee -a "$out"
@@ -66,7 +69,7 @@ if command -v gnuplot > /dev/null; then
     gnuplot <<GP
 set terminal pngcairo size 1100,450 font "sans,11" noenhanced
 set output "$png"
-set multiplot layout 1,2 title "Reference dam break, 3 iterations x 1 substep, dt 4 ms, steps 11-300: paired run ($(sed -n '1s/^# //p' "$out"))"
+set multiplot layout 1,2 title "Reference dam break, $iterations iterations x 1 substep, dt 4 ms, steps 11-300: paired run ($(sed -n '1s/^# //p' "$out"))"
 set logscale xy
 set grid
 set key top left

@@ -6,6 +6,8 @@
 #   tools/quality_per_ms.sh [OUT_DIR [SPEC...]]
 # SPEC: a particle count N, for the cases 1x1 2x1 3x1 4x1 2x2 3x2 2x4 (iterations x
 # substeps), or N:ITxSUB,ITxSUB,... for those cases only (default specs: 16000 64000).
+# SPEC "plot" alone runs nothing: the table and the plot again from OUT_DIR's .dat and .txt
+# (after appending the lines of another run to them, say).
 # The window is seiche-bench's default, steps 11-70 of 4 ms (0.04-0.28 s into the collapse)
 # whatever the case (STEPS, WARMUP in the environment change it).
 # Writes OUT_DIR/quality_per_ms.txt (the benchmark's tables), .dat (one line per case:
@@ -20,8 +22,9 @@ warmup=${WARMUP:-10}
 sizes=""
 bin=${SEICHE_BIN:-build/bin}
 mkdir -p "$out"
-: > "$out/quality_per_ms.txt"
-: > "$out/quality_per_ms.dat"
+plot_only=0
+[ "$*" = plot ] && plot_only=1 && set --
+[ "$plot_only" = 1 ] || { : > "$out/quality_per_ms.txt"; : > "$out/quality_per_ms.dat"; }
 for spec in "$@"; do
     n=${spec%%:*}
     cases="1x1 2x1 3x1 4x1 2x2 3x2 2x4"
@@ -38,6 +41,7 @@ for spec in "$@"; do
     done
 done
 rm -f "$out/.qpm_run.txt"
+[ "$plot_only" = 0 ] || sizes=$(awk '{ print $1 }' "$out/quality_per_ms.dat" | sort -n | uniq | paste -sd, -)
 renderer=$(sed -n 's/^renderer: //p' "$out/quality_per_ms.txt" | head -n 1)
 {
     echo "Reference dam break, dt 4 ms, steps $((warmup + 1))-$((warmup + steps)); $renderer; $(date -u +%Y-%m-%d)"
@@ -56,7 +60,7 @@ set multiplot layout 1,2 title "Reference dam break, dt 4 ms: density error agai
 set logscale xy
 set grid
 set xlabel "GPU time per step (ms)"
-set key top right
+set key outside bottom center horizontal
 set ylabel "mean compression error (%)"
 plot for [n in "$(echo "$sizes" | tr ',' ' ')"] "$out/quality_per_ms.dat" using (\$1 >= n*0.97 && \$1 <= n*1.03 ? \$4 : 1/0):5:(sprintf("%dx%d", \$2, \$3)) \
      with labels point pt 7 offset char 0,0.8 notitle, \
