@@ -584,7 +584,7 @@ static void apply_fluid(cpl_coupling *c, body_entry *e)
 }
 
 // The fluid may stop the body's motion against the force and push it with at most
-// impulse_limit times the acceleration of full submersion, for one step. The bound keeps
+// impulse_limit times the acceleration of full submersion plus g/4, for one step. The bound keeps
 // the late force of a plunge from throwing a light body back out; the smoothed state keeps
 // the bounded force, so its tail does not carry the excess either.
 static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
@@ -597,7 +597,9 @@ static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
     float against = -(v.x * e->force[0] + v.y * e->force[1] + v.z * e->force[2]) / f; // m/s into the force
     float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
     float rho_fluid = pbf_world_params(c->def.fluid)->rest_density;
-    float accel = c->def.impulse_limit * gmag * rho_fluid / (e->mass / e->volume);
+    // Plus a quarter of g: the bound then sits above the lift that holds a neutral body, so
+    // the noise of that lift is not cut on one side only (it made such a body sink).
+    float accel = c->def.impulse_limit * gmag * (rho_fluid / (e->mass / e->volume) + 0.25f);
     float dv_max = (against > 0.0f ? against : 0.0f) + accel * dt;
     float dv = f * dt / e->mass;
     if (dv <= dv_max) return;

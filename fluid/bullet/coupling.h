@@ -68,9 +68,9 @@ typedef struct cpl_def {
     /// keep / (1 - keep) steps of extra lag (1 step at 0.5).
     float force_smoothing;
     /// Bound on the fluid's push on a dynamic body per step, as a multiple of the
-    /// acceleration full submersion gives it, g rho_fluid / rho_body, [0, 100]; default 1.
-    /// Per step the fluid may take away the body's velocity against the force and add at
-    /// most that acceleration times dt; 0 turns the bound off. Without it the one-step-late
+    /// acceleration full submersion gives it plus a quarter of g, g (rho_fluid / rho_body
+    /// + 1/4), [0, 100]; default 1. Per step the fluid may take away the body's velocity
+    /// against the force and add at most that acceleration times dt; 0 turns the bound off. Without it the one-step-late
     /// force (measured while a light body plunged in, applied after) throws light bodies
     /// out of the water faster than they hit it (docs/coupling.md).
     float impulse_limit;
