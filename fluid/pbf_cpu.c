@@ -310,12 +310,11 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
             pbf_cpu_density(w, P);
             stage_done(w, PBF_STAGE_DENSITY, s, it);
         }
-        pbf_gpu_params Pi = *P; // the iteration's relaxation (delta.comp's uniform relax)
-        Pi.omega = pbf_relaxation(p, it);
-        pbf_cpu_delta(w, &Pi);
+        float relax = pbf_relaxation(p, it); // the shaders' uniform relax
+        pbf_cpu_delta(w, P, relax);
         stage_done(w, PBF_STAGE_DELTA, s, it);
         if (w->gpu_count > 0) {
-            pbf_cpu_collide(w, &Pi);
+            pbf_cpu_collide(w, P, relax);
             stage_done(w, PBF_STAGE_COLLIDE, s, it);
         }
         swap4(&w->pred, &w->pred_out);

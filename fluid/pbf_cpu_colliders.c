@@ -67,10 +67,11 @@ static void add_force(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 at)
 }
 
 /// colliders_delta: the colliders' part of the position correction of a particle at x with
-/// multiplier lambda, and the reaction on two-way colliders (f = -m omega bdp / dt^2).
-void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, pbf_vec3 *dp)
+/// multiplier lambda, and the reaction on two-way colliders (f = -m relax bdp / dt^2).
+void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
+                             pbf_vec3 *dp)
 {
-    float to_force = -P->mass * P->inv_dt * P->inv_dt * P->omega;
+    float to_force = -P->mass * P->inv_dt * P->inv_dt * relax;
     for (uint32_t b = 0; b < P->collider_count; b++) {
         const pbf_gpu_collider *c = &w->gpu[b];
         float V;

@@ -96,8 +96,8 @@ void pbf_cpu_reorder(pbf_cpu_world *w);
 void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x, const uint32_t *place,
                         bool solve);
 void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P);
-void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P);
-void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P);
+void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
+void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P);
@@ -108,7 +108,8 @@ float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32
 
 // ---- pbf_cpu_colliders.c: colliders.glsl and pbf_colliders.c's step bookkeeping ---------
 void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float *rho, pbf_vec3 *grad_i);
-void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, pbf_vec3 *dp);
+void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
+                             pbf_vec3 *dp);
 pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x);
 void pbf_cpu_colliders_begin_step(pbf_cpu_world *w);
 void pbf_cpu_colliders_end_step(pbf_cpu_world *w);

@@ -237,8 +237,9 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
 }
 
 /// delta.comp: the correction from the fluid (lambda of each particle in pred.w) and the
-/// container, then the container's collisions and the domain clamp, into pred_out.
-void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P)
+/// container, times the iteration's factor relax, then the container's collisions and the
+/// domain clamp, into pred_out.
+void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_vec3 xi = pbf_xyz(w->pred[i]);
@@ -263,20 +264,20 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P)
         pbf_vec3 wall_grad;
         container_boundary(P, xi, &wall_grad);
         dp = pbf_add(dp, pbf_scale(li, wall_grad));
-        container_collide(w, P, i, pbf_add(xi, pbf_scale(P->omega, dp)));
+        container_collide(w, P, i, pbf_add(xi, pbf_scale(relax, dp)));
     }
 }
 
 /// collide.comp (only with colliders): the colliders' part of the correction, computed at
-/// the iteration's start (pred, lambda in pred.w) and added with omega to what delta wrote,
+/// the iteration's start (pred, lambda in pred.w) and added times relax to what delta wrote,
 /// then the swept collisions from the substep's start position pos[i], then the container.
-void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P)
+void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_float4 pi = w->pred[i];
         pbf_vec3 bdp = { 0.0f, 0.0f, 0.0f };
-        pbf_cpu_colliders_delta(w, P, pbf_xyz(pi), pi.w, &bdp);
-        pbf_vec3 x = pbf_add(pbf_xyz(w->pred_out[i]), pbf_scale(P->omega, bdp));
+        pbf_cpu_colliders_delta(w, P, pbf_xyz(pi), pi.w, relax, &bdp);
+        pbf_vec3 x = pbf_add(pbf_xyz(w->pred_out[i]), pbf_scale(relax, bdp));
         x = pbf_cpu_colliders_collide(w, P, pbf_xyz(w->pos[i]), x);
         container_collide(w, P, i, x);
     }

@@ -301,7 +301,6 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->mass_density = k->mass_density;
     g->mass = k->mass;
     g->epsilon = k->epsilon;
-    g->omega = pbf_relaxation(p, 0); // the CPU reference sets each iteration's (the GPU: uniform relax)
     g->scorr_k = p->scorr_k;
     g->scorr_n = p->scorr_n;
     g->scorr_inv_wdq = k->scorr_inv_wdq;

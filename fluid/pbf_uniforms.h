@@ -17,7 +17,7 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
 #define PBF_JACOBI_MU_MAX 2.8
 
 /// The relaxation factor of iteration `it` (0-based) of p->iterations: the uniform `relax`
-/// of delta.comp and collide.comp, P->omega of the CPU reference's iteration.
+/// of delta.comp and collide.comp, the `relax` argument of the CPU reference's passes.
 float pbf_relaxation(const pbf_params *p, int it);
 
 /// The space's part: the grid (origin m, cells per axis, total cells, cell size m), the

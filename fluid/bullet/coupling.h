@@ -70,9 +70,9 @@ typedef struct cpl_def {
     /// Bound on the fluid's push on a dynamic body per step, as a multiple of the
     /// acceleration full submersion gives it plus a quarter of g, g (rho_fluid / rho_body
     /// + 1/4), [0, 100]; default 1. Per step the fluid may take away the body's velocity
-    /// against the force and add at most that acceleration times dt; 0 turns the bound off. Without it the one-step-late
-    /// force (measured while a light body plunged in, applied after) throws light bodies
-    /// out of the water faster than they hit it (docs/coupling.md).
+    /// against the force and add at most that acceleration times dt; 0 turns the bound off.
+    /// Without it the one-step-late force (measured while a light body plunged in, applied
+    /// after) throws light bodies out of the water faster than they hit it (docs/coupling.md).
     float impulse_limit;
     /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
     /// Default 0: not allowed; cpl_default_def() sets 0.02 m. Grids hold at most 128

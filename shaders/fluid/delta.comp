@@ -1,6 +1,6 @@
 #version 430
 // Stage delta: the position correction from the fluid and the container,
-//   dp_i = omega * ( (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_ij
+//   dp_i = relax * ( (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_ij
 //                    + lambda_i grad V_walls )
 // then collisions with the container (a particle radius from every wall) and the domain
 // clamp. Bodies come after, in collide.comp (only when there are any).

@@ -127,7 +127,7 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT mass_density;  // kg: mass used by the density sum (calibrated to the lattice)
     PBF_FLOAT mass;          // kg: physical mass of one particle (rest_density * spacing^3)
     PBF_FLOAT epsilon;       // 1/m^2: relaxation added to sum |grad C|^2
-    PBF_FLOAT omega;         // relaxation of the first iteration (the CPU reference's, per iteration; GPU: uniform relax)
+    PBF_FLOAT pad_relax;     // free: the relaxation factor is per iteration, uniform relax (pbf_relaxation)
     PBF_FLOAT scorr_k;
     PBF_FLOAT scorr_n;
     PBF_FLOAT scorr_inv_wdq; // 1 / W(dq)
