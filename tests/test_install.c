@@ -43,17 +43,26 @@ static int setup(void **state)
     support_source_dir(f->root, sizeof f->root);
     char exe[1024];
     ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    if (n <= 0) return -1;
+    if (n <= 0) {
+        free(f);
+        return -1;
+    }
     exe[n] = 0;
     *strrchr(exe, '/') = 0; // build/bin
     *strrchr(exe, '/') = 0; // build
     snprintf(f->build, sizeof f->build, "%s", exe);
     snprintf(f->prefix, sizeof f->prefix, "/tmp/seiche-prefix-XXXXXX");
-    if (!mkdtemp(f->prefix)) return -1;
+    if (!mkdtemp(f->prefix)) {
+        free(f);
+        return -1;
+    }
     char cmd[4096];
     snprintf(cmd, sizeof cmd, "'%s/tools/install.sh' '%s' '%s' >/dev/null", f->root, f->prefix, f->build);
     if (sh(cmd) != 0) {
         fprintf(stderr, "tools/install.sh failed\n");
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", f->prefix);
+        sh(cmd);
+        free(f);
         return -1;
     }
     *state = f;
@@ -62,7 +71,8 @@ static int setup(void **state)
 
 static int teardown(void **state)
 {
-    fixture *f = *state;
+    fixture *f = *state; // NULL when the setup failed (it cleaned up after itself)
+    if (!f) return 0;
     char cmd[256];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", f->prefix);
     sh(cmd);

@@ -48,9 +48,9 @@ static void window_opens_renders_a_frame_reads_it_back_and_closes(void **state)
     (void)state;
     if (!have_display() && getenv(REEXEC_ENV))
         fail_msg("test_window needs an X display: DISPLAY is still not set under xvfb-run (is Xvfb installed?)");
-    if (!have_display())
-        fail_msg("test_window needs an X display: DISPLAY is not set and xvfb-run was not found "
-                 "(install Xvfb: apt-get install xvfb, or run under xvfb-run -a)");
+    // No display and no xvfb-run (a GPU machine without X, say): skipped, with the reason
+    // printed and counted; CI installs Xvfb (.ci/run), so there it runs.
+    if (!have_display()) support_skip_unless_on_path("xvfb-run");
     eng_context_def def = eng_default_context_def();
     def.mode = ENG_CONTEXT_WINDOW;
     def.width = 160;
