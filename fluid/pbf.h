@@ -125,6 +125,11 @@ typedef struct pbf_params {
                             ///< cfl particle spacings in one substep, [0, 10]; 0 turns it off
     int max_substeps;       ///< the most substeps the guard may take, [1, 64] (at least
                             ///< `substeps` are always taken)
+    float guard_compression; ///< time-step guard on compression, [0, 1]: a step takes more
+                            ///< substeps (up to max_substeps) while the latest measured step's
+                            ///< worst density exceeded rho0 by more than this fraction, or its
+                            ///< mean compression a tenth of it, and fewer again once well
+                            ///< under; 0 turns it off (docs/solver.md, "The time-step guard")
     float wall_friction;    ///< skin-friction coefficient C_f of the container's walls and
                             ///< floor (dimensionless), [0, 1]: water sliding along a wall at
                             ///< speed u feels a shear stress rho C_f u^2 against its motion;

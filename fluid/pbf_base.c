@@ -28,30 +28,69 @@ pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 //   cleared on the GPU: a real driver may apply a GPU clear after a CPU upload that follows
 //   it (NVIDIA does, when it moves a small buffer to host memory), and the upload is lost.
 // Both get a label, so driver messages and captures name them.
-static GLuint new_buffer(GLsizeiptr size, const void *data, const char *label)
+// The CPU reads no buffer the passes use: what it reads is first copied on the GPU into a
+// read-back buffer (pbf_read_buffer, pbf_download). A driver moves a buffer the CPU reads
+// to host memory (NVIDIA says so: "is being copied/moved from VIDEO memory to HOST
+// memory"), and every pass would then reach the moved buffer across the bus.
+static GLuint new_buffer(GLsizeiptr size, const void *data, const char *label, GLenum usage)
 {
     GLuint b;
     glGenBuffers(1, &b);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
-    glBufferData(GL_SHADER_STORAGE_BUFFER, size > 0 ? size : 16, data, GL_DYNAMIC_DRAW);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, size > 0 ? size : 16, data, usage);
     glObjectLabel(GL_BUFFER, b, -1, label);
     return b;
 }
 
 GLuint pbf_gpu_buffer(GLsizeiptr size, const char *label)
 {
-    GLuint b = new_buffer(size, NULL, label);
+    GLuint b = new_buffer(size, NULL, label, GL_DYNAMIC_DRAW);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
     return b;
 }
 
+GLuint pbf_read_buffer(GLsizeiptr size, const char *label)
+{
+    GLuint b = new_buffer(size, NULL, label, GL_STREAM_READ);
+    glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    return b;
+}
+
+bool pbf_download(pbf_world *w, GLuint src, GLintptr offset, GLsizeiptr size, void *dst)
+{
+    if (size <= 0) return true;
+    if (size > w->readback_size) {
+        GLsizeiptr want = w->readback_size > 0 ? w->readback_size : 4096;
+        while (want < size) want *= 2;
+        if (w->readback) glDeleteBuffers(1, &w->readback);
+        glGenBuffers(1, &w->readback);
+        glBindBuffer(GL_COPY_WRITE_BUFFER, w->readback);
+        glBufferData(GL_COPY_WRITE_BUFFER, want, NULL, GL_STREAM_READ);
+        glObjectLabel(GL_BUFFER, w->readback, -1, "pbf.readback");
+        if (glGetError() != GL_NO_ERROR) {
+            glDeleteBuffers(1, &w->readback);
+            w->readback = 0;
+            w->readback_size = 0;
+            return false;
+        }
+        w->readback_size = want;
+    }
+    // Shader writes reach a copy only after this barrier; the read is ordered after the copy.
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glBindBuffer(GL_COPY_READ_BUFFER, src);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, w->readback);
+    glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, offset, 0, size);
+    glGetBufferSubData(GL_COPY_WRITE_BUFFER, 0, size, dst);
+    return true;
+}
+
 GLuint pbf_cpu_buffer(GLsizeiptr size, const void *data, const char *label)
 {
-    if (data) return new_buffer(size, data, label);
+    if (data) return new_buffer(size, data, label, GL_DYNAMIC_DRAW);
     size_t bytes = (size_t)(size > 0 ? size : 16);
     void *zeros = calloc(1, bytes);
     if (!zeros) return 0;
-    GLuint b = new_buffer(size, zeros, label);
+    GLuint b = new_buffer(size, zeros, label, GL_DYNAMIC_DRAW);
     free(zeros);
     return b;
 }

@@ -369,9 +369,9 @@ void pbf_colliders_end_step(pbf_world *w)
     // buffer update, which needs its own barrier bit.
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glBindBuffer(GL_COPY_READ_BUFFER, w->forces);
-    glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces);
+    glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces_ring);
     glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0,
-                        (GLintptr)(1 + slot_index) * PBF_MAX_COLLIDERS * 8 * 4, PBF_MAX_COLLIDERS * 8 * 4);
+                        (GLintptr)slot_index * PBF_MAX_COLLIDERS * 8 * 4, PBF_MAX_COLLIDERS * 8 * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
         collider_slot *s = &w->slots[i];
@@ -391,8 +391,8 @@ void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r)
     int ring_slot = (int)(r - w->ring);
     if (r->colliders <= 0) return;
     int32_t f[PBF_MAX_COLLIDERS * 8];
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, (GLintptr)(1 + ring_slot) * PBF_MAX_COLLIDERS * 8 * 4,
+    glBindBuffer(GL_COPY_READ_BUFFER, w->forces_ring);
+    glGetBufferSubData(GL_COPY_READ_BUFFER, (GLintptr)ring_slot * PBF_MAX_COLLIDERS * 8 * 4,
                        (GLsizeiptr)r->colliders * 8 * 4, f);
     double per = 1.0 / (r->substeps > 0 ? r->substeps : 1);
     for (int g = 0; g < r->colliders; g++) {

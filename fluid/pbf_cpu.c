@@ -345,6 +345,12 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
     // The time-step guard sees what the GPU world sees (pbf_guard_substeps).
     float seen = w->steps >= PBF_GUARD_LATENCY ? w->speed_of[(w->steps - PBF_GUARD_LATENCY) % PBF_GUARD_HISTORY] : -1.0f;
     int substeps = pbf_guard_substeps(&w->params, w->k.spacing, dt, w->steps, seen, w->added_speed, NULL);
+    if (w->params.guard_compression > 0.0f) {
+        const pbf_guard_seen *record =
+            w->steps >= PBF_GUARD_LATENCY ? &w->seen_of[(w->steps - PBF_GUARD_LATENCY) % PBF_GUARD_HISTORY] : NULL;
+        int level = pbf_guard_compression(&w->params, &w->compression, record, NULL);
+        if (level > substeps) substeps = level;
+    }
     pbf_gpu_params P = uniforms(w, dt / (float)substeps);
     w->report_substeps = (uint32_t)substeps; // the colliders' force scales follow it
     pbf_cpu_colliders_begin_step(w);
@@ -365,6 +371,16 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
         fastest = fmaxf(fastest, sqrtf(v.x * v.x + v.y * v.y + v.z * v.z));
     }
     w->speed_of[w->steps % PBF_GUARD_HISTORY] = fastest;
+    if (w->params.guard_compression > 0.0f) {
+        // What the metrics pass measures after the step (pbf_cpu_world_density_stats).
+        w->nb_valid = true;
+        pbf_cpu_stats st = pbf_cpu_world_density_stats(w);
+        w->seen_of[w->steps % PBF_GUARD_HISTORY] = (pbf_guard_seen){
+            .density_error_max = st.density_max / w->params.rest_density - 1.0f,
+            .density_error_avg = st.density_error_avg,
+            .substeps = substeps,
+        };
+    }
     w->steps++;
     w->added_speed[w->steps % PBF_GUARD_HISTORY] = 0.0f;
     w->nb_valid = true;
@@ -466,6 +482,8 @@ static pbf_gpu_params stats_params(pbf_cpu_world *w)
     }
     return uniforms(w, 1.0f);
 }
+
+int pbf_cpu_world_last_substeps(const pbf_cpu_world *w) { return w && w->steps > 0 ? (int)w->report_substeps : 0; }
 
 pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *w)
 {

@@ -103,6 +103,9 @@ uint32_t pbf_cpu_world_read_particles(const pbf_cpu_world *world, float *positio
                                       uint32_t *ids, uint32_t max);
 /// 64-bit FNV-1a of positions then velocities (xyzw, id order), defined as pbf_world_state_hash.
 uint64_t pbf_cpu_world_state_hash(const pbf_cpu_world *world);
+/// The substeps the last step took (the time-step guard may take more than params.substeps,
+/// as pbf_step_stats.substeps says of a GPU step); 0 before the first step.
+int pbf_cpu_world_last_substeps(const pbf_cpu_world *world);
 /// Density statistics as metrics.comp computes them after a step. Before the first step
 /// (or after particles were added) the neighbour lists are first built at the positions.
 pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *world);

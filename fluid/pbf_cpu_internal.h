@@ -54,6 +54,8 @@ struct pbf_cpu_world {
     // The time-step guard, as pbf_world.c keeps it: the fastest speed at the end of step k
     // at [k % PBF_GUARD_HISTORY], the fastest particle added before step k at the same index.
     float speed_of[PBF_GUARD_HISTORY], added_speed[PBF_GUARD_HISTORY];
+    pbf_guard_seen seen_of[PBF_GUARD_HISTORY]; // as the GPU world's (pbf_guard_compression)
+    pbf_guard_state compression;
 
     // Particle slots in the GPU's layout (each array is the twin of a storage buffer, see
     // pbf_cpu_world_binding); the second of each pair is the ping-pong partner, flipped by

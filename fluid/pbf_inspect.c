@@ -53,8 +53,8 @@ pbf_result pbf_world_read_binding(pbf_world *w, int binding, size_t bytes, void 
     if ((uint64_t)bytes > (uint64_t)size)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_read_binding: %zu bytes asked of binding %d, which holds %lld",
                         bytes, binding, (long long)size);
-    // Shader writes become visible to a CPU read only after this barrier (docs/architecture.md).
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetBufferSubData(GL_COPY_READ_BUFFER, 0, (GLsizeiptr)bytes, out);
+    // Through the read-back buffer, after the barrier shader writes need (pbf_download).
+    if (!pbf_download(w, buf, 0, (GLsizeiptr)bytes, out))
+        return pbf_fail(w, PBF_ERR_GL, "pbf_world_read_binding: no read-back buffer of %zu bytes (out of memory?)", bytes);
     return PBF_OK;
 }

@@ -118,6 +118,9 @@ struct pbf_world {
     int cur_pos, cur_vel, cur_pred, cur_ids;
     GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, normal, scan, colliders, forces,
         reduce, metrics, draw, params_ubo, nb_list, nb_count, state, stage_pos, stage_vel, stage_id, order;
+    GLuint forces_ring;        // the forces of the last RING steps, read by the CPU (pbf_read_buffer)
+    GLuint readback;           // pbf_download's buffer, grown on demand
+    GLsizeiptr readback_size;
     uint32_t stage_cap;        // particles the staging buffers hold
     bool flush_timestamps; // llvmpipe records a timestamp only when its commands are flushed
     GLint ssbo_align;
@@ -151,6 +154,9 @@ struct pbf_world {
     uint64_t speed_step[PBF_GUARD_HISTORY]; // 1 + the step each holds (0: none)
     float added_speed[PBF_GUARD_HISTORY];   // fastest particle appended before step k, same index
     bool guard_capped;          // the guard wanted more than max_substeps (warned once)
+    pbf_guard_seen seen_of[PBF_GUARD_HISTORY]; // step k's compression and substeps, same index as speed_of
+    pbf_guard_state compression; // the compression guard's level and quiet count (pbf_guard_compression)
+    bool compression_capped;    // it wanted more than max_substeps (warned once while it lasts)
     int step_substeps;          // substeps of the step being issued (or the next one)
 
     // latest forces read back, per slot (N, N m)
@@ -175,6 +181,13 @@ GLuint pbf_gpu_buffer(GLsizeiptr size, const char *label);
 /// A buffer the CPU uploads into: made with `data` (NULL: zeros from the CPU), never cleared
 /// on the GPU. 0 if the zeros could not be allocated.
 GLuint pbf_cpu_buffer(GLsizeiptr size, const void *data, const char *label);
+/// A buffer the CPU reads (GL_STREAM_READ): only copies and single records are written
+/// into it on the GPU, so a driver may keep it in host memory. Zeroed on the GPU once.
+GLuint pbf_read_buffer(GLsizeiptr size, const char *label);
+/// Copies `size` bytes at `offset` of `src` into the world's read-back buffer on the GPU
+/// (after the barrier shader writes need) and reads them into dst: the passes' own buffers
+/// are never read by the CPU (pbf_base.c). False if the read-back buffer could not grow.
+bool pbf_download(pbf_world *w, GLuint src, GLintptr offset, GLsizeiptr size, void *dst);
 
 /// Appends particles (xyzw positions with w the colour parameter, xyzw velocities) through
 /// the staging buffers and the append pass; ids are assigned here.

@@ -112,3 +112,80 @@ pbf_result pbf_world_region_stats(pbf_world *w, const float box_min[3], const fl
     free(f);
     return r;
 }
+
+// ---- downloads of the whole state (tests, tools; pbf_download) ---------------------------------------------------------------
+
+typedef struct id_index {
+    uint32_t id, slot;
+} id_index;
+
+static int cmp_id(const void *a, const void *b)
+{
+    uint32_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
+    return x < y ? -1 : x > y;
+}
+
+static uint32_t gpu_count(pbf_world *w)
+{
+    pbf_gpu_state st;
+    if (!pbf_download(w, w->state, 0, sizeof st, &st)) return 0;
+    return st.count;
+}
+
+uint32_t pbf_read_sorted(pbf_world *w, float *positions, float *velocities, float *volumes, uint32_t *ids,
+                         uint32_t max)
+{
+    uint32_t n = gpu_count(w), m = 0;
+    if (n == 0) return 0;
+    float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
+    uint32_t *id = malloc((size_t)n * 4);
+    id_index *order = malloc((size_t)n * sizeof *order);
+    if (!p || !v || !id || !order || !pbf_download(w, w->pos[w->cur_pos], 0, (GLsizeiptr)n * 16, p) ||
+        !pbf_download(w, w->vel[w->cur_vel], 0, (GLsizeiptr)n * 16, v) ||
+        !pbf_download(w, w->ids[w->cur_ids], 0, (GLsizeiptr)n * 4, id))
+        goto done;
+    for (uint32_t i = 0; i < n; i++) order[i] = (id_index){ id[i], i };
+    qsort(order, n, sizeof *order, cmp_id);
+    m = n < max ? n : max;
+    for (uint32_t i = 0; i < m; i++) {
+        uint32_t s = order[i].slot;
+        if (positions) memcpy(positions + 4 * i, p + 4 * s, 16);
+        if (velocities) {
+            memcpy(velocities + 4 * i, v + 4 * s, 12);
+            velocities[4 * i + 3] = 0.0f; // w is the solver's scratch (particle volume)
+        }
+        if (volumes) volumes[i] = v[4 * s + 3];
+        if (ids) ids[i] = order[i].id;
+    }
+done:
+    free(p);
+    free(v);
+    free(id);
+    free(order);
+    return m;
+}
+
+uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
+{
+    return w ? pbf_read_sorted(w, positions, velocities, NULL, ids, max) : 0;
+}
+
+uint64_t pbf_world_state_hash(pbf_world *w)
+{
+    if (!w) return 0;
+    uint32_t n = gpu_count(w);
+    float *p = malloc((size_t)n * 16 + 16), *v = malloc((size_t)n * 16 + 16);
+    uint64_t h = 1469598103934665603ull;
+    if (p && v) {
+        pbf_world_read_particles(w, p, v, NULL, n);
+        const unsigned char *bytes[2] = { (const unsigned char *)p, (const unsigned char *)v };
+        for (int b = 0; b < 2; b++)
+            for (size_t i = 0; i < (size_t)n * 16; i++) {
+                h ^= bytes[b][i];
+                h *= 1099511628211ull;
+            }
+    }
+    free(p);
+    free(v);
+    return h;
+}

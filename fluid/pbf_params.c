@@ -30,6 +30,7 @@ pbf_params pbf_default_params(void)
     p.surface_tension = 0.0f;
     p.cfl = 0.5f;
     p.max_substeps = 32;
+    p.guard_compression = 0.0f; // off: a change of substeps moves the water (docs/solver.md)
     p.wall_friction = 0.01f; // a rough wall: the dam-break front on Martin & Moyce's (docs/solver.md)
     return p;
 }
@@ -157,6 +158,8 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
     CHECK(isfinite(p->cfl) && p->cfl >= 0.0f && p->cfl <= 10.0f, "cfl", "%g", (double)p->cfl,
           "in [0, 10] particle spacings per substep (0: off)");
     CHECK(p->max_substeps >= 1 && p->max_substeps <= 64, "max_substeps", "%d", p->max_substeps, "in [1, 64]");
+    CHECK(isfinite(p->guard_compression) && p->guard_compression >= 0.0f && p->guard_compression <= 1.0f,
+          "guard_compression", "%g", (double)p->guard_compression, "in [0, 1] (a fraction of rho0; 0: off)");
     CHECK(isfinite(p->wall_friction) && p->wall_friction >= 0.0f && p->wall_friction <= 1.0f, "wall_friction", "%g",
           (double)p->wall_friction, "in [0, 1] (0: frictionless walls)");
     if (err && err_size) err[0] = 0;
@@ -183,6 +186,7 @@ static const pbf_param_info param_table[] = {
     F(surface_tension, "m/s^2", 0.0, 1000.0, "surface tension gamma: cohesion and curvature (Akinci 2013); 0 off"),
     F(cfl, "", 0.0, 10.0, "time-step guard: most particle spacings the fastest particle moves per substep (0 off)"),
     I(max_substeps, "", 1, 64, "most substeps the time-step guard may take"),
+    F(guard_compression, "", 0.0, 1.0, "time-step guard: worst compression (mean: a tenth) a step aims under (0 off)"),
     F(wall_friction, "", 0.0, 1.0, "skin-friction coefficient of the container's walls and floor; 0 frictionless"),
 };
 #undef F
@@ -337,6 +341,41 @@ int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t st
         return most;
     }
     return needed > base ? (int)needed : base;
+}
+
+int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf_guard_seen *seen, bool *capped)
+{
+    int base = p->substeps;
+    int most = p->max_substeps > base ? p->max_substeps : base;
+    float target = p->guard_compression;
+    if (!(target > 0.0f)) { // off (or turned off since): no say
+        state->level = base;
+        state->quiet = 0;
+        return base;
+    }
+    if (state->level < base) state->level = base;
+    if (state->level > most) state->level = most;
+    if (!seen || seen->substeps <= 0) return state->level;
+    float worst = seen->density_error_max, mean = seen->density_error_avg;
+    if (!isfinite(worst) || !isfinite(mean)) return state->level; // diverged: the host's check reports it
+    float ratio = fmaxf(worst / target, mean / (0.1f * target));
+    if (ratio > 1.0f) { // over: at once, the substeps that bring it to half the target
+        state->quiet = 0;
+        double want = ceil((double)seen->substeps * sqrt(2.0 * (double)ratio) - 1e-9);
+        if (want > most) {
+            if (capped) *capped = true;
+            want = most;
+        }
+        if (want > state->level) state->level = (int)want;
+    } else if (ratio < 0.25f && state->level > base) { // well under: one fewer after a quiet while
+        if (++state->quiet >= PBF_GUARD_QUIET_STEPS) {
+            state->level--;
+            state->quiet = 0;
+        }
+    } else {
+        state->quiet = 0;
+    }
+    return state->level;
 }
 
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,

@@ -52,6 +52,36 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
                        const float added[PBF_GUARD_HISTORY], bool *capped);
 
+/// What a finished step measured, for the compression guard: its worst density over rho0
+/// minus 1, its mean compression (a fraction) and the substeps it took (0: no record).
+typedef struct pbf_guard_seen {
+    float density_error_max;
+    float density_error_avg;
+    int substeps;
+} pbf_guard_seen;
+
+/// Steps of quiet (compression under a quarter of the target) before the compression guard
+/// takes one substep fewer: a change of substeps changes how far the water is compressed,
+/// so the guard changes them seldom (every change is a small change of volume).
+#define PBF_GUARD_QUIET_STEPS 60
+
+/// What the compression guard keeps from step to step (zeroed: nothing asked yet).
+typedef struct pbf_guard_state {
+    int level; ///< the substeps it asks for (0: params.substeps)
+    int quiet; ///< steps in a row measured under a quarter of the target
+} pbf_guard_state;
+
+/// The compression guard (pbf_params.guard_compression): the substeps the density error
+/// asks for, from the record of step now - 2 (`seen`, NULL when missing). With r the larger
+/// of worst / guard_compression and mean / (guard_compression / 10), and n the substeps
+/// `seen` took, the substeps
+/// that would bring that step to half the target are ceil(n sqrt(2 r)) (compression falls
+/// as 1/substeps^2). r > 1: it asks for those at once, at most max(substeps, max_substeps)
+/// (*capped, may be NULL, set when that is not enough). r < 1/4 for
+/// PBF_GUARD_QUIET_STEPS steps in a row: one substep fewer, down to params.substeps. Else it
+/// holds. Returns the level; shared by the GPU and CPU worlds, which keep `state`.
+int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf_guard_seen *seen, bool *capped);
+
 /// The most cells the virtual grid may have along one axis (rows, y + dims_y * z, must fit
 /// 32 bits).
 #define PBF_GRID_MAX_AXIS_CELLS 65536u

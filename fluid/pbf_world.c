@@ -323,9 +323,11 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->nb_list = pbf_gpu_buffer(cap * (GLsizeiptr)w->max_neighbours * 4, "pbf.nb_list");
     w->nb_count = pbf_gpu_buffer(cap * 4, "pbf.nb_count");
     w->colliders = pbf_cpu_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider), NULL, "pbf.colliders");
-    w->forces = pbf_gpu_buffer((GLsizeiptr)(1 + RING) * PBF_MAX_COLLIDERS * 8 * 4, "pbf.forces");
+    w->forces = pbf_gpu_buffer(PBF_MAX_COLLIDERS * 8 * 4, "pbf.forces");
+    w->forces_ring = pbf_read_buffer((GLsizeiptr)RING * PBF_MAX_COLLIDERS * 8 * 4, "pbf.forces_ring");
     w->reduce = pbf_gpu_buffer(((cap + PBF_WG - 1) / PBF_WG) * (GLsizeiptr)sizeof(pbf_gpu_reduce), "pbf.reduce");
-    w->metrics = pbf_gpu_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics), "pbf.metrics");
+    // One record per step, written by one invocation of metrics_final: read by the CPU as is.
+    w->metrics = pbf_read_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics), "pbf.metrics");
     w->draw = pbf_cpu_buffer(16, NULL, "pbf.draw");
     w->state = pbf_cpu_buffer(sizeof(pbf_gpu_state), NULL, "pbf.state");
     glGenBuffers(1, &w->params_ubo);
@@ -357,7 +359,8 @@ void pbf_world_destroy(pbf_world *w)
     GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
                       w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega, w->normal,
                       w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
-                      w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id, w->order };
+                      w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id, w->order,
+                      w->forces_ring, w->readback };
     glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
     free_grid(w);
     pbf_emitters_free(w);
@@ -496,6 +499,7 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
 void pbf_world_clear(pbf_world *w)
 {
     if (!w || w->in_step) return; // inside a step: documented as ignored
+    w->compression = (pbf_guard_state){ 0, 0 }; // the compression guard starts afresh with the water
     // Wait for the steps in flight: their stats would describe particles now gone.
     pbf_world_poll_stats(w, NULL, 0, true);
     w->count = w->known_count = 0;
@@ -729,6 +733,11 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     out->substeps = r->substeps;
     w->speed_of[r->step % PBF_GUARD_HISTORY] = m.center_of_mass.w;
     w->speed_step[r->step % PBF_GUARD_HISTORY] = r->step + 1;
+    w->seen_of[r->step % PBF_GUARD_HISTORY] = (pbf_guard_seen){
+        .density_error_max = m.density_max / w->params.rest_density - 1.0f,
+        .density_error_avg = m.error_avg,
+        .substeps = r->substeps,
+    };
     for (int k = 0; k < 3; k++) {
         out->momentum[k] = (&m.momentum.x)[k];
         out->center_of_mass[k] = (&m.center_of_mass.x)[k];
@@ -810,14 +819,22 @@ static float speed_of_step(pbf_world *w, uint64_t step)
     return -1.0f;
 }
 
-// The time-step guard (params.cfl, pbf_guard_substeps): the substeps this step takes, with
-// a warning (once while it lasts) when max_substeps is not enough.
+// The time-step guard (params.cfl, pbf_guard_substeps; params.guard_compression,
+// pbf_guard_compression): the substeps this step takes, with a warning (once while it
+// lasts) when max_substeps is not enough. Both read the record of step now - 2 only.
 static int guard_substeps(pbf_world *w, float dt)
 {
     const pbf_params *p = &w->params;
-    if (!(p->cfl > 0.0f)) return p->substeps;
-    float seen = w->step_index >= PBF_GUARD_LATENCY ? speed_of_step(w, w->step_index - PBF_GUARD_LATENCY) : -1.0f;
-    bool capped;
+    if (!(p->cfl > 0.0f) && !(p->guard_compression > 0.0f)) return p->substeps;
+    float seen = -1.0f;
+    const pbf_guard_seen *record = NULL;
+    if (w->step_index >= PBF_GUARD_LATENCY) {
+        uint64_t back = w->step_index - PBF_GUARD_LATENCY;
+        seen = speed_of_step(w, back);
+        int k = (int)(back % PBF_GUARD_HISTORY);
+        if (w->speed_step[k] == back + 1) record = &w->seen_of[k];
+    }
+    bool capped = false;
     int n = pbf_guard_substeps(p, w->k.spacing, dt, w->step_index, seen, w->added_speed, &capped);
     if (capped && !w->guard_capped && w->log) {
         char msg[384];
@@ -827,7 +844,19 @@ static int guard_substeps(pbf_world *w, float dt)
         w->log(w->log_user, 2, msg);
     }
     w->guard_capped = capped;
-    return n;
+    bool squeezed = false;
+    int level = pbf_guard_compression(p, &w->compression, record, &squeezed);
+    if (squeezed && !w->compression_capped && w->log) {
+        char msg[384];
+        snprintf(msg, sizeof msg, "time-step guard: step %llu compressed the water to +%.1f %% at worst, %.2f %% on "
+                 "average (guard_compression = %.3g: worst under it, mean under a tenth of it), and max_substeps = %d "
+                 "substeps of a %.3g s step cannot bring that back (lower the step, raise iterations or max_substeps)",
+                 (unsigned long long)(w->step_index - PBF_GUARD_LATENCY), 100.0 * record->density_error_max,
+                 100.0 * record->density_error_avg, (double)p->guard_compression, level, (double)dt);
+        w->log(w->log_user, 2, msg);
+    }
+    w->compression_capped = squeezed;
+    return level > n ? level : n;
 }
 
 pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, void *user)
@@ -893,92 +922,4 @@ pbf_gpu_buffers pbf_world_gpu_buffers(const pbf_world *w)
     }
     pbf_gpu_buffers b = { w->pos[w->cur_pos], w->vel[w->cur_vel], w->draw, w->count };
     return b;
-}
-
-// ---- downloads (tests, tools) ---------------------------------------------------------------
-
-typedef struct id_index {
-    uint32_t id, slot;
-} id_index;
-
-static int cmp_id(const void *a, const void *b)
-{
-    uint32_t x = ((const id_index *)a)->id, y = ((const id_index *)b)->id;
-    return x < y ? -1 : x > y;
-}
-
-static uint32_t gpu_count(pbf_world *w)
-{
-    pbf_gpu_state st;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->state);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof st, &st);
-    return st.count;
-}
-
-uint32_t pbf_read_sorted(pbf_world *w, float *positions, float *velocities, float *volumes, uint32_t *ids,
-                         uint32_t max)
-{
-    uint32_t n = gpu_count(w);
-    if (n == 0) return 0;
-    float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
-    uint32_t *id = malloc((size_t)n * 4);
-    id_index *order = malloc((size_t)n * sizeof *order);
-    if (!p || !v || !id || !order) {
-        free(p);
-        free(v);
-        free(id);
-        free(order);
-        return 0;
-    }
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->pos[w->cur_pos]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, p);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->vel[w->cur_vel]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 16, v);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->ids[w->cur_ids]);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)n * 4, id);
-    for (uint32_t i = 0; i < n; i++) order[i] = (id_index){ id[i], i };
-    qsort(order, n, sizeof *order, cmp_id);
-    uint32_t m = n < max ? n : max;
-    for (uint32_t i = 0; i < m; i++) {
-        uint32_t s = order[i].slot;
-        if (positions) memcpy(positions + 4 * i, p + 4 * s, 16);
-        if (velocities) {
-            memcpy(velocities + 4 * i, v + 4 * s, 12);
-            velocities[4 * i + 3] = 0.0f; // w is the solver's scratch (particle volume)
-        }
-        if (volumes) volumes[i] = v[4 * s + 3];
-        if (ids) ids[i] = order[i].id;
-    }
-    free(p);
-    free(v);
-    free(id);
-    free(order);
-    return m;
-}
-
-uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
-{
-    return w ? pbf_read_sorted(w, positions, velocities, NULL, ids, max) : 0;
-}
-
-uint64_t pbf_world_state_hash(pbf_world *w)
-{
-    if (!w) return 0;
-    uint32_t n = gpu_count(w);
-    float *p = malloc((size_t)n * 16 + 16), *v = malloc((size_t)n * 16 + 16);
-    uint64_t h = 1469598103934665603ull;
-    if (p && v) {
-        pbf_world_read_particles(w, p, v, NULL, n);
-        const unsigned char *bytes[2] = { (const unsigned char *)p, (const unsigned char *)v };
-        for (int b = 0; b < 2; b++)
-            for (size_t i = 0; i < (size_t)n * 16; i++) {
-                h ^= bytes[b][i];
-                h *= 1099511628211ull;
-            }
-    }
-    free(p);
-    free(v);
-    return h;
 }

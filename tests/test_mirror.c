@@ -607,10 +607,11 @@ static void run_scene(const support_gpu *f, const mirror_scene *s, tally *t)
     memset(t, 0, sizeof *t);
     for (int c = 0; c < C_COUNT; c++) t->tol[c] = checks[c].tol;
     // The CPU takes the GPU's particles after a warm-up it did not run, so it has not seen
-    // the speeds the time-step guard looks back at: the guard is off here (test_solver runs
-    // it on both worlds from the start).
+    // the speeds and compressions the time-step guard looks back at: the guard is off here
+    // (test_solver runs it on both worlds from the start).
     support_scene sc = s->s;
     sc.params.cfl = 0.0f;
+    sc.params.guard_compression = 0.0f;
     const pbf_params *p = &sc.params;
     pbf_constants k = pbf_derive_constants(p);
     pbf_world *g = support_gpu_world(f, &sc);

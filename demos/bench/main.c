@@ -115,6 +115,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     d.params.substeps = substeps;
     d.params.sor = (float)o->sor;
     d.params.cfl = 0.0f; // each row measures the iterations x substeps it names: no time-step guard
+    d.params.guard_compression = 0.0f;
     d.params.vorticity = 0.0f; // the reference solver runs PBF with XSPH viscosity only
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
     d.capacity = (uint32_t)(n + n / 4 + 1024);

@@ -21,7 +21,8 @@
 static const char *const known_names[] = {
     "particle_radius", "kernel_radius", "rest_density", "iterations", "substeps", "relaxation", "sor",
     "scorr_k",         "scorr_n",       "scorr_dq",     "vorticity",  "viscosity", "damping", "max_speed",
-    "gravity",         "",              "PARTICLE_RADIUS", "iterations ", "kernel_radiu",
+    "gravity",         "cfl",           "max_substeps", "guard_compression", "wall_friction",
+    "surface_tension", "",              "PARTICLE_RADIUS", "iterations ", "kernel_radiu",
 };
 
 // A name: one of the known ones, or a string made of input bytes (NUL-terminated copy in buf).

@@ -1,0 +1,46 @@
+#!/bin/sh
+# Runs on a lent GPU machine, from the tree's root, with .gpu/ made by tools/gpu_pack.sh:
+# unpacks the GL dispatch packages and the binaries, then the benchmark (64k-4M, 3 and 4
+# iterations), every scene (frame 0 against llvmpipe's) and the suite in strict GL mode,
+# each with its own time limit so that one call of the device tool fits (BUDGET seconds
+# in all, default 530). Results go to $OUT as they come: env.txt, run.log, bench.tgz,
+# scenes.tgz, suite.log, testlogs.tgz. tools/gpu_check.sh does the work; see
+# docs/performance.md, "On an NVIDIA H200", for what a run found.
+cd "$(dirname "$0")/.." || exit 2
+T0=$(date +%s)
+el() { echo "[$(($(date +%s) - T0)) s] $*"; }
+O=${OUT:-build/gpu-device}
+mkdir -p "$O"
+for f in .gpu/debs/*.deb; do dpkg -x "$f" /; done
+ldconfig
+LD_LIBRARY_PATH="$PWD/.gpu/lib"
+for l in .gpu/fallback/*; do
+    ldconfig -p | grep -q "[[:space:]]$(basename "$l") " || { LD_LIBRARY_PATH="$LD_LIBRARY_PATH:$PWD/.gpu/fallback"; break; }
+done
+export LD_LIBRARY_PATH
+j=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+[ -n "${__EGL_VENDOR_LIBRARY_FILENAMES:-}" ] || [ ! -f $j ] || export __EGL_VENDOR_LIBRARY_FILENAMES=$j
+mkdir -p build && rm -rf build/bin build/lib && tar xzf .gpu/bin.tgz -C build
+{
+    date -u; uname -a; nvidia-smi 2>&1 | head -12; head -3 /etc/os-release
+    echo "LD_LIBRARY_PATH=$LD_LIBRARY_PATH EGL vendor: ${__EGL_VENDOR_LIBRARY_FILENAMES:-unset}"
+    ldd build/bin/seiche | grep -E 'not found' ; nproc
+} >"$O/env.txt" 2>&1
+el "env"
+for it in 4 3; do
+    timeout -k 5 80 tools/gpu_check.sh --parts bench --bench-iterations $it --bench-steps 60 --bench-warmup 10 \
+        --timeout 40 --out build/g-bench$it >>"$O/run.log" 2>&1
+    el "bench, $it iterations: exit $?"
+done
+tar czf "$O/bench.tgz" -C build g-bench4 g-bench3
+grep '^| [0-9]' build/g-bench4/report.md | cut -c1-80
+timeout -k 5 120 tools/gpu_check.sh --parts scenes --frames 120 --timeout 25 --reference .gpu/ref.json \
+    --out build/g-scenes >>"$O/run.log" 2>&1
+el "scenes: exit $?"
+tar czf "$O/scenes.tgz" -C build g-scenes
+grep '^| ' build/g-scenes/report.md | cut -c1-120
+left=$((${BUDGET:-530} - ($(date +%s) - T0)))
+SEICHE_FUZZ_SECONDS=0 timeout -k 5 "$left" tests/run.sh >"$O/suite.log" 2>&1
+el "suite ($left s allowed): exit $?"
+tar czf "$O/testlogs.tgz" -C build test-logs
+grep -E '^FAILED|passed,' "$O/suite.log"
