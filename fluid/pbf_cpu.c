@@ -346,9 +346,10 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
     float seen = w->steps >= PBF_GUARD_LATENCY ? w->speed_of[(w->steps - PBF_GUARD_LATENCY) % PBF_GUARD_HISTORY] : -1.0f;
     int substeps = pbf_guard_substeps(&w->params, w->k.spacing, dt, w->steps, seen, w->added_speed, NULL);
     if (w->params.guard_compression > 0.0f) {
-        const pbf_guard_seen *record =
-            w->steps >= PBF_GUARD_LATENCY ? &w->seen_of[(w->steps - PBF_GUARD_LATENCY) % PBF_GUARD_HISTORY] : NULL;
-        int level = pbf_guard_compression(&w->params, &w->compression, record, NULL);
+        uint64_t back = w->steps - PBF_GUARD_LATENCY; // used only from step 2 on
+        const pbf_guard_seen *record = w->steps >= PBF_GUARD_LATENCY ? &w->seen_of[back % PBF_GUARD_HISTORY] : NULL;
+        const pbf_guard_seen *before = w->steps > PBF_GUARD_LATENCY ? &w->seen_of[(back - 1) % PBF_GUARD_HISTORY] : NULL;
+        int level = pbf_guard_compression(&w->params, &w->compression, record, before, NULL);
         if (level > substeps) substeps = level;
     }
     pbf_gpu_params P = uniforms(w, dt / (float)substeps);

@@ -343,7 +343,8 @@ int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t st
     return needed > base ? (int)needed : base;
 }
 
-int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf_guard_seen *seen, bool *capped)
+int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf_guard_seen *seen,
+                          const pbf_guard_seen *before, bool *capped)
 {
     int base = p->substeps;
     int most = p->max_substeps > base ? p->max_substeps : base;
@@ -358,6 +359,11 @@ int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf
     if (!seen || seen->substeps <= 0) return state->level;
     float worst = seen->density_error_max, mean = seen->density_error_avg;
     if (!isfinite(worst) || !isfinite(mean)) return state->level; // diverged: the host's check reports it
+    // The worst two steps on, at the pace it rose from `before` (same substeps: one regime):
+    // water that settles slows down, a column the substeps cannot hold speeds up.
+    if (before && before->substeps == seen->substeps && isfinite(before->density_error_max) &&
+        worst > before->density_error_max)
+        worst += (float)PBF_GUARD_LATENCY * (worst - before->density_error_max);
     float ratio = fmaxf(worst / target, mean / (0.1f * target));
     if (ratio > 1.0f) { // over: at once, the substeps that bring it to half the target
         state->quiet = 0;

@@ -827,12 +827,13 @@ static int guard_substeps(pbf_world *w, float dt)
     const pbf_params *p = &w->params;
     if (!(p->cfl > 0.0f) && !(p->guard_compression > 0.0f)) return p->substeps;
     float seen = -1.0f;
-    const pbf_guard_seen *record = NULL;
+    const pbf_guard_seen *record = NULL, *before = NULL;
     if (w->step_index >= PBF_GUARD_LATENCY) {
         uint64_t back = w->step_index - PBF_GUARD_LATENCY;
         seen = speed_of_step(w, back);
-        int k = (int)(back % PBF_GUARD_HISTORY);
+        int k = (int)(back % PBF_GUARD_HISTORY), k1 = (int)((back + PBF_GUARD_HISTORY - 1) % PBF_GUARD_HISTORY);
         if (w->speed_step[k] == back + 1) record = &w->seen_of[k];
+        if (back >= 1 && w->speed_step[k1] == back) before = &w->seen_of[k1];
     }
     bool capped = false;
     int n = pbf_guard_substeps(p, w->k.spacing, dt, w->step_index, seen, w->added_speed, &capped);
@@ -845,7 +846,7 @@ static int guard_substeps(pbf_world *w, float dt)
     }
     w->guard_capped = capped;
     bool squeezed = false;
-    int level = pbf_guard_compression(p, &w->compression, record, &squeezed);
+    int level = pbf_guard_compression(p, &w->compression, record, before, &squeezed);
     if (squeezed && !w->compression_capped && w->log) {
         char msg[384];
         snprintf(msg, sizeof msg, "time-step guard: step %llu compressed the water to +%.1f %% at worst, %.2f %% on "

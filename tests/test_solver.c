@@ -632,7 +632,8 @@ static void bad_parameters_are_rejected_naming_field_value_and_range(void **stat
 /// pbf_guard_compression, the rule both worlds share: over the target it asks at once for
 /// the substeps that bring the measured step to half of it (compression ~ 1/substeps^2),
 /// counted from what that step took, so a record that predates the raise asks for nothing
-/// more; under a quarter of the target for PBF_GUARD_QUIET_STEPS steps in a row
+/// more; a worst that rose since the step before (at the same substeps) is carried on
+/// at that pace over the two steps it sees late; under a quarter of the target for PBF_GUARD_QUIET_STEPS steps in a row
 /// it takes one substep fewer, down to `substeps`, and anything else holds; past
 /// max_substeps it stops there and says so; no record or a NaN leave no mark, and off
 /// means `substeps`.
@@ -644,34 +645,44 @@ static void compression_guard_raises_at_once_and_eases_back_slowly(void **state)
     bool capped = false;
     pbf_guard_state g = { 0, 0 };
     const pbf_guard_seen worst4 = { 0.40f, 0.005f, 4 }, mean4 = { 0.02f, 0.04f, 4 };
-    assert_int_equal(pbf_guard_compression(&p, &g, &worst4, &capped), 12); // ceil(4 sqrt(8)) = ceil(11.3)
+    assert_int_equal(pbf_guard_compression(&p, &g, &worst4, NULL, &capped), 12); // ceil(4 sqrt(8)) = ceil(11.3)
     g = (pbf_guard_state){ 0, 0 };
-    assert_int_equal(pbf_guard_compression(&p, &g, &mean4, &capped), 12); // the mean 4x its tenth
-    assert_int_equal(pbf_guard_compression(&p, &g, &worst4, &capped), 12); // the step before the raise
+    assert_int_equal(pbf_guard_compression(&p, &g, &mean4, NULL, &capped), 12); // the mean 4x its tenth
+    assert_int_equal(pbf_guard_compression(&p, &g, &worst4, NULL, &capped), 12); // the step before the raise
     assert_false(capped);
+
+    // A worst that rose 3 points a step, seen at 7 %: 13 % two steps on, ceil(4 sqrt(2.6)).
+    const pbf_guard_seen rising = { 0.07f, 0.002f, 4 }, earlier = { 0.04f, 0.002f, 4 },
+                         higher = { 0.09f, 0.002f, 4 }, other = { 0.04f, 0.002f, 8 };
+    g = (pbf_guard_state){ 0, 0 };
+    assert_int_equal(pbf_guard_compression(&p, &g, &rising, NULL, NULL), 4);      // alone: 0.7 of the target
+    assert_int_equal(pbf_guard_compression(&p, &g, &rising, &earlier, NULL), 7);
+    g = (pbf_guard_state){ 0, 0 };
+    assert_int_equal(pbf_guard_compression(&p, &g, &rising, &higher, NULL), 4);   // falling: as measured
+    assert_int_equal(pbf_guard_compression(&p, &g, &rising, &other, NULL), 4);    // other substeps: no pace
 
     const pbf_guard_seen held = { 0.05f, 0.003f, 12 }, quiet = { 0.01f, 0.001f, 12 };
     g = (pbf_guard_state){ 12, 0 };
-    for (int k = 1; k < PBF_GUARD_QUIET_STEPS; k++) assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL), 12);
-    assert_int_equal(pbf_guard_compression(&p, &g, &held, NULL), 12); // half the target: the quiet starts over
-    for (int k = 1; k < PBF_GUARD_QUIET_STEPS; k++) assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL), 12);
-    assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL), 11); // a quiet second: one fewer
+    for (int k = 1; k < PBF_GUARD_QUIET_STEPS; k++) assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL, NULL), 12);
+    assert_int_equal(pbf_guard_compression(&p, &g, &held, NULL, NULL), 12); // half the target: the quiet starts over
+    for (int k = 1; k < PBF_GUARD_QUIET_STEPS; k++) assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL, NULL), 12);
+    assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL, NULL), 11); // a quiet second: one fewer
     g = (pbf_guard_state){ 4, PBF_GUARD_QUIET_STEPS };
-    assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL), 4);  // not under `substeps`
+    assert_int_equal(pbf_guard_compression(&p, &g, &quiet, NULL, NULL), 4);  // not under `substeps`
 
     const pbf_guard_seen crushed = { 10.0f, 0.5f, 4 };
     g = (pbf_guard_state){ 4, 0 };
-    assert_int_equal(pbf_guard_compression(&p, &g, &crushed, &capped), 32);
+    assert_int_equal(pbf_guard_compression(&p, &g, &crushed, NULL, &capped), 32);
     assert_true(capped);
     const pbf_guard_seen nan = { NAN, 0.5f, 4 };
     g = (pbf_guard_state){ 7, 0 };
-    assert_int_equal(pbf_guard_compression(&p, &g, &nan, NULL), 7);
-    assert_int_equal(pbf_guard_compression(&p, &g, NULL, NULL), 7);
+    assert_int_equal(pbf_guard_compression(&p, &g, &nan, NULL, NULL), 7);
+    assert_int_equal(pbf_guard_compression(&p, &g, NULL, NULL, NULL), 7);
     g = (pbf_guard_state){ 0, 0 };
-    assert_int_equal(pbf_guard_compression(&p, &g, NULL, NULL), 4);
+    assert_int_equal(pbf_guard_compression(&p, &g, NULL, NULL, NULL), 4);
     p.guard_compression = 0.0f;
     g = (pbf_guard_state){ 12, 3 };
-    assert_int_equal(pbf_guard_compression(&p, &g, &worst4, NULL), 4); // turned off: `substeps`
+    assert_int_equal(pbf_guard_compression(&p, &g, &worst4, NULL, NULL), 4); // turned off: `substeps`
 }
 
 /// A column of water 0.4 m deep at 2 cm particles, one iteration and one substep of a
