@@ -821,7 +821,8 @@ static float speed_of_step(pbf_world *w, uint64_t step)
 
 // The time-step guard (params.cfl, pbf_guard_substeps; params.guard_compression,
 // pbf_guard_compression): the substeps this step takes, with a warning (once while it
-// lasts) when max_substeps is not enough. Both read the record of step now - 2 only.
+// lasts) when max_substeps is not enough. They read the records of steps now - 2 (and, for
+// the compression's pace, now - 3), which the GPU has normally finished: no stall.
 static int guard_substeps(pbf_world *w, float dt)
 {
     const pbf_params *p = &w->params;
