@@ -431,8 +431,7 @@ static void refresh(pbf_world *w, int64_t wait_step)
         stats_slot *r = &w->ring[(w->ring_head + k) % RING];
         if (!r->pending || !r->fence) continue;
         bool wait = wait_step >= 0 && (int64_t)r->step <= wait_step;
-        GLenum st = glClientWaitSync(r->fence, GL_SYNC_FLUSH_COMMANDS_BIT, wait ? 10000000000ull : 0);
-        if (st != GL_ALREADY_SIGNALED && st != GL_CONDITION_SATISFIED) break;
+        if (!pbf_step_done(w, r, wait)) break;
         pbf_colliders_read_forces(w, r);
     }
 }

@@ -154,6 +154,7 @@ struct pbf_world {
     uint64_t speed_step[PBF_GUARD_HISTORY]; // 1 + the step each holds (0: none)
     float added_speed[PBF_GUARD_HISTORY];   // fastest particle appended before step k, same index
     bool guard_capped;          // the guard wanted more than max_substeps (warned once)
+    bool warned_hang;           // a step's fence did not signal in PBF_STEP_WAIT_NS (said once)
     pbf_guard_seen seen_of[PBF_GUARD_HISTORY]; // step k's compression and substeps, same index as speed_of
     pbf_guard_state compression; // the compression guard's level and quiet count (pbf_guard_compression)
     bool compression_capped;    // it wanted more than max_substeps (warned once while it lasts)
@@ -207,6 +208,12 @@ void pbf_tint_locate(pbf_world *w);
 pbf_result pbf_emitters_emit(pbf_world *w, float dt);
 void pbf_emitters_free(pbf_world *w);
 
+/// How long a wait for a step's fence may take before the GPU counts as hung (ns).
+#define PBF_STEP_WAIT_NS 10000000000ull
+/// True once step record r's fence has signalled; with `wait`, after waiting up to
+/// PBF_STEP_WAIT_NS; a GPU that has not finished by then is reported (a warning through the
+/// world's log, once per world) and the caller goes on without that record.
+bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait);
 /// Colliders (pbf_colliders.c): upload before a step, read forces after.
 void pbf_colliders_upload(pbf_world *w);
 void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot);

@@ -753,6 +753,26 @@ static void read_slot(pbf_world *w, stats_slot *r, pbf_step_stats *out)
     pbf_colliders_read_forces(w, r);
 }
 
+bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait)
+{
+    GLenum st = glClientWaitSync(r->fence, GL_SYNC_FLUSH_COMMANDS_BIT, wait ? PBF_STEP_WAIT_NS : 0);
+    if (st == GL_ALREADY_SIGNALED || st == GL_CONDITION_SATISFIED) return true;
+    if (wait && !w->warned_hang) {
+        // Seen once on an NVIDIA H200: runs took 20 s longer, with black screenshots, and
+        // nothing said why. A step the GPU has not finished in 10 s is not a slow step.
+        w->warned_hang = true;
+        if (w->log) {
+            char msg[320];
+            snprintf(msg, sizeof msg, "the GPU has not finished step %llu after %.0f s (glClientWaitSync: %s): the GL "
+                     "context is hung or lost (on NVIDIA the kernel log names it, as an Xid); its statistics and "
+                     "forces are read as they are", (unsigned long long)r->step, PBF_STEP_WAIT_NS * 1e-9,
+                     st == GL_TIMEOUT_EXPIRED ? "GL_TIMEOUT_EXPIRED" : "GL_WAIT_FAILED");
+            w->log(w->log_user, 2, msg);
+        }
+    }
+    return false;
+}
+
 int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
 {
     if (!w) return 0;
@@ -772,8 +792,7 @@ int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
         int idx = (w->ring_head + k) % RING;
         stats_slot *r = &w->ring[idx];
         if (!r->pending) continue;
-        GLenum st = glClientWaitSync(r->fence, GL_SYNC_FLUSH_COMMANDS_BIT, wait ? 10000000000ull : 0);
-        if (st != GL_ALREADY_SIGNALED && st != GL_CONDITION_SATISFIED) break;
+        if (!pbf_step_done(w, r, wait)) break;
         pbf_step_stats tmp;
         read_slot(w, r, &tmp);
         if (n < max && out) out[n] = tmp;
@@ -792,7 +811,7 @@ pbf_result pbf_world_step(pbf_world *w, float dt) { return pbf_world_step_with(w
 // next poll. With no poll at all, the oldest kept records make room.
 static void read_early(pbf_world *w, stats_slot *slot)
 {
-    glClientWaitSync(slot->fence, GL_SYNC_FLUSH_COMMANDS_BIT, 10000000000ull);
+    pbf_step_done(w, slot, true);
     if (w->done_count == RING) {
         memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
         w->done_count--;
