@@ -63,10 +63,7 @@ bool pbf_download(pbf_world *w, GLuint src, GLintptr offset, GLsizeiptr size, vo
         GLsizeiptr want = w->readback_size > 0 ? w->readback_size : 4096;
         while (want < size) want *= 2;
         if (w->readback) glDeleteBuffers(1, &w->readback);
-        glGenBuffers(1, &w->readback);
-        glBindBuffer(GL_COPY_WRITE_BUFFER, w->readback);
-        glBufferData(GL_COPY_WRITE_BUFFER, want, NULL, GL_STREAM_READ);
-        glObjectLabel(GL_BUFFER, w->readback, -1, "pbf.readback");
+        w->readback = new_buffer(want, NULL, "pbf.readback", GL_STREAM_READ);
         if (glGetError() != GL_NO_ERROR) {
             glDeleteBuffers(1, &w->readback);
             w->readback = 0;

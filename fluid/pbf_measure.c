@@ -113,7 +113,7 @@ pbf_result pbf_world_region_stats(pbf_world *w, const float box_min[3], const fl
     return r;
 }
 
-// ---- downloads of the whole state (tests, tools; pbf_download) ---------------------------------------------------------------
+// ---- downloads of the whole state (tests, tools; pbf_download) ---------------------------
 
 typedef struct id_index {
     uint32_t id, slot;

@@ -76,12 +76,12 @@ typedef struct pbf_guard_state {
 /// missing. It sees two steps late, so a worst that rose since `before` (at the same
 /// substeps) is carried on at that pace over those two steps. With r the larger of that
 /// worst / guard_compression and the mean / (guard_compression / 10), and n the substeps
-/// `seen` took, the substeps
-/// that would bring that step to half the target are ceil(n sqrt(2 r)) (compression falls
-/// as 1/substeps^2). r > 1: it asks for those at once, at most max(substeps, max_substeps)
-/// (*capped, may be NULL, set when that is not enough). r < 1/4 for
-/// PBF_GUARD_QUIET_STEPS steps in a row: one substep fewer, down to params.substeps. Else it
-/// holds. Returns the level; shared by the GPU and CPU worlds, which keep `state`.
+/// `seen` took, the substeps that would bring that step to half the target are
+/// ceil(n sqrt(2 r)) (compression falls as 1/substeps^2). r > 1: it asks for those at once,
+/// at most max(substeps, max_substeps) (*capped, may be NULL, set when that is not
+/// enough). r < 1/4 for PBF_GUARD_QUIET_STEPS steps in a row: one substep fewer, down to
+/// params.substeps. Else it holds. Returns the level; shared by the GPU and CPU worlds,
+/// which keep `state`.
 int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf_guard_seen *seen,
                           const pbf_guard_seen *before, bool *capped);
 
