@@ -7,6 +7,7 @@
 // The continuous V(d) and G(d) of the boundary model (pbf_kernels.h), for the tests.
 float pbf_cpu_boundary_volume(float d, float h) { return pbf_boundary_volume(d, h, 1.0f); }
 float pbf_cpu_boundary_gradient(float d, float h) { return pbf_boundary_gradient(d, h, 1.0f); }
+float pbf_cpu_curved_boundary(float d, float h, float R, float *G) { return pbf_curved_boundary(d, h, R, 1.0f, G); }
 
 // ---- one function per pass, in the step's order ---------------------------------------
 

@@ -66,6 +66,24 @@ static double half_space_integral(double (*f)(double r, double z, double h, doub
     return sum * dz * drho;
 }
 
+/// Integral of f(r, z) over a ball of radius R whose surface is at distance d along z
+/// (centre at z = R + d), by the midpoint rule on a (z, rho) grid of n x n cells inside the
+/// kernel's reach: independent of the cap-area derivation pbf_curved_boundary uses.
+static double ball_integral(double (*f)(double r, double z, double h, double c), double d, double R, double h,
+                            double c, int n)
+{
+    double dz = (h - d) / n, drho = h / n, sum = 0.0, D = R + d;
+    for (int a = 0; a < n; a++) {
+        double z = d + (a + 0.5) * dz;
+        for (int b = 0; b < n; b++) {
+            double rho = (b + 0.5) * drho;
+            double r = sqrt(z * z + rho * rho);
+            if (r < h && (z - D) * (z - D) + rho * rho < R * R) sum += f(r, z, h, c) * 2.0 * PI * rho;
+        }
+    }
+    return sum * dz * drho;
+}
+
 /// W_spiky = c (h - r)^3 (c = -spiky_grad / 3), the density kernel.
 static double spiky_at(double r, double z, double h, double c)
 {
@@ -124,6 +142,27 @@ static void kernels_are_normalised_and_boundary_closed_forms_match_integrals(voi
     }
     print_message("worst |V - integral| = %.2e, |G - integral| h = %.2e\n", worst_v, worst_g);
     assert_true(fabs(pbf_cpu_boundary_gradient(0.0f, (float)h) * h - 1.5) < 1e-5);
+
+    // A ball's share (spheres, capsules) against the integral over the ball; a large ball
+    // is the plane's. At R = h a half-space overstates the share by half at d = h/4.
+    const double radii[] = { 0.4, 1.0, 3.0 };
+    for (size_t a = 0; a < sizeof radii / sizeof radii[0]; a++) {
+        for (size_t i = 0; i < 4; i++) {
+            double d = fractions[i] * h, R = radii[a] * h;
+            float G;
+            double v = pbf_cpu_curved_boundary((float)d, (float)h, (float)R, &G);
+            double v_num = ball_integral(spiky_at, d, R, h, -k.spiky_grad / 3.0, 800);
+            double g_num = ball_integral(spiky_grad_z, d, R, h, -k.spiky_grad, 800);
+            print_message("ball R = %.1f h, d = %.2f h: V %.5f (integral %.5f), G h %.5f (integral %.5f)\n", radii[a],
+                          fractions[i], v, v_num, G * h, g_num * h);
+            assert_true(fabs(v - v_num) < 2e-3);
+            assert_true(fabs(G - g_num) * h < 4e-3);
+        }
+    }
+    float G_far, G_plane = pbf_cpu_boundary_gradient(0.25f * (float)h, (float)h);
+    double v_far = pbf_cpu_curved_boundary(0.25f * (float)h, (float)h, 1e5f * (float)h, &G_far);
+    assert_true(fabs(v_far - pbf_cpu_boundary_volume(0.25f * (float)h, (float)h)) < 1e-6);
+    assert_true(fabsf(G_far - G_plane) * (float)h < 1e-5f);
 }
 
 // ---- 2. GPU against the CPU reference ----------------------------------------------------

@@ -262,6 +262,36 @@ PBF_FN float pbf_boundary_gradient(float d, float h, float scale)
     return scale * (1.5f / h) * c2 * c2 * (1.0f + 4.0f * u);
 }
 
+/// V(d) and G(d) (the return value, 1/m, into PBF_REF(G)) of a convex solid whose surface
+/// is curved with radius R (m) at the particle's nearest point, times scale. Exact for a
+/// ball of radius R: the kernel's sphere of radius r about the particle cuts the ball in a
+/// cap of area pi r (r - d)(2R - (r - d)) / (R + d) (2 pi r (r - d) for a plane), so with
+/// t = r/h, u = d/h, q = R/h and the moments M_k = int_u^T (1-t)^3 t (t-u)^k dt,
+/// T = min(1, u + 2q):
+///   V = 15 (2q M1 - M2) / (q + u),   G h = (V + 30 q M0 - 30 M1) / (q + u)
+/// (no boundary terms: the cap's area vanishes at both ends). As R grows they become the
+/// plane's V and G above. A solid curved in one direction only (a cylinder's side) is
+/// passed the radius of the ball with its mean curvature, 2R: right to first order in h/R.
+PBF_FN float pbf_curved_boundary(float d, float h, float R, float scale, PBF_OUT(float) G)
+{
+    float u = pbf_clamp(d / h, 0.0f, 1.0f), q = R / h;
+    if (q > 1.0e4f) {
+        PBF_REF(G) = pbf_boundary_gradient(d, h, scale);
+        return pbf_boundary_volume(d, h, scale);
+    }
+    float c = 1.0f - u, c2 = c * c;
+    // (1-t)^3 t = a0 + a1 s + a2 s^2 + a3 s^3 - s^4 in s = t - u, integrated to S = T - u
+    float a0 = u * c2 * c, a1 = c2 * c - 3.0f * u * c2, a2 = 3.0f * u * c - 3.0f * c2, a3 = 3.0f * c - u;
+    float S = pbf_min(c, 2.0f * q);
+    float S2 = S * S, S3 = S2 * S;
+    float M0 = S * (a0 + S * (a1 / 2.0f + S * (a2 / 3.0f + S * (a3 / 4.0f - S / 5.0f))));
+    float M1 = S2 * (a0 / 2.0f + S * (a1 / 3.0f + S * (a2 / 4.0f + S * (a3 / 5.0f - S / 6.0f))));
+    float M2 = S3 * (a0 / 3.0f + S * (a1 / 4.0f + S * (a2 / 5.0f + S * (a3 / 6.0f - S / 7.0f))));
+    float V = 15.0f * (2.0f * q * M1 - M2) / (q + u);
+    PBF_REF(G) = scale * (V + 30.0f * q * M0 - 30.0f * M1) / ((q + u) * h);
+    return scale * V;
+}
+
 /// The solver's V(d) and G(d): calibrated to the lattice.
 PBF_FN float boundary_volume(PBF_P_ARG float d) { return pbf_boundary_volume(d, P.h, P.boundary_scale); }
 PBF_FN float boundary_gradient(PBF_P_ARG float d) { return pbf_boundary_gradient(d, P.h, P.boundary_scale); }
