@@ -134,6 +134,11 @@ typedef struct pbf_params {
                             ///< floor (dimensionless), [0, 1]: water sliding along a wall at
                             ///< speed u feels a shear stress rho C_f u^2 against its motion;
                             ///< 0 makes the walls frictionless (docs/solver.md)
+    float surface_fill;     ///< how much of a free-surface particle's missing neighbourhood
+                            ///< its density constraint counts, [0, 1]: the share is estimated
+                            ///< from the density gradient, so a surface layer cannot crowd to
+                            ///< rho0 within itself; 0 (default) off (docs/solver.md, "The
+                            ///< free surface's missing share")
 } pbf_params;
 
 /// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).

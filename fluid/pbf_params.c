@@ -31,6 +31,7 @@ pbf_params pbf_default_params(void)
     p.cfl = 0.5f;
     p.max_substeps = 32;
     p.guard_compression = 0.0f; // off: a change of substeps moves the water (docs/solver.md)
+    p.surface_fill = 0.0f;  // off: measured, not yet the default (docs/solver.md)
     p.wall_friction = 0.01f; // a rough wall: the dam-break front on Martin & Moyce's (docs/solver.md)
     return p;
 }
@@ -162,6 +163,8 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
           "guard_compression", "%g", (double)p->guard_compression, "in [0, 1] (a fraction of rho0; 0: off)");
     CHECK(isfinite(p->wall_friction) && p->wall_friction >= 0.0f && p->wall_friction <= 1.0f, "wall_friction", "%g",
           (double)p->wall_friction, "in [0, 1] (0: frictionless walls)");
+    CHECK(isfinite(p->surface_fill) && p->surface_fill >= 0.0f && p->surface_fill <= 1.0f, "surface_fill", "%g",
+          (double)p->surface_fill, "in [0, 1] (0: off)");
     if (err && err_size) err[0] = 0;
     return PBF_OK;
 }
@@ -188,6 +191,7 @@ static const pbf_param_info param_table[] = {
     I(max_substeps, "", 1, 64, "most substeps the time-step guard may take"),
     F(guard_compression, "", 0.0, 1.0, "time-step guard: worst compression (mean: a tenth) a step aims under (0 off)"),
     F(wall_friction, "", 0.0, 1.0, "skin-friction coefficient of the container's walls and floor; 0 frictionless"),
+    F(surface_fill, "", 0.0, 1.0, "share of a free-surface particle's missing neighbourhood its constraint counts (0 off)"),
 };
 #undef F
 #undef I
@@ -317,6 +321,7 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->radius = p->particle_radius;
     g->surface_tension = p->surface_tension;
     g->wall_friction = p->wall_friction;
+    g->surface_fill = p->surface_fill;
     // V0 * 32 / (pi h^9), V0 = m / rho0 the rest volume of a particle.
     g->cohesion_norm = (float)((double)k->mass / p->rest_density * 32.0 / (PBF_PI * pow(h, 9)));
 }

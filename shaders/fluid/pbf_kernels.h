@@ -225,12 +225,37 @@ PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(
     PBF_REF(sum_grad2) += pbf_dot(g, g);
 }
 
+/// The share of particle i's neighbourhood that is missing at a free surface (air), from
+/// g = |grad_i C_i| (1/m, boundaries included, so it is about 0 in the bulk and next to a
+/// wall, and about G(d) at distance d below a free surface). A plane of air at distance d
+/// takes k V(d) and gives k G(d) (the wall model of the boundaries below, with its lattice
+/// calibration k = P.boundary_scale): with c = 1 - d/h, G h / (1.5 k) = c^4 (5 - 4c) is
+/// solved for c by bisection and V = k c^5 (3 - 2c) / 2 returned, times P.surface_fill.
+/// It depends on the neighbours' balance, not their number, so a surface layer that crowds
+/// within itself cannot fill its missing half that way.
+PBF_FN float free_surface_share(PBF_P_ARG float g)
+{
+    float k = P.boundary_scale;
+    float y = g * P.h / (1.5f * k);
+    if (y >= 1.0f) return P.surface_fill * 0.5f * k;
+    float lo = 0.0f, hi = 1.0f;
+    for (int it = 0; it < 14; it++) {
+        float c = 0.5f * (lo + hi);
+        if (c * c * c * c * (5.0f - 4.0f * c) < y) lo = c;
+        else hi = c;
+    }
+    float c = 0.5f * (lo + hi), c2 = c * c;
+    return P.surface_fill * 0.5f * k * c2 * c2 * c * (3.0f - 2.0f * c);
+}
+
 /// The multiplier of a particle with density rho (kg/m^3) and the sums above (boundaries
-/// included): C_i = max(rho_i / rho0 - 1, 0), lambda_i = -C_i / (|grad_i C_i|^2 +
+/// included): C_i = max(rho_i / rho0 + A_i - 1, 0) with A_i the free surface's missing
+/// share (0 unless surface_fill > 0), lambda_i = -C_i / (|grad_i C_i|^2 +
 /// sum_j |grad_j C_i|^2 + epsilon), m^2.
 PBF_FN float density_lambda(PBF_P_ARG float rho, pbf_vec3 grad_i, float sum_grad2)
 {
-    float C = pbf_max(rho * P.inv_rest_density - 1.0f, 0.0f);
+    float air = P.surface_fill > 0.0f ? free_surface_share(PBF_P_ pbf_length(grad_i)) : 0.0f;
+    float C = pbf_max(rho * P.inv_rest_density + air - 1.0f, 0.0f);
     return -C / (pbf_dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
 }
 

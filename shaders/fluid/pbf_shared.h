@@ -153,7 +153,7 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT surface_tension; // gamma, m/s^2 (0: the tension passes do not run)
     PBF_FLOAT cohesion_norm; // 32 / (pi h^9) * m / rho0, 1/m^6: the cohesion spline's factor
     PBF_FLOAT wall_friction; // skin-friction coefficient C_f of the container's planes
-    PBF_FLOAT pad_tension1;
+    PBF_FLOAT surface_fill;  // share of the free surface's missing neighbourhood counted in C (0 off)
 } PBF_END(pbf_gpu_params);
 
 // A collider on the GPU: a shape in a rigid frame at two poses (previous and current

@@ -21,7 +21,7 @@
 static const char *const known_names[] = {
     "particle_radius", "kernel_radius", "rest_density", "iterations", "substeps", "relaxation", "sor",
     "scorr_k",         "scorr_n",       "scorr_dq",     "vorticity",  "viscosity", "damping", "max_speed",
-    "gravity",         "cfl",           "max_substeps", "guard_compression", "wall_friction",
+    "gravity",         "cfl",           "max_substeps", "guard_compression", "wall_friction", "surface_fill",
     "surface_tension", "",              "PARTICLE_RADIUS", "iterations ", "kernel_radiu",
 };
 
