@@ -35,6 +35,7 @@ typedef struct body_entry {
     float (*local)[7];          // compound children: position xyz, rotation xyzw in the body frame
     cpl_body_stats stats;
     float force[3], torque[3]; // applied in each substep of the current step (smoothed)
+    float damping[3];          // N: the lag damping applied with it this step (not smoothed)
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
 } body_entry;
 
@@ -579,7 +580,8 @@ cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 posit
 
 static void apply_fluid(cpl_coupling *c, body_entry *e)
 {
-    phys_body_apply_force(c->def.phys, e->body, (phys_vec3){ e->force[0], e->force[1], e->force[2] }, true);
+    phys_vec3 f = { e->force[0] + e->damping[0], e->force[1] + e->damping[1], e->force[2] + e->damping[2] };
+    phys_body_apply_force(c->def.phys, e->body, f, true);
     phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
 
@@ -609,6 +611,41 @@ static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
         e->torque[k] *= s;
     }
     e->stats.limited_steps++;
+}
+
+// The fluid's force on a floating body is a restoring force measured tau late, which acts
+// like the spring plus a damping of -k tau (k the heave stiffness): energy flows in at the
+// body's heave frequency, and a light flat body bounces for ever (docs/coupling.md). This
+// adds lag_damping k tau of damping along gravity, k = rho g V / H (H: the body's height
+// along gravity), while the body floats:
+// weighted by how far the measured lift `up` (N) is from none and from full submersion's.
+static void lag_damping(cpl_coupling *c, body_entry *e, float up, float dt)
+{
+    e->damping[0] = e->damping[1] = e->damping[2] = 0.0f;
+    if (c->def.lag_damping <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
+    phys_vec3 v, g = phys_world_get_gravity(c->def.phys);
+    float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
+    if (!(gmag > 0.0f) || phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) return;
+    float rho = pbf_world_params(c->def.fluid)->rest_density;
+    float f = up / (rho * gmag * e->volume); // share of full submersion's lift
+    float w = fminf(fmaxf(fminf(f, 1.0f - f) / 0.1f, 0.0f), 1.0f);
+    if (!(w > 0.0f)) return;
+    float keep = c->def.force_smoothing;
+    float tau = ((float)c->def.force_latency + keep / (1.0f - keep)) * dt;
+    // The waterplane area: the volume over the height along gravity (exact for an upright
+    // box or cylinder, 2/3 of a ball's middle section), V^(2/3) if Bullet has no extent.
+    float area = powf(e->volume, 2.0f / 3.0f);
+    phys_vec3 ext;
+    if (phys_body_get_extent(c->def.phys, e->body, &ext) == PHYS_OK) {
+        float height = (fabsf(g.x) * ext.x + fabsf(g.y) * ext.y + fabsf(g.z) * ext.z) / gmag;
+        if (height > 0.0f) area = e->volume / height;
+    }
+    float k = rho * gmag * area;
+    float damp = fminf(c->def.lag_damping * w * k * tau, e->mass / dt); // N s/m, at most a stop in one step
+    float along = (v.x * g.x + v.y * g.y + v.z * g.z) / gmag;          // m/s along gravity
+    e->damping[0] = -damp * along * g.x / gmag;
+    e->damping[1] = -damp * along * g.y / gmag;
+    e->damping[2] = -damp * along * g.z / gmag;
 }
 
 static void hook(void *user, pbf_world *fluid, int substep, float dt)
@@ -687,6 +724,10 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
         }
         limit_impulse(c, e, dt);
+        phys_vec3 g = phys_world_get_gravity(c->def.phys);
+        float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
+        float up = gmag > 0.0f ? -(rep.force[0] * g.x + rep.force[1] * g.y + rep.force[2] * g.z) / gmag : 0.0f;
+        lag_damping(c, e, up, dt);
     }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);

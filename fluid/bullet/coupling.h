@@ -74,6 +74,15 @@ typedef struct cpl_def {
     /// Without it the one-step-late force (measured while a light body plunged in, applied
     /// after) throws light bodies out of the water faster than they hit it (docs/coupling.md).
     float impulse_limit;
+    /// Heave damping that cancels what the force's lag does to a floating body, as a
+    /// multiple of that lag's negative damping, [0, 4]; default 1; 0 off. A restoring force
+    /// that arrives tau late acts like the spring plus a damping of -k tau: a light, flat
+    /// body (a high heave frequency, sqrt(g / draft)) then bounces for ever. The coupling
+    /// adds -lag_damping k tau v along gravity, k = rho g V / H (the waterplane stiffness of
+    /// a body of volume V and height H along gravity: exact for upright boxes and cylinders), tau = (force_latency + the smoothing's
+    /// lag) steps, only while the body floats (the measured lift between none and full
+    /// submersion's), at most what stops the body in a step (docs/coupling.md).
+    float lag_damping;
     /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
     /// Default 0: not allowed; cpl_default_def() sets 0.02 m. Grids hold at most 128
     /// samples per axis; a finer spacing is coarsened to fit (and logged).
@@ -82,11 +91,12 @@ typedef struct cpl_def {
     void *log_user;
 } cpl_def;
 
-/// Defaults: no worlds, force_latency 1, force_smoothing 0.5, mesh_cell 0.02 m, no log.
+/// Defaults: no worlds, force_latency 1, force_smoothing 0.5, impulse_limit 1, lag_damping 1,
+/// mesh_cell 0.02 m, no log.
 cpl_def cpl_default_def(void);
 
 /// The numeric settings of cpl_def by name, for scripts and command lines (seiche.coupling,
-/// --set coupling.NAME): force_latency, force_smoothing, impulse_limit, mesh_cell.
+/// --set coupling.NAME): force_latency, force_smoothing, impulse_limit, lag_damping, mesh_cell.
 typedef struct cpl_setting_info {
     const char *name;
     double min, max;    ///< allowed range, inclusive except min where open_min

@@ -506,6 +506,10 @@ phys_result phys_body_set_kinematic_target(phys_world *world, phys_body_id body,
 phys_result phys_body_set_linear_velocity(phys_world *world, phys_body_id body, phys_vec3 velocity);
 phys_result phys_body_get_linear_velocity(phys_world *world, phys_body_id body, phys_vec3 *out);
 
+/// Size of the body's world-axis bounding box at its current pose, m (Bullet's, margins
+/// included: tight along each axis for boxes, spheres, capsules and cylinders).
+phys_result phys_body_get_extent(phys_world *world, phys_body_id body, phys_vec3 *out);
+
 /// Angular velocity, rad/s about world axes; same rules as linear velocity.
 phys_result phys_body_set_angular_velocity(phys_world *world, phys_body_id body, phys_vec3 velocity);
 phys_result phys_body_get_angular_velocity(phys_world *world, phys_body_id body, phys_vec3 *out);

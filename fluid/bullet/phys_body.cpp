@@ -344,6 +344,14 @@ phys_result phys_body_get_linear_velocity(phys_world* world, phys_body_id body, 
     });
 }
 
+phys_result phys_body_get_extent(phys_world* world, phys_body_id body, phys_vec3* out) {
+    return read_body(world, __func__, body, out, [](const BodySlot& b) {
+        btVector3 lo, hi;
+        b.body->getCollisionShape()->getAabb(b.body->getWorldTransform(), lo, hi);
+        return from_bt(hi - lo);
+    });
+}
+
 phys_result phys_body_set_angular_velocity(phys_world* world, phys_body_id body, phys_vec3 velocity) {
     return guarded(world, __func__, [&](const char* fn) {
         return set_velocity(world, fn, body, velocity, true);
