@@ -484,6 +484,16 @@ static pbf_gpu_params stats_params(pbf_cpu_world *w)
     return uniforms(w, 1.0f);
 }
 
+float pbf_cpu_world_collider_share(pbf_cpu_world *w, const float x[3], float grad[3])
+{
+    pbf_gpu_params P = stats_params(w);
+    float rho = 0.0f;
+    pbf_vec3 g = { 0.0f, 0.0f, 0.0f };
+    pbf_cpu_colliders_density(w, &P, (pbf_vec3){ x[0], x[1], x[2] }, &rho, &g);
+    grad[0] = g.x, grad[1] = g.y, grad[2] = g.z;
+    return rho * P.inv_rest_density;
+}
+
 int pbf_cpu_world_last_substeps(const pbf_cpu_world *w) { return w && w->steps > 0 ? (int)w->report_substeps : 0; }
 
 pbf_cpu_stats pbf_cpu_world_density_stats(pbf_cpu_world *w)

@@ -121,6 +121,10 @@ float pbf_cpu_boundary_volume(float d, float h);
 /// G(d) = integral over z > d of |grad W_spiky| z / r (1/m; G(0) = 1.5 / h, G(h) = 0):
 /// the magnitude of the boundary's density-gradient term. common.glsl's boundary_gradient.
 float pbf_cpu_boundary_gradient(float d, float h);
+/// The colliders' share of a filled neighbourhood at x (m; dimensionless, what they add to
+/// rho / rho0) and its gradient with respect to x (1/m, into grad), at their poses: what
+/// the density pass adds for them (colliders.glsl's colliders_density).
+float pbf_cpu_world_collider_share(pbf_cpu_world *world, const float x[3], float grad[3]);
 /// The same share and gradient (into *G, 1/m) for a ball of radius R (m) at distance d
 /// from its surface: pbf_kernels.h's pbf_curved_boundary, which spheres and capsules take.
 float pbf_cpu_curved_boundary(float d, float h, float R, float *G);

@@ -262,6 +262,58 @@ static collider_scene analytic_shapes(void)
     return cs;
 }
 
+/// The colliders' share is what the constraint's gradient says it is: at points within a
+/// kernel radius of each analytic shape (posed off-axis), the returned gradient against
+/// central differences of the share, and a ball's share against the closed form. A slip in
+/// one of the product rules (cylinders) or the curvature (spheres, capsules) shows here
+/// before it shows as water that will not rest.
+static void collider_share_gradient_matches_its_differences(void **state)
+{
+    (void)state;
+    collider_scene cs = analytic_shapes();
+    pbf_params p = pbf_default_params();
+    const float lo[3] = { 0.0f, 0.0f, 0.0f }, hi[3] = { 0.5f, 0.4f, 0.3f };
+    char err[256];
+    pbf_cpu_world *w = pbf_cpu_world_create(&p, 16, lo, hi, err, sizeof err);
+    assert_non_null(w);
+    for (int b = 0; b < cs.bodies; b++) {
+        uint32_t index;
+        assert_int_equal(pbf_cpu_world_add_collider(w, &cs.def[b], &index), PBF_OK);
+    }
+    const float h = p.kernel_radius, e = 1e-4f * h;
+    uint32_t seed = 12345u, checked = 0;
+    double worst = 0.0;
+    for (int trial = 0; trial < 20000 && checked < 400; trial++) {
+        float x[3];
+        for (int k = 0; k < 3; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            x[k] = lo[k] + (hi[k] - lo[k]) * (float)(seed >> 8) / 16777216.0f;
+        }
+        float g[3];
+        float v = pbf_cpu_world_collider_share(w, x, g);
+        if (v < 0.01f || v > 0.45f) continue; // near a surface, not at a share's kink
+        double worst_here = 0.0, scale = 0.0;
+        for (int k = 0; k < 3; k++) {
+            float xp[3] = { x[0], x[1], x[2] }, xm[3] = { x[0], x[1], x[2] }, unused[3];
+            xp[k] += e, xm[k] -= e;
+            double fd = ((double)pbf_cpu_world_collider_share(w, xp, unused) -
+                         (double)pbf_cpu_world_collider_share(w, xm, unused)) / (2.0 * (double)e);
+            worst_here = fmax(worst_here, fabs(fd - (double)g[k]));
+            scale = fmax(scale, fabs((double)g[k]));
+        }
+        if (!(worst_here * h < 0.02 + 0.01 * scale * h))
+            print_message("at (%.4f, %.4f, %.4f): V %.4f, grad h (%.4f %.4f %.4f), off by %.4f\n", x[0], x[1], x[2], v,
+                          g[0] * h, g[1] * h, g[2] * h, worst_here * h);
+        // float32 differences over 1e-4 h: about 1e-3 of G(0) = 1.5 / h of noise
+        assert_true(worst_here * h < 0.02 + 0.01 * scale * h);
+        worst = fmax(worst, worst_here * h);
+        checked++;
+    }
+    print_message("%u points near the shapes: worst |grad V - differences| h = %.2e\n", checked, worst);
+    assert_true(checked >= 200);
+    pbf_cpu_world_destroy(w);
+}
+
 static void gpu_matches_cpu_reference_around_colliders(void **state)
 {
     collider_scene cs = analytic_shapes();
@@ -470,6 +522,7 @@ static void bad_colliders_are_rejected_naming_the_field_on_cpu_and_gpu(void **st
 }
 
 static const struct CMUnitTest tests[] = {
+    cmocka_unit_test(collider_share_gradient_matches_its_differences),
     cmocka_unit_test(gpu_matches_cpu_reference_around_colliders),
     cmocka_unit_test(gpu_matches_cpu_reference_around_hulls_grids_and_planes),
     cmocka_unit_test(gpu_matches_cpu_reference_around_moving_colliders),

@@ -180,8 +180,9 @@ PBF_FN bool collider_near_of(pbf_gpu_collider c, pbf_vec3 p1, pbf_vec3 x, float 
 /// boxes thinner than the kernel. Spheres and capsules: the share of a ball with the
 /// surface's curvature (a half-space overstates a convex body's share, by half at a ball of
 /// radius h, and kept the water off curved bodies: docs/coupling.md). Cylinders: curved
-/// side times slab, as boxes. Hulls: the product of the faces' half-space shares. Other
-/// shapes (distance grids): the half-space at the signed distance.
+/// side times slab, as boxes. Other shapes (hulls: a product over their faces was tried,
+/// docs/coupling.md, and made a finely faceted hull chatter; distance grids): the
+/// half-space at the signed distance.
 /// Returns false when x is out of reach or inside (only the gentle push-out moves it).
 PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_vec3 x, PBF_OUT(float) V,
                                  PBF_OUT(pbf_vec3) gradV)
@@ -214,12 +215,20 @@ PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_
         // Curved: the ball's share (pbf_curved_boundary). A capsule's side is curved one
         // way only (a ball of twice its radius has its mean curvature), its ends both ways;
         // the radius of curvature goes from one to the other over a kernel radius.
-        float R = c.params.x;
-        if (c.info.x == PBF_COLLIDER_CAPSULE)
-            R = 2.0f * R / (1.0f + pbf_clamp((pbf_abs(l.y) - c.params.y) / P.h + 0.5f, 0.0f, 1.0f));
-        float G;
+        float R = c.params.x, G, unused, dVdy = 0.0f;
+        if (c.info.x == PBF_COLLIDER_CAPSULE) {
+            float b = (pbf_abs(l.y) - c.params.y) / P.h + 0.5f;
+            R = 2.0f * R / (1.0f + pbf_clamp(b, 0.0f, 1.0f));
+            if (b > 0.0f && b < 1.0f) {
+                // V also changes along the axis through R: dV/dy = dV/dR dR/db db/dy
+                float dVdR = (pbf_curved_boundary(d, P.h, 1.001f * R, P.boundary_scale, PBF_ADDR(unused)) -
+                              pbf_curved_boundary(d, P.h, 0.999f * R, P.boundary_scale, PBF_ADDR(unused))) /
+                             (0.002f * R);
+                dVdy = dVdR * (-R / (1.0f + b)) * pbf_sign(l.y) / P.h;
+            }
+        }
         PBF_REF(V) = pbf_curved_boundary(d, P.h, R, P.boundary_scale, PBF_ADDR(G));
-        PBF_REF(gradV) = pbf_scale(-G, quat_rotate(q1, ln));
+        PBF_REF(gradV) = quat_rotate(q1, pbf_add(pbf_scale(-G, ln), pbf_v3(0.0f, dVdy, 0.0f)));
     } else if (c.info.x == PBF_COLLIDER_CYLINDER) {
         // The product of the share inside the infinite round cylinder (curved outside it, a
         // plane from within) and the share inside the slab |y| <= e, as for boxes.
@@ -235,30 +244,6 @@ PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_
         PBF_REF(V) = k * Fr * Fy;
         pbf_vec3 g = pbf_add(pbf_scale(-Gr * Fy, radial), pbf_v3(0.0f, Fr * dFy, 0.0f));
         PBF_REF(gradV) = pbf_scale(k, quat_rotate(q1, g));
-    } else if (c.info.x == PBF_COLLIDER_HULL) {
-        // The product over the faces of the share inside each face's half-space: exact next
-        // to a face, and at an edge or corner where faces meet square (as for boxes), where
-        // one half-space at the largest face distance would count the whole neighbourhood
-        // beyond that plane as solid. grad V = V sum_f grad S_f / S_f (every S_f > 0 if V > 0).
-        float k = boundary_factor(PBF_P), ik = 1.0f / k, F = 1.0f;
-        pbf_vec3 dlog = pbf_v3(0.0f, 0.0f, 0.0f);
-        for (PBF_UINT f = 0u; f < c.info.w; f++) {
-            PBF_UINT o = c.info.z + 4u * f;
-            pbf_vec3 n = pbf_v3(collider_data[o], collider_data[o + 1u], collider_data[o + 2u]);
-            float inside = collider_data[o + 3u] - pbf_dot(n, l); // distance to the face from within
-            if (inside >= P.h) continue;
-            float S = 1.0f - beyond(PBF_P_ inside, ik);
-            if (S <= 0.0f) {
-                F = 0.0f;
-                break;
-            }
-            F *= S;
-            // dS/dl = beyond'(inside) n
-            dlog = pbf_add(dlog, pbf_scale(beyond_slope(PBF_P_ inside, ik) / S, n));
-        }
-        if (F <= 1e-12f) return false;
-        PBF_REF(V) = k * F;
-        PBF_REF(gradV) = pbf_scale(k * F, quat_rotate(q1, dlog));
     } else {
         PBF_REF(V) = boundary_volume(PBF_P_ d);
         PBF_REF(gradV) = pbf_scale(-boundary_gradient(PBF_P_ d), quat_rotate(q1, ln));
