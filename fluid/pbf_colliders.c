@@ -161,12 +161,11 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
     collider_slot *s = &w->slots[free_slot];
     float *data = NULL;
     uint32_t data_count = 0;
-    if (d->type == PBF_SHAPE_CONVEX_HULL) data_count = 4 * d->plane_count;
-    if (d->type == PBF_SHAPE_SDF) data_count = d->grid.dims[0] * d->grid.dims[1] * d->grid.dims[2];
+    data_count = pbf_collider_data_count(d);
     if (data_count) {
         data = malloc((size_t)data_count * sizeof *data);
         if (!data) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_collider: out of memory");
-        memcpy(data, d->type == PBF_SHAPE_SDF ? d->grid.values : d->planes, (size_t)data_count * sizeof *data);
+        pbf_collider_data_fill(d, data);
         w->collider_data_dirty = true;
     }
     uint16_t generation = (uint16_t)(s->generation + 1);

@@ -235,13 +235,12 @@ pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *w, const pbf_collider_def *
         return pbf_cpu_fail(w, PBF_ERR_CAPACITY, "pbf_cpu_world_add_collider: all %d colliders in use", PBF_MAX_COLLIDERS);
     // Hull planes or grid samples, appended to the data in the order of addition (the
     // GPU packs them in slot order: the same offsets while nothing is removed).
-    uint32_t count = d->type == PBF_SHAPE_CONVEX_HULL ? 4 * d->plane_count
-                   : d->type == PBF_SHAPE_SDF ? d->grid.dims[0] * d->grid.dims[1] * d->grid.dims[2] : 0;
+    uint32_t count = pbf_collider_data_count(d);
     uint32_t offset = w->collider_data_count;
     if (count) {
         float *data = realloc(w->collider_data, ((size_t)offset + count) * sizeof *data);
         if (!data) return pbf_cpu_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_cpu_world_add_collider: out of memory");
-        memcpy(data + offset, d->type == PBF_SHAPE_SDF ? d->grid.values : d->planes, (size_t)count * sizeof *data);
+        pbf_collider_data_fill(d, data + offset);
         w->collider_data = data;
         w->collider_data_count += count;
     }

@@ -466,6 +466,34 @@ int pbf_container_planes(const float min[3], const float max[3], bool closed_top
     return closed_top ? 6 : 5;
 }
 
+uint32_t pbf_collider_data_count(const pbf_collider_def *d)
+{
+    if (d->type == PBF_SHAPE_CONVEX_HULL) return 5 * d->plane_count;
+    if (d->type == PBF_SHAPE_SDF) return d->grid.dims[0] * d->grid.dims[1] * d->grid.dims[2];
+    return 0;
+}
+
+void pbf_collider_data_fill(const pbf_collider_def *d, float *out)
+{
+    if (d->type == PBF_SHAPE_SDF) {
+        memcpy(out, d->grid.values, (size_t)pbf_collider_data_count(d) * sizeof *out);
+        return;
+    }
+    if (d->type != PBF_SHAPE_CONVEX_HULL) return;
+    uint32_t n = d->plane_count;
+    memcpy(out, d->planes, (size_t)n * 4 * sizeof *out);
+    for (uint32_t f = 0; f < n; f++) {
+        const float *a = d->planes + 4 * f;
+        double sum = 0.0;
+        for (uint32_t g = 0; g < n; g++) {
+            const float *b = d->planes + 4 * g;
+            double c = (double)a[0] * b[0] + (double)a[1] * b[1] + (double)a[2] * b[2];
+            if (c > 0.0) sum += pow(c, 8.0);
+        }
+        out[4 * n + f] = (float)(1.0 / sum); // sum >= 1: the face itself
+    }
+}
+
 float pbf_collider_bounding_radius(const pbf_collider_def *d)
 {
     const float *z = d->size;

@@ -118,4 +118,15 @@ bool pbf_points_check(const char *fn, const float *positions, const float *veloc
 /// A collider's bounding radius about its origin, m (pbf_gpu_collider.position.w).
 float pbf_collider_bounding_radius(const pbf_collider_def *d);
 
+/// Floats of collider data a collider takes: a hull's planes (4 each) and its faces'
+/// exponents (1 each), a grid's samples, none otherwise.
+uint32_t pbf_collider_data_count(const pbf_collider_def *d);
+
+/// Fills out (pbf_collider_data_count floats) with the collider's data: a hull's planes,
+/// then each face's exponent in the boundary share (pbf_shapes.h, collider_boundary_of):
+/// 1 / sum_g max(n_f . n_g, 0)^8, so a face with no neighbour near its direction counts
+/// fully (a box's, where the product of the faces' shares is exact) and a cluster of
+/// nearly parallel faces (a finely faceted hull) counts about once; a grid's samples.
+void pbf_collider_data_fill(const pbf_collider_def *d, float *out);
+
 #endif

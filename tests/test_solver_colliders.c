@@ -262,11 +262,13 @@ static collider_scene analytic_shapes(void)
     return cs;
 }
 
+static const float roof_planes[5 * 4];
+
 /// The colliders' share is what the constraint's gradient says it is: at points within a
-/// kernel radius of each analytic shape (posed off-axis), the returned gradient against
-/// central differences of the share, and a ball's share against the closed form. A slip in
-/// one of the product rules (cylinders) or the curvature (spheres, capsules) shows here
-/// before it shows as water that will not rest.
+/// kernel radius of each analytic shape and of a hull (posed off-axis), the returned
+/// gradient against central differences of the share. A slip in one of the product rules
+/// (cylinders, hulls) or the curvature (spheres, capsules) shows here before it shows as
+/// water that will not rest. And a hull of a box's six faces takes the box's share.
 static void collider_share_gradient_matches_its_differences(void **state)
 {
     (void)state;
@@ -276,6 +278,14 @@ static void collider_share_gradient_matches_its_differences(void **state)
     char err[256];
     pbf_cpu_world *w = pbf_cpu_world_create(&p, 16, lo, hi, err, sizeof err);
     assert_non_null(w);
+    pbf_collider_def roof = pbf_default_collider_def();
+    roof.type = PBF_SHAPE_CONVEX_HULL;
+    roof.planes = roof_planes;
+    roof.plane_count = 5;
+    roof.size[0] = 0.085f;
+    roof.position[0] = 0.40f, roof.position[1] = 0.30f, roof.position[2] = 0.15f;
+    roof.rotation[1] = 0.258819045f, roof.rotation[3] = 0.965925826f;
+    cs.def[cs.bodies++] = roof;
     for (int b = 0; b < cs.bodies; b++) {
         uint32_t index;
         assert_int_equal(pbf_cpu_world_add_collider(w, &cs.def[b], &index), PBF_OK);
@@ -312,6 +322,45 @@ static void collider_share_gradient_matches_its_differences(void **state)
     print_message("%u points near the shapes: worst |grad V - differences| h = %.2e\n", checked, worst);
     assert_true(checked >= 200);
     pbf_cpu_world_destroy(w);
+
+    // A box (half extents 6 x 6 x 7 cm, thicker than 2h) and a hull of its six faces, each
+    // alone in a world, at the same pose: the same share and gradient next to faces, edges
+    // and corners.
+    const float half[3] = { 0.06f, 0.06f, 0.07f };
+    const float cube[6 * 4] = { 1, 0, 0, half[0], -1, 0, 0, half[0], 0, 1, 0, half[1],
+                                0, -1, 0, half[1], 0, 0, 1, half[2], 0, 0, -1, half[2] };
+    pbf_collider_def box = pbf_default_collider_def(), hull = pbf_default_collider_def();
+    box.type = PBF_SHAPE_BOX;
+    memcpy(box.size, half, sizeof half);
+    hull.type = PBF_SHAPE_CONVEX_HULL;
+    hull.planes = cube;
+    hull.plane_count = 6;
+    hull.size[0] = 0.11f;
+    for (int k = 0; k < 3; k++) box.position[k] = hull.position[k] = 0.5f * (lo[k] + hi[k]);
+    box.rotation[0] = hull.rotation[0] = 0.173648178f, box.rotation[3] = hull.rotation[3] = 0.984807753f;
+    pbf_cpu_world *wb = pbf_cpu_world_create(&p, 16, lo, hi, err, sizeof err);
+    pbf_cpu_world *wh = pbf_cpu_world_create(&p, 16, lo, hi, err, sizeof err);
+    uint32_t index;
+    assert_int_equal(pbf_cpu_world_add_collider(wb, &box, &index), PBF_OK);
+    assert_int_equal(pbf_cpu_world_add_collider(wh, &hull, &index), PBF_OK);
+    uint32_t compared = 0;
+    for (int trial = 0; trial < 4000; trial++) {
+        float x[3];
+        for (int k = 0; k < 3; k++) {
+            seed = seed * 1664525u + 1013904223u;
+            x[k] = box.position[k] + 0.14f * ((float)(seed >> 8) / 16777216.0f - 0.5f) * 2.0f;
+        }
+        float gb[3], gh[3];
+        float vb = pbf_cpu_world_collider_share(wb, x, gb), vh = pbf_cpu_world_collider_share(wh, x, gh);
+        if (vb <= 0.0f && vh <= 0.0f) continue;
+        assert_true(fabsf(vb - vh) < 1e-5f);
+        for (int k = 0; k < 3; k++) assert_true(fabsf(gb[k] - gh[k]) * h < 1e-4f);
+        compared++;
+    }
+    print_message("box and box-shaped hull: %u points compared\n", compared);
+    assert_true(compared >= 100);
+    pbf_cpu_world_destroy(wb);
+    pbf_cpu_world_destroy(wh);
 }
 
 static void gpu_matches_cpu_reference_around_colliders(void **state)

@@ -55,6 +55,7 @@
 #define pbf_abs abs
 #define pbf_sign sign
 #define pbf_sqrt sqrt
+#define pbf_pow pow
 #define pbf_length2(x, y) length(vec2(x, y))
 #define pbf_distance distance
 #define pbf_mixf mix
@@ -111,6 +112,7 @@ PBF_FN float pbf_max(float a, float b) { return fmaxf(a, b); }
 PBF_FN float pbf_abs(float a) { return fabsf(a); }
 PBF_FN float pbf_sign(float a) { return a > 0.0f ? 1.0f : a < 0.0f ? -1.0f : 0.0f; }
 PBF_FN float pbf_sqrt(float a) { return sqrtf(a); }
+PBF_FN float pbf_pow(float a, float b) { return powf(a, b); }
 PBF_FN float pbf_length2(float x, float y) { return sqrtf(x * x + y * y); }
 PBF_FN float pbf_distance(pbf_vec3 a, pbf_vec3 b) { return pbf_length(pbf_sub(a, b)); }
 PBF_FN int pbf_clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }

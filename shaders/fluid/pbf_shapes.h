@@ -180,9 +180,9 @@ PBF_FN bool collider_near_of(pbf_gpu_collider c, pbf_vec3 p1, pbf_vec3 x, float 
 /// boxes thinner than the kernel. Spheres and capsules: the share of a ball with the
 /// surface's curvature (a half-space overstates a convex body's share, by half at a ball of
 /// radius h, and kept the water off curved bodies: docs/coupling.md). Cylinders: curved
-/// side times slab, as boxes. Other shapes (hulls: a product over their faces was tried,
-/// docs/coupling.md, and made a finely faceted hull chatter; distance grids): the
-/// half-space at the signed distance.
+/// side times slab, as boxes. Hulls: the product of their faces' shares, each to an
+/// exponent that keeps clusters of nearly parallel faces from counting many times (below).
+/// Distance grids: the half-space at the signed distance.
 /// Returns false when x is out of reach or inside (only the gentle push-out moves it).
 PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_vec3 x, PBF_OUT(float) V,
                                  PBF_OUT(pbf_vec3) gradV)
@@ -244,6 +244,34 @@ PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_
         PBF_REF(V) = k * Fr * Fy;
         pbf_vec3 g = pbf_add(pbf_scale(-Gr * Fy, radial), pbf_v3(0.0f, Fr * dFy, 0.0f));
         PBF_REF(gradV) = pbf_scale(k, quat_rotate(q1, g));
+    } else if (c.info.x == PBF_COLLIDER_HULL) {
+        // The product over the faces of the share inside each face's half-space, S_f, each
+        // to its exponent a_f (pbf_collider_data_fill: 1 for a face with no neighbour near
+        // its direction, about 1/m in a cluster of m nearly parallel faces). A box-like hull
+        // gets the product, exact where faces meet square; a finely faceted one counts each
+        // cluster about once (a plain product counts the same solid many times and lets the
+        // water in; the largest face distance's half-space keeps it off every edge). One
+        // smooth function of x, so grad V = V sum_f a_f grad S_f / S_f is its true gradient.
+        float k = boundary_factor(PBF_P), ik = 1.0f / k, F = 1.0f;
+        pbf_vec3 dlog = pbf_v3(0.0f, 0.0f, 0.0f);
+        PBF_UINT exponents = c.info.z + 4u * c.info.w;
+        for (PBF_UINT f = 0u; f < c.info.w; f++) {
+            PBF_UINT o = c.info.z + 4u * f;
+            pbf_vec3 n = pbf_v3(collider_data[o], collider_data[o + 1u], collider_data[o + 2u]);
+            float inside = collider_data[o + 3u] - pbf_dot(n, l); // distance to the face from within
+            if (inside >= P.h) continue;
+            float S = 1.0f - beyond(PBF_P_ inside, ik);
+            if (S <= 0.0f) {
+                F = 0.0f;
+                break;
+            }
+            float a = collider_data[exponents + f];
+            F *= pbf_pow(S, a);
+            dlog = pbf_add(dlog, pbf_scale(a * beyond_slope(PBF_P_ inside, ik) / S, n)); // dS/dl = beyond' n
+        }
+        if (F <= 1e-12f) return false;
+        PBF_REF(V) = k * F;
+        PBF_REF(gradV) = pbf_scale(k * F, quat_rotate(q1, dlog));
     } else {
         PBF_REF(V) = boundary_volume(PBF_P_ d);
         PBF_REF(gradV) = pbf_scale(-boundary_gradient(PBF_P_ d), quat_rotate(q1, ln));
