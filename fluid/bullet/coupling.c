@@ -631,7 +631,10 @@ static void lag_damping(cpl_coupling *c, body_entry *e, float up, float dt)
     float w = fminf(fmaxf(fminf(f, 1.0f - f) / 0.1f, 0.0f), 1.0f);
     if (!(w > 0.0f)) return;
     float keep = c->def.force_smoothing;
-    float tau = ((float)c->def.force_latency + keep / (1.0f - keep)) * dt;
+    // The force applied in a step is the mean over a step measured force_latency steps
+    // earlier (centred half a step before that step's end), smoothed: keep / (1 - keep)
+    // steps more on average.
+    float tau = ((float)c->def.force_latency + 0.5f + keep / (1.0f - keep)) * dt;
     // The waterplane area: the volume over the height along gravity (exact for an upright
     // box or cylinder, 2/3 of a ball's middle section), V^(2/3) if Bullet has no extent.
     float area = powf(e->volume, 2.0f / 3.0f);

@@ -75,12 +75,14 @@ typedef struct cpl_def {
     /// after) throws light bodies out of the water faster than they hit it (docs/coupling.md).
     float impulse_limit;
     /// Heave damping that cancels what the force's lag does to a floating body, as a
-    /// multiple of that lag's negative damping, [0, 4]; default 1; 0 off. A restoring force
-    /// that arrives tau late acts like the spring plus a damping of -k tau: a light, flat
-    /// body (a high heave frequency, sqrt(g / draft)) then bounces for ever. The coupling
-    /// adds -lag_damping k tau v along gravity, k = rho g V / H (the waterplane stiffness of
-    /// a body of volume V and height H along gravity: exact for upright boxes and cylinders), tau = (force_latency + the smoothing's
-    /// lag) steps, only while the body floats (the measured lift between none and full
+    /// multiple of that lag's negative damping, [0, 4]; default 1.5 (1 cancels it for small
+    /// heaves; the half more settles a light body thrown up by its fall or its creation);
+    /// 0 off. A restoring force that arrives tau late acts like the spring plus a damping
+    /// of -k tau: a light, flat body (a high heave frequency, sqrt(g / draft)) then bounces
+    /// for ever. The coupling adds -lag_damping k tau v along gravity, k = rho g V / H (the
+    /// waterplane stiffness of a body of volume V and height H along gravity: exact for
+    /// upright boxes and cylinders), tau = (force_latency + 1/2 + the smoothing's lag)
+    /// steps, only while the body floats (the measured lift between none and full
     /// submersion's), at most what stops the body in a step (docs/coupling.md).
     float lag_damping;
     /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
@@ -91,7 +93,7 @@ typedef struct cpl_def {
     void *log_user;
 } cpl_def;
 
-/// Defaults: no worlds, force_latency 1, force_smoothing 0.5, impulse_limit 1, lag_damping 1,
+/// Defaults: no worlds, force_latency 1, force_smoothing 0.5, impulse_limit 1, lag_damping 1.5,
 /// mesh_cell 0.02 m, no log.
 cpl_def cpl_default_def(void);
 

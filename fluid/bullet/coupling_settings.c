@@ -14,7 +14,7 @@ cpl_def cpl_default_def(void)
     d.force_latency = 1;
     d.force_smoothing = 0.5f;
     d.impulse_limit = 1.0f;
-    d.lag_damping = 1.0f;
+    d.lag_damping = 1.5f;
     d.mesh_cell = 0.02f;
     return d;
 }

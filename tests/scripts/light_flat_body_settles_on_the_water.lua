@@ -2,9 +2,9 @@
 -- upright cylinder of 250 kg/m^3, 0.14 m across and 7 cm tall (a draft of 1.75 cm, under a
 -- particle spacing), made at its draft and free to move only vertically. Its heave
 -- frequency, sqrt(g / draft) = 24 rad/s, meets the force's lag (one step and the
--- smoothing's: 33 ms), which turns the restoring force into negative damping. Measured
--- (llvmpipe), the fastest vertical speed over the last second: 7 mm/s with the default
--- lag_damping 1, 5.1 cm/s with it off (the body still heaves; in the wider tank of
+-- smoothing's: 42 ms), which turns the restoring force into negative damping. Measured
+-- (llvmpipe), the fastest vertical speed over the last second: 1.1 cm/s with the default
+-- lag_damping 1.5, 5.1 cm/s with it off (the body still heaves; in the wider tank of
 -- tools/drafts.lua it was thrown clear of the water every half second). Bound: 2 cm/s.
 -- frames: 240
 seiche.scene { capacity = 10000, container = { min = { 0, 0, 0 }, max = { 0.3, 0.6, 0.3 } } }
