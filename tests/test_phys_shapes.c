@@ -69,6 +69,28 @@ static void test_density_times_volume_gives_mass(void **state) {
     assert_near(vol, capsule, 1e-7);
 }
 
+// The world-axis size of a body at its pose (the coupling's height along gravity).
+static void test_extent_follows_the_pose(void **state) {
+    fixture *f = *state;
+    phys_world *w = f->world;
+    phys_body_id box = make_body(w, PHYS_BODY_DYNAMIC, make_box(w, 0.3f, 0.1f, 0.2f), v3(0, 5, 0));
+    phys_vec3 e;
+    assert_ok(phys_body_get_extent(w, box, &e));
+    assert_near(e.x, 0.6, 1e-4);
+    assert_near(e.y, 0.2, 1e-4);
+    assert_near(e.z, 0.4, 1e-4);
+    // A quarter turn about z swaps x and y.
+    const float s = 0.70710678f;
+    assert_ok(phys_body_set_pose(w, box, v3(0, 5, 0), (phys_quat){0, 0, s, s}));
+    assert_ok(phys_body_get_extent(w, box, &e));
+    assert_near(e.x, 0.2, 1e-4);
+    assert_near(e.y, 0.6, 1e-4);
+    phys_body_id ball = make_body(w, PHYS_BODY_DYNAMIC, make_sphere(w, 0.25f), v3(3, 5, 0));
+    assert_ok(phys_body_get_extent(w, ball, &e));
+    assert_near(e.y, 0.5, 1e-4);
+    assert_int_equal(phys_body_get_extent(w, ball, NULL), PHYS_ERR_INVALID_ARG);
+}
+
 static void test_explicit_mass_wins_over_density(void **state) {
     fixture *f = *state;
     phys_body_def def = phys_default_body_def();
@@ -384,6 +406,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_ray_cast_hits_nearest_body_at_right_distance, setup, teardown),
         cmocka_unit_test_setup_teardown(test_density_times_volume_gives_mass, setup, teardown),
         cmocka_unit_test_setup_teardown(test_explicit_mass_wins_over_density, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_extent_follows_the_pose, setup, teardown),
         cmocka_unit_test_setup_teardown(test_convex_hull_query_returns_points_and_planes, setup, teardown),
         cmocka_unit_test_setup_teardown(test_degenerate_convex_hull_is_rejected, setup, teardown),
         cmocka_unit_test_setup_teardown(test_triangle_mesh_query_returns_vertices_and_indices, setup, teardown),
