@@ -160,8 +160,7 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
     if (free_slot < 0) return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_collider: all %d colliders in use", PBF_MAX_COLLIDERS);
     collider_slot *s = &w->slots[free_slot];
     float *data = NULL;
-    uint32_t data_count = 0;
-    data_count = pbf_collider_data_count(d);
+    uint32_t data_count = pbf_collider_data_count(d);
     if (data_count) {
         data = malloc((size_t)data_count * sizeof *data);
         if (!data) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_collider: out of memory");

@@ -617,9 +617,9 @@ static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
 // like the spring plus a damping of -k tau (k the heave stiffness): energy flows in at the
 // body's heave frequency, and a light flat body bounces for ever (docs/coupling.md). This
 // adds lag_damping k tau of damping along gravity, k = rho g V / H (H: the body's height
-// along gravity), while the body floats:
-// weighted by how far the measured lift `up` (N) is from none and from full submersion's.
-static void lag_damping(cpl_coupling *c, body_entry *e, float up, float dt)
+// along gravity), while the body floats: weighted by how far the lift of the step's measured
+// force `measured` (N) is from none and from full submersion's.
+static void lag_damping(cpl_coupling *c, body_entry *e, const float measured[3], float dt)
 {
     e->damping[0] = e->damping[1] = e->damping[2] = 0.0f;
     if (c->def.lag_damping <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
@@ -627,6 +627,7 @@ static void lag_damping(cpl_coupling *c, body_entry *e, float up, float dt)
     float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
     if (!(gmag > 0.0f) || phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) return;
     float rho = pbf_world_params(c->def.fluid)->rest_density;
+    float up = -(measured[0] * g.x + measured[1] * g.y + measured[2] * g.z) / gmag; // N
     float f = up / (rho * gmag * e->volume); // share of full submersion's lift
     float w = fminf(fmaxf(fminf(f, 1.0f - f) / 0.1f, 0.0f), 1.0f);
     if (!(w > 0.0f)) return;
@@ -727,10 +728,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
         }
         limit_impulse(c, e, dt);
-        phys_vec3 g = phys_world_get_gravity(c->def.phys);
-        float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
-        float up = gmag > 0.0f ? -(rep.force[0] * g.x + rep.force[1] * g.y + rep.force[2] * g.z) / gmag : 0.0f;
-        lag_damping(c, e, up, dt);
+        lag_damping(c, e, rep.force, dt);
     }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);

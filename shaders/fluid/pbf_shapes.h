@@ -233,11 +233,14 @@ PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_
         // The product of the share inside the infinite round cylinder (curved outside it, a
         // plane from within) and the share inside the slab |y| <= e, as for boxes.
         float k = boundary_factor(PBF_P), ik = 1.0f / k;
-        float rl = pbf_length2(l.x, l.z), dr = rl - c.params.x, Gr = 0.0f;
+        float rl = pbf_length2(l.x, l.z), dr = rl - c.params.x, Fr, Gr;
         pbf_vec3 radial = rl > 1e-9f ? pbf_div(pbf_v3(l.x, 0.0f, l.z), rl) : pbf_v3(1.0f, 0.0f, 0.0f);
-        float Fr = dr >= 0.0f ? pbf_curved_boundary(dr, P.h, 2.0f * c.params.x, 1.0f, PBF_ADDR(Gr))
-                              : 1.0f - pbf_boundary_volume(-dr, P.h, 1.0f);
-        if (dr < 0.0f) Gr = pbf_boundary_gradient(-dr, P.h, 1.0f);
+        if (dr >= 0.0f) {
+            Fr = pbf_curved_boundary(dr, P.h, 2.0f * c.params.x, 1.0f, PBF_ADDR(Gr));
+        } else {
+            Fr = 1.0f - pbf_boundary_volume(-dr, P.h, 1.0f);
+            Gr = pbf_boundary_gradient(-dr, P.h, 1.0f);
+        }
         float a = c.params.y - l.y, m = c.params.y + l.y;
         float Fy = pbf_max(1.0f - beyond(PBF_P_ a, ik) - beyond(PBF_P_ m, ik), 0.0f);
         float dFy = beyond_slope(PBF_P_ a, ik) - beyond_slope(PBF_P_ m, ik);
