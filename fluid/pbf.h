@@ -414,6 +414,12 @@ bool pbf_collider_is_valid(const pbf_world *world, pbf_collider_id id);
 pbf_result pbf_world_set_collider_pose(pbf_world *world, pbf_collider_id id, const float position[3],
                                        const float rotation[4], const float linear_velocity[3],
                                        const float angular_velocity[3], const float center_of_mass[3]);
+/// How much of its boundary the collider gives the water, in [0, 1] (1 when added): its
+/// share of each nearby particle's density and the push that comes with it are scaled by
+/// `strength`, so the water's force on it too; collisions and the push-out of particles
+/// inside it are not. A body made overlapping water grows its boundary in over a few steps
+/// (cpl, "placing") instead of throwing the water out at once. Takes effect from the next step.
+pbf_result pbf_world_set_collider_strength(pbf_world *world, pbf_collider_id id, float strength);
 /// Force (N) and torque (N m) the fluid exerted on a two-way collider, averaged over the
 /// substeps of the latest step whose results have reached the CPU (one or two steps of
 /// latency). Never blocks.
@@ -433,6 +439,8 @@ typedef struct pbf_collider_report {
     uint32_t pushed_out;  ///< particles moved out from inside it, summed over iterations and substeps
     uint64_t step;        ///< 0-based index of the step these belong to
     bool ready;           ///< false: not complete yet (everything else zero)
+    bool existed;         ///< the collider took part in that step (false: it was added
+                          ///< later, so nothing was measured and the force is zero)
 } pbf_collider_report;
 pbf_result pbf_world_collider_report(pbf_world *world, pbf_collider_id id, int steps_back, bool wait,
                                      pbf_collider_report *out);

@@ -199,6 +199,7 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
     g->center_of_mass = g->position;
     g->center_of_mass.w = force_scale(w, g->position.w);
     g->linear_velocity.w = 1.0f;
+    g->angular_velocity.w = 1.0f;
     memset(w->force[free_slot], 0, sizeof w->force[free_slot]);
     w->force_step[free_slot] = w->step_index; // results of earlier steps are not its own
     w->colliders_dirty = true;
@@ -256,10 +257,24 @@ pbf_result pbf_world_set_collider_pose(pbf_world *w, pbf_collider_id id, const f
     if (linear_velocity)
         g->linear_velocity = (pbf_float4){ linear_velocity[0], linear_velocity[1], linear_velocity[2], g->linear_velocity.w };
     if (angular_velocity)
-        g->angular_velocity = (pbf_float4){ angular_velocity[0], angular_velocity[1], angular_velocity[2], 0 };
+        g->angular_velocity = (pbf_float4){ angular_velocity[0], angular_velocity[1], angular_velocity[2],
+                                            g->angular_velocity.w };
     const float *c = center_of_mass ? center_of_mass : position;
     g->center_of_mass = (pbf_float4){ c[0], c[1], c[2], g->center_of_mass.w };
     w->colliders_dirty = true;
+    return PBF_OK;
+}
+
+pbf_result pbf_world_set_collider_strength(pbf_world *w, pbf_collider_id id, float strength)
+{
+    if (!w) return PBF_ERR_INVALID_ARG;
+    collider_slot *s = get_slot(w, id, "pbf_world_set_collider_strength");
+    if (!s) return PBF_ERR_STALE_ID;
+    if (!(strength >= 0.0f && strength <= 1.0f))
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_collider_strength: strength must be in [0, 1] (got %g)",
+                        (double)strength);
+    if (s->gpu.angular_velocity.w != strength) w->colliders_dirty = true;
+    s->gpu.angular_velocity.w = strength;
     return PBF_OK;
 }
 
@@ -410,6 +425,7 @@ void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r)
         rep.pushed_out = (uint32_t)f[g * 8 + 7];
         rep.step = r->step;
         rep.ready = true;
+        rep.existed = true;
         s->hist[r->step % RING] = rep;
         if (w->force_step[sl] <= r->step + 1) {
             for (int c = 0; c < 3; c++) {

@@ -270,6 +270,7 @@ pbf_result pbf_cpu_world_add_collider(pbf_cpu_world *w, const pbf_collider_def *
     c.center_of_mass = c.position;
     c.center_of_mass.w = force_scale(w, c.position.w);
     c.linear_velocity.w = 1.0f;
+    c.angular_velocity.w = 1.0f;
     if (index) *index = w->collider_count;
     w->colliders[w->collider_count++] = c;
     return PBF_OK;
@@ -318,6 +319,7 @@ pbf_result pbf_cpu_world_collider_report(const pbf_cpu_world *w, uint32_t index,
     out->pushed_out = (uint32_t)f[7];
     out->step = w->steps - 1;
     out->ready = true;
+    out->existed = true;
     return PBF_OK;
 }
 

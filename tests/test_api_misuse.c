@@ -81,6 +81,7 @@ static void null_world_is_refused_by_every_function(void **state)
     assert_int_equal(pbf_world_set_collider_pose(NULL, cid, v3, q, NULL, NULL, NULL), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_collider_force(NULL, cid, out3, out3b), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_collider_report(NULL, cid, 1, false, &rep), PBF_ERR_INVALID_ARG);
+    assert_int_equal(pbf_world_set_collider_strength(NULL, cid, 1.0f), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_poll_stats(NULL, st, 2, false), 0);
     pbf_gpu_buffers g = pbf_world_gpu_buffers(NULL);
     assert_int_equal(g.positions, 0);
@@ -159,12 +160,32 @@ static void step_from_inside_a_step_is_refused(void **state)
     assert_int_equal(pbf_world_step(f->world, 0.01f), PBF_OK);
 }
 
+// A collider's strength outside [0, 1] (or not a number) is refused naming the value; a
+// removed collider's id is stale.
+static void collider_strength_is_checked(void **state)
+{
+    fixture *f = *state;
+    pbf_collider_def c = pbf_default_collider_def();
+    pbf_collider_id id;
+    assert_int_equal(pbf_world_add_collider(f->world, &c, &id), PBF_OK);
+    assert_int_equal(pbf_world_set_collider_strength(f->world, id, 0.5f), PBF_OK);
+    const float bad[] = { -0.1f, 1.5f, NAN, INFINITY };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        assert_int_equal(pbf_world_set_collider_strength(f->world, id, bad[k]), PBF_ERR_INVALID_ARG);
+        assert_non_null(strstr(pbf_world_last_error(f->world), "strength must be in [0, 1] (got "));
+    }
+    assert_non_null(strstr(pbf_world_last_error(f->world), "(got inf)"));
+    assert_int_equal(pbf_world_remove_collider(f->world, id), PBF_OK);
+    assert_int_equal(pbf_world_set_collider_strength(f->world, id, 1.0f), PBF_ERR_STALE_ID);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(null_world_is_refused_by_every_function),
         cmocka_unit_test(null_pointers_are_refused_naming_the_argument),
         cmocka_unit_test(step_from_inside_a_step_is_refused),
+        cmocka_unit_test(collider_strength_is_checked),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -198,6 +198,63 @@ static void water_that_starts_inside_a_body_is_pushed_out_gently(void **state)
     scene_destroy(&s);
 }
 
+// ---- a collider's strength ---------------------------------------------------------------------
+
+// Mean vertical force on collider `id` over `steps` steps (each step's own report).
+static double mean_lift(scene *s, pbf_collider_id id, int steps)
+{
+    double sum = 0.0;
+    for (int k = 0; k < steps; k++) {
+        scene_step(s, 1);
+        pbf_collider_report rep;
+        assert_int_equal(pbf_world_collider_report(s->fluid, id, 1, true, &rep), PBF_OK);
+        assert_true(rep.existed);
+        sum += rep.force[1];
+    }
+    return sum / steps;
+}
+
+// pbf_world_set_collider_strength scales the share of the density (and the push) a
+// collider gives the water: a ball held under water feels its buoyancy at strength 1, less
+// at 0.5 and less again at 0, where the swept collisions alone keep the water out and
+// carry what lift is left (measured 5.32 / 4.78 / 4.22 N for Archimedes' 5.14); back at 1
+// the buoyancy returns.
+static void collider_strength_scales_the_waters_push(void **state)
+{
+    scene s;
+    scene_def sd = default_scene_def();
+    scene_create(*state, &s, &sd);
+    fill_water(&s, 0.2f, NULL, NULL, 0.0f);
+    pbf_collider_def cd = pbf_default_collider_def();
+    cd.type = PBF_SHAPE_SPHERE;
+    cd.size[0] = 0.05f;
+    cd.position[0] = 0.2f, cd.position[1] = 0.1f, cd.position[2] = 0.2f;
+    cd.two_way = true;
+    pbf_collider_id id;
+    assert_int_equal(pbf_world_add_collider(s.fluid, &cd, &id), PBF_OK);
+    scene_step(&s, 60);
+    double full = mean_lift(&s, id, 30);
+    assert_int_equal(pbf_world_set_collider_strength(s.fluid, id, 0.5f), PBF_OK);
+    scene_step(&s, 30);
+    double half = mean_lift(&s, id, 30);
+    assert_int_equal(pbf_world_set_collider_strength(s.fluid, id, 0.0f), PBF_OK);
+    scene_step(&s, 30);
+    double none = mean_lift(&s, id, 30);
+    assert_int_equal(pbf_world_set_collider_strength(s.fluid, id, 1.0f), PBF_OK);
+    scene_step(&s, 60);
+    double again = mean_lift(&s, id, 30);
+    double archimedes = RHO0 * 9.81 * 4.0 / 3.0 * 3.14159265 * 0.05 * 0.05 * 0.05;
+    if (verbose())
+        printf("strength: lift %.3f N at 1, %.3f at 0.5, %.3f at 0, %.3f at 1 again (Archimedes %.3f N)\n", full, half, none,
+               again, archimedes);
+    assert_true(fabs(full / archimedes - 1.0) < 0.15);
+    assert_true(fabs(again / archimedes - 1.0) < 0.15);
+    assert_true(half < full - 0.05 * archimedes);
+    assert_true(none < half - 0.05 * archimedes);
+    assert_true(fabs(again / full - 1.0) < 0.05);
+    scene_destroy(&s);
+}
+
 // ---- convex hulls and triangle meshes -------------------------------------------------------
 
 static void hull_and_mesh_bodies_keep_water_out(void **state)
@@ -259,6 +316,7 @@ int main(void)
         cmocka_unit_test(fast_thin_kinematic_wall_lets_no_water_through),
         cmocka_unit_test(water_that_starts_inside_a_body_is_pushed_out_gently),
         cmocka_unit_test(hull_and_mesh_bodies_keep_water_out),
+        cmocka_unit_test(collider_strength_scales_the_waters_push),
     };
     const char *filter = getenv("SEICHE_TEST_FILTER"); // e.g. "*750*"
     if (filter && *filter) cmocka_set_test_filter(filter);

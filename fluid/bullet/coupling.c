@@ -37,6 +37,12 @@ typedef struct body_entry {
     float force[3], torque[3]; // applied in each substep of the current step (smoothed)
     float damping[3];          // N: the lag damping applied with it this step (not smoothed)
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
+    float unmeasured;          // s: run before its first measured force
+    float placed;              // s: held while being set down in water (placing)
+    float p0[3], v0[3];        // position (m) and velocity (m/s) it was made with
+    uint64_t full_step;        // the fluid step its boundary first had full strength (0: not yet)
+    bool in_water;             // its first measurement found water at it
+    bool has_force;            // let go: the measured force applies (placing is over)
 } body_entry;
 
 struct cpl_coupling {
@@ -49,6 +55,7 @@ struct cpl_coupling {
 };
 
 static void drop(cpl_coupling *c, body_entry *e);
+static void set_strength(cpl_coupling *c, body_entry *e, float strength);
 
 static cpl_result fail(cpl_coupling *c, cpl_result r, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -513,6 +520,13 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
     e->collider = e->colliders[0];
     e->stats.two_way = two_way;
     e->stats.measured = measured;
+    if (two_way) {
+        set_strength(c, e, 0.0f); // placed: its share grows in (cpl_step)
+        phys_vec3 v0 = { 0.0f, 0.0f, 0.0f };
+        phys_body_get_linear_velocity(c->def.phys, body, &v0);
+        e->p0[0] = p.x, e->p0[1] = p.y, e->p0[2] = p.z;
+        e->v0[0] = v0.x, e->v0[1] = v0.y, e->v0[2] = v0.z;
+    }
     e->stats.collider = e->collider;
     e->volume = shape.volume;
     phys_mass_data md;
@@ -652,6 +666,80 @@ static void lag_damping(cpl_coupling *c, body_entry *e, const float measured[3],
     e->damping[2] = -damp * along * g.z / gmag;
 }
 
+// A body's force is measured force_latency steps late, and water within a spacing of a new
+// body's surface, given the body's full boundary share at once, is thrown off it with a
+// force many times its weight (a light box made at its draft was thrown 8 cm up, and a
+// body made in water fell freely until its lift came: docs/coupling.md, "Placing"). So a
+// new two-way body is *placed*:
+// - it starts with no boundary share (pbf_world_set_collider_strength 0) and moves under
+//   gravity alone until its first measurement (what a body in the air does anyway);
+// - if that step found no water at it (made in the air), or it moves faster than
+//   CPL_PLACE_SPEED (thrown in), it gets its full share and the measured force from then on;
+// - otherwise it was set down in water: it is put back where gravity alone would not have
+//   taken it (its starting pose moved on at its starting velocity) and held there against
+//   gravity, its velocity kept and the water's force not applied, while its share grows
+//   from 0 to 1 over CPL_PLACE_TIME so that the water makes room for it gently; it is let
+//   go with the force measured at the full share once CPL_PLACE_HOLD has passed and no
+//   water is left inside it (at the latest after CPL_PLACE_MAX).
+#define CPL_PLACE_TIME 0.1f  // s
+#define CPL_PLACE_HOLD 0.3f  // s
+#define CPL_PLACE_MAX 0.5f   // s
+#define CPL_PLACE_SPEED 0.5f // m/s
+
+static void set_strength(cpl_coupling *c, body_entry *e, float strength)
+{
+    for (uint32_t k = 0; k < e->collider_count; k++) pbf_world_set_collider_strength(c->def.fluid, e->colliders[k], strength);
+}
+
+static void set_force(body_entry *e, float x, float y, float z)
+{
+    e->force[0] = x, e->force[1] = y, e->force[2] = z;
+    e->torque[0] = e->torque[1] = e->torque[2] = 0.0f;
+    e->damping[0] = e->damping[1] = e->damping[2] = 0.0f;
+}
+
+// True while the body is being placed (this step's force is set here). `back`: the
+// report's age in steps (the step about to run is rep->step + back).
+static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *rep, int back, float dt)
+{
+    phys_vec3 g = phys_world_get_gravity(c->def.phys);
+    if (!rep->existed) {
+        set_force(e, 0.0f, 0.0f, 0.0f);
+        e->unmeasured += dt;
+        return true;
+    }
+    if (!e->in_water) {
+        phys_vec3 v = { 0.0f, 0.0f, 0.0f }, p;
+        phys_quat q;
+        phys_body_get_linear_velocity(c->def.phys, e->body, &v);
+        bool dry = rep->contacts == 0 && rep->pushed_out == 0;
+        float sx = v.x - g.x * e->unmeasured, sy = v.y - g.y * e->unmeasured, sz = v.z - g.z * e->unmeasured;
+        if (dry || sx * sx + sy * sy + sz * sz > CPL_PLACE_SPEED * CPL_PLACE_SPEED) {
+            e->in_water = !dry;
+            set_strength(c, e, 1.0f);
+            return false;
+        }
+        e->in_water = true;
+        // Set down in water: undo the fall of the unmeasured steps.
+        float t = e->unmeasured;
+        if (phys_body_get_pose(c->def.phys, e->body, &p, &q) == PHYS_OK)
+            phys_body_set_pose(c->def.phys, e->body,
+                               (phys_vec3){ e->p0[0] + e->v0[0] * t, e->p0[1] + e->v0[1] * t, e->p0[2] + e->v0[2] * t }, q);
+        phys_body_set_linear_velocity(c->def.phys, e->body, (phys_vec3){ e->v0[0], e->v0[1], e->v0[2] });
+    }
+    e->placed += dt;
+    float strength = fminf(e->placed / CPL_PLACE_TIME, 1.0f);
+    if (strength >= 1.0f && e->full_step == 0) e->full_step = rep->step + (uint64_t)back;
+    set_strength(c, e, strength);
+    bool done = e->full_step != 0 && rep->step >= e->full_step && e->placed >= CPL_PLACE_HOLD && rep->pushed_out == 0;
+    if (done || e->placed >= CPL_PLACE_MAX) {
+        set_strength(c, e, 1.0f);
+        return false;
+    }
+    set_force(e, -e->mass * g.x, -e->mass * g.y, -e->mass * g.z); // held: gravity cancelled
+    return true;
+}
+
 static void hook(void *user, pbf_world *fluid, int substep, float dt)
 {
     (void)fluid;
@@ -721,14 +809,17 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         e->stats.contacts = rep.contacts;
         e->stats.pushed_out = rep.pushed_out;
         if (!e->two_way) continue;
-        // Smoothed from step to step (exponential average; the force's mean is kept).
-        float keep = c->def.force_smoothing;
+        if (!e->has_force && placing(c, e, &rep, back, dt)) continue;
+        // Smoothed from step to step (exponential average; the force's mean is kept),
+        // starting from the first measured force itself.
+        float keep = e->has_force ? c->def.force_smoothing : 0.0f;
         for (int k = 0; k < 3; k++) {
             e->force[k] = keep * e->force[k] + (1.0f - keep) * rep.force[k];
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
         }
         limit_impulse(c, e, dt);
         lag_damping(c, e, rep.force, dt);
+        e->has_force = true;
     }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);

@@ -165,7 +165,8 @@ PBF_STRUCT(pbf_gpu_collider) {
     PBF_VEC4 prev_rotation;
     PBF_VEC4 params;         // shape sizes (see PBF_COLLIDER_*)
     PBF_VEC4 linear_velocity;  // m/s
-    PBF_VEC4 angular_velocity; // rad/s
+    PBF_VEC4 angular_velocity; // xyz rad/s; w = boundary strength in [0, 1]: the share of the
+                               // density and push it gives the water (1; less while placed)
     PBF_VEC4 center_of_mass;   // xyz m (world), torque is taken about it; w = force scale (1/N)
     PBF_UVEC4 info;          // x = type, y = flags (PBF_COLLIDER_TWO_WAY), z = data offset
                              // (floats), w = hull plane count or packed grid dims
