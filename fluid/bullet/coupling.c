@@ -709,12 +709,11 @@ static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *r
         return true;
     }
     if (!e->in_water) {
-        phys_vec3 v = { 0.0f, 0.0f, 0.0f }, p;
+        phys_vec3 p;
         phys_quat q;
-        phys_body_get_linear_velocity(c->def.phys, e->body, &v);
         bool dry = rep->contacts == 0 && rep->pushed_out == 0;
-        float sx = v.x - g.x * e->unmeasured, sy = v.y - g.y * e->unmeasured, sz = v.z - g.z * e->unmeasured;
-        if (dry || sx * sx + sy * sy + sz * sz > CPL_PLACE_SPEED * CPL_PLACE_SPEED) {
+        float speed2 = e->v0[0] * e->v0[0] + e->v0[1] * e->v0[1] + e->v0[2] * e->v0[2];
+        if (dry || speed2 > CPL_PLACE_SPEED * CPL_PLACE_SPEED) {
             e->in_water = !dry;
             set_strength(c, e, 1.0f);
             return false;
