@@ -37,9 +37,10 @@ typedef struct body_entry {
     float force[3], torque[3]; // applied in each substep of the current step (smoothed)
     float damping[3];          // N: the lag damping applied with it this step (not smoothed)
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
-    float unmeasured;          // s: run before its first measured force
     float placed;              // s: held while being set down in water (placing)
-    float p0[3], v0[3];        // position (m) and velocity (m/s) it was made with
+    float v0[3];               // velocity it was made with, m/s
+    float fall[3], gained[3];  // what gravity did to it before its first measurement: m, m/s
+    float after[6];            // its position and velocity at the end of the last such step
     uint64_t full_step;        // the fluid step its boundary first had full strength (0: not yet)
     bool in_water;             // its first measurement found water at it
     bool has_force;            // let go: the measured force applies (placing is over)
@@ -524,7 +525,6 @@ cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *
         set_strength(c, e, 0.0f); // placed: its share grows in (cpl_step)
         phys_vec3 v0 = { 0.0f, 0.0f, 0.0f };
         phys_body_get_linear_velocity(c->def.phys, body, &v0);
-        e->p0[0] = p.x, e->p0[1] = p.y, e->p0[2] = p.z;
         e->v0[0] = v0.x, e->v0[1] = v0.y, e->v0[2] = v0.z;
     }
     e->stats.collider = e->collider;
@@ -675,9 +675,9 @@ static void lag_damping(cpl_coupling *c, body_entry *e, const float measured[3],
 //   gravity alone until its first measurement (what a body in the air does anyway);
 // - if that step found no water at it (made in the air), or it moves faster than
 //   CPL_PLACE_SPEED (thrown in), it gets its full share and the measured force from then on;
-// - otherwise it was set down in water: it is put back where gravity alone would not have
-//   taken it (its starting pose moved on at its starting velocity) and held there against
-//   gravity, its velocity kept and the water's force not applied, while its share grows
+// - otherwise it was set down in water: what gravity did to it in those steps is undone
+//   (a teleport by the host in between is kept) and it is held there against gravity, its
+//   velocity kept and the water's force not applied, while its share grows
 //   from 0 to 1 over CPL_PLACE_TIME so that the water makes room for it gently; it is let
 //   go with the force measured at the full share once CPL_PLACE_HOLD has passed and no
 //   water is left inside it (at the latest after CPL_PLACE_MAX).
@@ -705,7 +705,6 @@ static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *r
     phys_vec3 g = phys_world_get_gravity(c->def.phys);
     if (!rep->existed) {
         set_force(e, 0.0f, 0.0f, 0.0f);
-        e->unmeasured += dt;
         return true;
     }
     if (!e->in_water) {
@@ -719,12 +718,16 @@ static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *r
             return false;
         }
         e->in_water = true;
-        // Set down in water: undo the fall of the unmeasured steps.
-        float t = e->unmeasured;
-        if (phys_body_get_pose(c->def.phys, e->body, &p, &q) == PHYS_OK)
-            phys_body_set_pose(c->def.phys, e->body,
-                               (phys_vec3){ e->p0[0] + e->v0[0] * t, e->p0[1] + e->v0[1] * t, e->p0[2] + e->v0[2] * t }, q);
-        phys_body_set_linear_velocity(c->def.phys, e->body, (phys_vec3){ e->v0[0], e->v0[1], e->v0[2] });
+        // Set down in water: undo what gravity did in the unmeasured steps (a teleport by
+        // the host in between is kept).
+        phys_vec3 v;
+        if (phys_body_get_pose(c->def.phys, e->body, &p, &q) == PHYS_OK && p.x == e->after[0] && p.y == e->after[1] &&
+            p.z == e->after[2])
+            phys_body_set_pose(c->def.phys, e->body, (phys_vec3){ p.x - e->fall[0], p.y - e->fall[1], p.z - e->fall[2] }, q);
+        if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) == PHYS_OK && v.x == e->after[3] &&
+            v.y == e->after[4] && v.z == e->after[5])
+            phys_body_set_linear_velocity(c->def.phys, e->body,
+                                          (phys_vec3){ v.x - e->gained[0], v.y - e->gained[1], v.z - e->gained[2] });
     }
     e->placed += dt;
     float strength = fminf(e->placed / CPL_PLACE_TIME, 1.0f);
@@ -820,9 +823,37 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         lag_damping(c, e, rep.force, dt);
         e->has_force = true;
     }
+    // Bodies not yet measured: what gravity does to them in this step (placing undoes it
+    // for a body found set down in water).
+    phys_vec3 before_p[CPL_MAX_BODIES] = { { 0.0f, 0.0f, 0.0f } }, before_v[CPL_MAX_BODIES] = { { 0.0f, 0.0f, 0.0f } };
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        if (!e->used || !e->two_way || e->has_force || e->in_water) continue;
+        phys_body_get_pose(c->def.phys, e->body, &before_p[i], NULL);
+        phys_body_get_linear_velocity(c->def.phys, e->body, &before_v[i]);
+        // Moved or set going by the host since the last step: that fall is no longer its.
+        const phys_vec3 *bp = &before_p[i], *bv = &before_v[i];
+        if (bp->x != e->after[0] || bp->y != e->after[1] || bp->z != e->after[2]) e->fall[0] = e->fall[1] = e->fall[2] = 0.0f;
+        if (bv->x != e->after[3] || bv->y != e->after[4] || bv->z != e->after[5])
+            e->gained[0] = e->gained[1] = e->gained[2] = 0.0f;
+    }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);
     if (c->hook_error != CPL_OK) return c->hook_error;
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        if (!e->used || !e->two_way || e->has_force || e->in_water) continue;
+        phys_vec3 p, v;
+        if (phys_body_get_pose(c->def.phys, e->body, &p, NULL) != PHYS_OK ||
+            phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK)
+            continue;
+        e->fall[0] += p.x - before_p[i].x - before_v[i].x * dt;
+        e->fall[1] += p.y - before_p[i].y - before_v[i].y * dt;
+        e->fall[2] += p.z - before_p[i].z - before_v[i].z * dt;
+        e->gained[0] += v.x - before_v[i].x, e->gained[1] += v.y - before_v[i].y, e->gained[2] += v.z - before_v[i].z;
+        float after[6] = { p.x, p.y, p.z, v.x, v.y, v.z };
+        memcpy(e->after, after, sizeof after);
+    }
     if (r != PBF_OK) return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->def.fluid));
     c->steps++;
     return CPL_OK;
