@@ -440,7 +440,8 @@ typedef struct pbf_collider_report {
     uint64_t step;        ///< 0-based index of the step these belong to
     bool ready;           ///< false: not complete yet (everything else zero)
     bool existed;         ///< the collider took part in that step (false: it was added
-                          ///< later, so nothing was measured and the force is zero)
+                          ///< later, so nothing was measured and the force is zero; true
+                          ///< also while that step is not ready)
 } pbf_collider_report;
 pbf_result pbf_world_collider_report(pbf_world *world, pbf_collider_id id, int steps_back, bool wait,
                                      pbf_collider_report *out);

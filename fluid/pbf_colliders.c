@@ -486,8 +486,12 @@ pbf_result pbf_world_collider_report(pbf_world *w, pbf_collider_id id, int steps
     uint64_t step = w->step_index - (uint64_t)steps_back;
     const pbf_collider_report *h = &s->hist[step % RING];
     if (!(h->ready && h->step == step)) refresh(w, wait ? (int64_t)step : -1);
-    if (h->ready && h->step == step) *out = *h;
-    else out->step = step;
+    if (h->ready && h->step == step) {
+        *out = *h;
+    } else {
+        out->step = step; // not finished yet (without `wait`): ready false, forces zero
+        out->existed = true;
+    }
     return PBF_OK;
 }
 
