@@ -42,7 +42,7 @@ typedef struct body_entry {
     float fall[3], gained[3];  // what gravity did to it before its first measurement: m, m/s
     float after[6];            // its position and velocity at the end of the last such step
     uint64_t full_step;        // the fluid step its boundary first had full strength (0: not yet)
-    bool in_water;             // its first measurement found water at it
+    bool in_water;             // being set down in water (placing holds it)
     bool has_force;            // let go: the measured force applies (placing is over)
 } body_entry;
 
@@ -698,36 +698,47 @@ static void set_force(body_entry *e, float x, float y, float z)
     e->damping[0] = e->damping[1] = e->damping[2] = 0.0f;
 }
 
+// The body's position and velocity (and rotation, q may be NULL), false if Bullet has none.
+// What gravity did to it before its first measurement (fall, gained) is forgotten where the
+// host has moved it or set it going since the end of the last such step (`after`).
+static bool unmeasured_state(cpl_coupling *c, body_entry *e, phys_vec3 *p, phys_quat *q, phys_vec3 *v)
+{
+    if (phys_body_get_pose(c->def.phys, e->body, p, q) != PHYS_OK ||
+        phys_body_get_linear_velocity(c->def.phys, e->body, v) != PHYS_OK)
+        return false;
+    if (p->x != e->after[0] || p->y != e->after[1] || p->z != e->after[2]) e->fall[0] = e->fall[1] = e->fall[2] = 0.0f;
+    if (v->x != e->after[3] || v->y != e->after[4] || v->z != e->after[5])
+        e->gained[0] = e->gained[1] = e->gained[2] = 0.0f;
+    return true;
+}
+
 // True while the body is being placed (this step's force is set here). `back`: the
 // report's age in steps (the step about to run is rep->step + back).
 static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *rep, int back, float dt)
 {
-    phys_vec3 g = phys_world_get_gravity(c->def.phys);
     if (!rep->existed) {
         set_force(e, 0.0f, 0.0f, 0.0f);
         return true;
     }
     if (!e->in_water) {
-        phys_vec3 p;
-        phys_quat q;
         bool dry = rep->contacts == 0 && rep->pushed_out == 0;
         float speed2 = e->v0[0] * e->v0[0] + e->v0[1] * e->v0[1] + e->v0[2] * e->v0[2];
         if (dry || speed2 > CPL_PLACE_SPEED * CPL_PLACE_SPEED) {
-            e->in_water = !dry;
             set_strength(c, e, 1.0f);
             return false;
         }
         e->in_water = true;
         // Set down in water: undo what gravity did in the unmeasured steps (a teleport by
         // the host in between is kept).
-        phys_vec3 v;
-        if (phys_body_get_pose(c->def.phys, e->body, &p, &q) == PHYS_OK && p.x == e->after[0] && p.y == e->after[1] &&
-            p.z == e->after[2])
-            phys_body_set_pose(c->def.phys, e->body, (phys_vec3){ p.x - e->fall[0], p.y - e->fall[1], p.z - e->fall[2] }, q);
-        if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) == PHYS_OK && v.x == e->after[3] &&
-            v.y == e->after[4] && v.z == e->after[5])
-            phys_body_set_linear_velocity(c->def.phys, e->body,
-                                          (phys_vec3){ v.x - e->gained[0], v.y - e->gained[1], v.z - e->gained[2] });
+        phys_vec3 p, v;
+        phys_quat q;
+        if (unmeasured_state(c, e, &p, &q, &v)) {
+            if (e->fall[0] != 0.0f || e->fall[1] != 0.0f || e->fall[2] != 0.0f)
+                phys_body_set_pose(c->def.phys, e->body, (phys_vec3){ p.x - e->fall[0], p.y - e->fall[1], p.z - e->fall[2] }, q);
+            if (e->gained[0] != 0.0f || e->gained[1] != 0.0f || e->gained[2] != 0.0f)
+                phys_body_set_linear_velocity(c->def.phys, e->body,
+                                              (phys_vec3){ v.x - e->gained[0], v.y - e->gained[1], v.z - e->gained[2] });
+        }
     }
     e->placed += dt;
     float strength = fminf(e->placed / CPL_PLACE_TIME, 1.0f);
@@ -738,6 +749,7 @@ static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *r
         set_strength(c, e, 1.0f);
         return false;
     }
+    phys_vec3 g = phys_world_get_gravity(c->def.phys);
     set_force(e, -e->mass * g.x, -e->mass * g.y, -e->mass * g.z); // held: gravity cancelled
     return true;
 }
@@ -828,14 +840,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
     phys_vec3 before_p[CPL_MAX_BODIES] = { { 0.0f, 0.0f, 0.0f } }, before_v[CPL_MAX_BODIES] = { { 0.0f, 0.0f, 0.0f } };
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
-        if (!e->used || !e->two_way || e->has_force || e->in_water) continue;
-        phys_body_get_pose(c->def.phys, e->body, &before_p[i], NULL);
-        phys_body_get_linear_velocity(c->def.phys, e->body, &before_v[i]);
-        // Moved or set going by the host since the last step: that fall is no longer its.
-        const phys_vec3 *bp = &before_p[i], *bv = &before_v[i];
-        if (bp->x != e->after[0] || bp->y != e->after[1] || bp->z != e->after[2]) e->fall[0] = e->fall[1] = e->fall[2] = 0.0f;
-        if (bv->x != e->after[3] || bv->y != e->after[4] || bv->z != e->after[5])
-            e->gained[0] = e->gained[1] = e->gained[2] = 0.0f;
+        if (e->used && e->two_way && !e->has_force && !e->in_water) unmeasured_state(c, e, &before_p[i], NULL, &before_v[i]);
     }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);
