@@ -120,15 +120,13 @@ static uint32_t nb_len(const pbf_cpu_world *w, uint32_t i)
 
 static const uint32_t *nb_of(const pbf_cpu_world *w, uint32_t i) { return w->nb_list + (size_t)i * w->max_neighbours; }
 
-/// density.glsl density_finish: rho_i with the boundaries' share, C_i and lambda_i, into
-/// lambda_rho[i] and pred[i].w.
-static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, pbf_vec3 xi, float sum_w, pbf_vec3 grad_i,
-                           float sum_grad2)
+/// density.glsl density_finish: rho_i with i's images in the container's mirrors and the
+/// bodies' share, C_i and lambda_i, into lambda_rho[i] and pred[i].w.
+static void density_finish(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i, pbf_vec3 xi, uint32_t mask,
+                           pbf_vec3 twice, float sum_w, pbf_vec3 grad_i, float sum_grad2)
 {
+    if (mask != 0u) density_add_self_images(P, xi, mask, twice, &sum_w, &grad_i, &sum_grad2);
     float rho = P->mass_density * sum_w;
-    pbf_vec3 wall_grad;
-    rho += P->rest_density * container_boundary(P, xi, &wall_grad);
-    grad_i = pbf_add(grad_i, wall_grad);
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &grad_i);
     float lambda = density_lambda(P, rho, grad_i, sum_grad2);
     w->lambda_rho[2 * (size_t)i] = lambda;
@@ -169,6 +167,8 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
         float sum_w = w_spiky(P, 0.0f);
         pbf_vec3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
+        pbf_vec3 twice;
+        uint32_t mask = mirror_mask(P, xi, &twice);
         // Rows of cells (fixed y, z) in z then y order, each trimmed to the x cells the
         // kernel sphere reaches; rows whose y-z slab lies farther than h are skipped.
         for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1); z++) {
@@ -194,7 +194,12 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                         if (pbf_dot(r, r) < h2 && j != i && row_at(P, xj) == row) {
                             if (n < w->max_neighbours) {
                                 list[n] = j;
-                                if (solve) density_add(P, r, &sum_w, &grad_i, &sum_grad2);
+                                if (!solve) {
+                                } else if (mask == 0u) {
+                                    density_add(P, r, &sum_w, &grad_i, &sum_grad2);
+                                } else {
+                                    density_add_mirrored(P, xi, xj, mask, twice, &sum_w, &grad_i, &sum_grad2);
+                                }
                             }
                             n++;
                         }
@@ -203,7 +208,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
             }
         }
         w->nb_count[i] = n;
-        if (solve) density_finish(w, P, i, xi, sum_w, grad_i, sum_grad2);
+        if (solve) density_finish(w, P, i, xi, mask, twice, sum_w, grad_i, sum_grad2);
     }
 }
 
@@ -216,9 +221,14 @@ void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P)
         pbf_vec3 grad_i = { 0.0f, 0.0f, 0.0f };
         float sum_grad2 = 0.0f;
         const uint32_t *nb = nb_of(w, i);
-        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
-            density_add(P, pbf_sub(xi, pbf_xyz(w->pred[nb[q]])), &sum_w, &grad_i, &sum_grad2);
-        density_finish(w, P, i, xi, sum_w, grad_i, sum_grad2);
+        pbf_vec3 twice;
+        uint32_t mask = mirror_mask(P, xi, &twice);
+        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
+            pbf_vec3 xj = pbf_xyz(w->pred[nb[q]]);
+            if (mask == 0u) density_add(P, pbf_sub(xi, xj), &sum_w, &grad_i, &sum_grad2);
+            else density_add_mirrored(P, xi, xj, mask, twice, &sum_w, &grad_i, &sum_grad2);
+        }
+        density_finish(w, P, i, xi, mask, twice, sum_w, grad_i, sum_grad2);
     }
 }
 
@@ -248,6 +258,15 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
         pbf_vec3 dp = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         uint32_t nn = nb_len(w, i);
+        pbf_vec3 twice;
+        uint32_t mask = mirror_mask(P, xi, &twice);
+        if (mask != 0u) { // next to a wall: the neighbours' images too, and i's own
+            for (uint32_t q = 0; q < nn; q++) {
+                pbf_float4 pj = w->pred[nb[q]];
+                dp = pbf_add(dp, pbf_scale(li + pj.w, mirrored_gradient(P, xi, pbf_xyz(pj), mask, twice)));
+            }
+            dp = pbf_add(dp, pbf_scale(li, self_image_gradient(P, xi, mask, twice)));
+        }
         if (P->scorr_k > 0.0f) {
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
@@ -262,9 +281,6 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
             }
         }
         dp = pbf_scale(P->mass_density * P->inv_rest_density, dp);
-        pbf_vec3 wall_grad;
-        container_boundary(P, xi, &wall_grad);
-        dp = pbf_add(dp, pbf_scale(li, wall_grad));
         container_collide(w, P, i, pbf_add(xi, pbf_scale(relax, dp)));
     }
 }
@@ -392,14 +408,18 @@ float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32
     pbf_vec3 xi = pbf_xyz(w->pos[i]);
     float sum_w = w_spiky(P, 0.0f);
     const uint32_t *nb = nb_of(w, i);
-    for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-        pbf_vec3 r = pbf_sub(xi, pbf_xyz(w->pos[nb[q]]));
-        sum_w += w_spiky(P, pbf_length(r));
-    }
-    float rho = P->mass_density * sum_w;
-    pbf_vec3 unused_wall_grad;
-    rho += P->rest_density * container_boundary(P, xi, &unused_wall_grad);
+    pbf_vec3 twice;
+    uint32_t mask = mirror_mask(P, xi, &twice);
     pbf_vec3 unused_grad = { 0.0f, 0.0f, 0.0f };
+    float unused_grad2 = 0.0f;
+    for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
+        pbf_vec3 xj = pbf_xyz(w->pos[nb[q]]);
+        if (mask == 0u) sum_w += w_spiky(P, pbf_length(pbf_sub(xi, xj)));
+        else density_add_mirrored(P, xi, xj, mask, twice, &sum_w, &unused_grad, &unused_grad2);
+    }
+    if (mask != 0u) density_add_self_images(P, xi, mask, twice, &sum_w, &unused_grad, &unused_grad2);
+    float rho = P->mass_density * sum_w;
+    unused_grad = (pbf_vec3){ 0.0f, 0.0f, 0.0f };
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &unused_grad);
     return rho;
 }

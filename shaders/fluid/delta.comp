@@ -20,6 +20,15 @@ void main()
     float li = pred[i].w; // lambda, written by the density pass
     vec3 dp = vec3(0.0);
     uint nn = nb_len(i);
+    vec3 twice;
+    uint mask = mirror_mask(xi, twice);
+    if (mask != 0u) { // next to a wall: the neighbours' images too, and i's own
+        for (uint q = 0u; q < nn; q++) {
+            vec4 pj = pred[nb_at(i, q)];
+            dp += (li + pj.w) * mirrored_gradient(xi, pj.xyz, mask, twice);
+        }
+        dp += li * self_image_gradient(xi, mask, twice);
+    }
     if (P.scorr_k > 0.0) {
         for (uint q = 0u; q < nn; q++) {
             uint j = nb_at(i, q);
@@ -46,9 +55,6 @@ void main()
         }
     }
     dp *= P.mass_density * P.inv_rest_density;
-    vec3 wall_grad;
-    container_boundary(xi, wall_grad);
-    dp += li * wall_grad;
     vec3 x = xi + relax * dp;
     // Collisions: keep a particle radius away from every boundary.
     for (uint p = 0u; p < P.plane_count; p++) {

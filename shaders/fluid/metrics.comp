@@ -37,14 +37,17 @@ void main()
         } else {
             float sum_w = w_spiky(0.0);
             uint nn = nb_len(i);
-            for (uint q = 0u; q < nn; q++) {
-                vec3 r = xi - pos[nb_at(i, q)].xyz;
-                sum_w += w_spiky(length(r));
-            }
-            rho = P.mass_density * sum_w;
-            vec3 unused_wall_grad;
-            rho += P.rest_density * container_boundary(xi, unused_wall_grad);
+            vec3 twice;
+            uint mask = mirror_mask(xi, twice);
             vec3 unused_grad = vec3(0.0);
+            float unused_grad2 = 0.0;
+            for (uint q = 0u; q < nn; q++) {
+                if (mask == 0u) sum_w += w_spiky(length(xi - pos[nb_at(i, q)].xyz));
+                else density_add_mirrored(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
+            }
+            if (mask != 0u) density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
+            rho = P.mass_density * sum_w;
+            unused_grad = vec3(0.0);
             if (P.collider_count > 0u) colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;
             mom = vec4(P.mass * vi, 0.5 * P.mass * dot(vi, vi));

@@ -46,6 +46,8 @@ void main()
     float sum_w = w_spiky(0.0);
     vec3 grad_i = vec3(0.0);
     float sum_grad2 = 0.0;
+    vec3 twice;
+    uint mask = mirror_mask(xi, twice);
     for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1); z++) {
         float dz = slab_distance(xi.z, P.grid_origin.z, cs, z);
         for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1); y++) {
@@ -68,7 +70,8 @@ void main()
                     if (dot(r, r) < h2 && j != i && row_of(cell_coord(pj)) == row) {
                         if (n < P.max_neighbours) {
                             nb_list[base + n] = j;
-                            density_add(r, sum_w, grad_i, sum_grad2);
+                            if (mask == 0u) density_add(r, sum_w, grad_i, sum_grad2);
+                            else density_add_mirrored(xi, pj, mask, twice, sum_w, grad_i, sum_grad2);
                         }
                         n++;
                     }
@@ -77,5 +80,5 @@ void main()
         }
     }
     nb_count[i] = n;
-    density_finish(i, xi, sum_w, grad_i, sum_grad2);
+    density_finish(i, xi, mask, twice, sum_w, grad_i, sum_grad2);
 }

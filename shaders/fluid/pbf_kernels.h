@@ -330,32 +330,125 @@ PBF_FN float plane_distance(PBF_P_ARG PBF_UINT p, pbf_vec3 x, PBF_OUT(pbf_vec3) 
     return pbf_dot(x, PBF_REF(n)) - P.planes[p].w;
 }
 
-/// The container's share of the density at x (a fraction of a filled neighbourhood) and
-/// that share's gradient with respect to x (1/m), grad C_i gets `grad`. The planes'
-/// half-spaces are combined as a union, V = 1 - prod_p (1 - V_p), so edges and corners are
-/// not counted two or three times (exact for a separable kernel, within a few per cent of
-/// the true overlap for poly6); each plane's gradient is weighted by what the others leave.
-PBF_FN float container_boundary(PBF_P_ARG pbf_vec3 x, PBF_OUT(pbf_vec3) grad)
+// ---- the container as mirrors ------------------------------------------------------------
+// The container's walls act on the fluid's density as mirrors (the ghost-particle image
+// method): a particle near a wall counts, besides its neighbours, their images and its own
+// in that wall, each image moving with its particle. Whatever order the liquid has, its
+// mirror image has the same, so a particle next to a wall sees the neighbourhood it would
+// see in the bulk: no calibration, and no layer packed tighter or looser than the bulk
+// (docs/solver.md, "Walls as mirrors"). The container is a box, so the mirrors of one
+// particle are at most one plane per axis (the nearest closer than h); a particle near an
+// edge or a corner also counts the images in two and three of them, which are exact for
+// perpendicular planes. Bodies keep the half-space share (container_boundary's model).
+
+/// The plane facing container plane p (pbf_container_planes' order: floor, x min, x max,
+/// z min, z max, lid).
+PBF_FN PBF_UINT opposite_plane(PBF_UINT p) { return p == 0u ? 5u : p == 5u ? 0u : (p & 1u) == 1u ? p + 1u : p - 1u; }
+
+/// The mirrors of a particle at x: per axis the nearest container plane closer than h (of
+/// two equally near, the first). Returns a mask, bit k for a mirror across axis k and bit
+/// 3 + k when that plane's inward normal points down axis k; `twice` gets 2 c_k, c_k the
+/// plane's coordinate, so the image of a point is 2 c_k - x_k on the mirrored axes.
+PBF_FN PBF_UINT mirror_mask(PBF_P_ARG pbf_vec3 x, PBF_OUT(pbf_vec3) twice)
 {
-    float keep = 1.0f;
-    float vp[PBF_MAX_PLANES];
-    pbf_vec3 gp[PBF_MAX_PLANES];
+    PBF_UINT mask = 0u;
+    PBF_REF(twice) = pbf_v3(0.0f, 0.0f, 0.0f);
     for (PBF_UINT p = 0u; p < P.plane_count; p++) {
         pbf_vec3 n;
         float d = plane_distance(PBF_P_ p, x, PBF_ADDR(n));
-        vp[p] = d < P.h ? boundary_volume(PBF_P_ d) : 0.0f;
-        gp[p] = d < P.h ? pbf_scale(boundary_gradient(PBF_P_ d), n) : pbf_v3(0.0f, 0.0f, 0.0f);
-        keep *= 1.0f - vp[p];
+        if (d >= P.h) continue;
+        PBF_UINT o = opposite_plane(p);
+        if (o < P.plane_count) {
+            pbf_vec3 m;
+            float e = plane_distance(PBF_P_ o, x, PBF_ADDR(m));
+            if (e < d || (e == d && o < p)) continue;
+        }
+        // n is +-e_k, the plane n.x = w: c_k = w n_k
+        float w = P.planes[p].w;
+        if (pbf_abs(n.x) > 0.5f) {
+            mask |= n.x > 0.0f ? 1u : 9u;
+            PBF_REF(twice).x = 2.0f * w * n.x;
+        } else if (pbf_abs(n.y) > 0.5f) {
+            mask |= n.y > 0.0f ? 2u : 18u;
+            PBF_REF(twice).y = 2.0f * w * n.y;
+        } else {
+            mask |= n.z > 0.0f ? 4u : 36u;
+            PBF_REF(twice).z = 2.0f * w * n.z;
+        }
     }
-    PBF_REF(grad) = pbf_v3(0.0f, 0.0f, 0.0f);
-    for (PBF_UINT p = 0u; p < P.plane_count; p++) {
-        if (vp[p] <= 0.0f) continue;
-        float others = 1.0f; // products, not a division: both sides stay exact to the bit
-        for (PBF_UINT q = 0u; q < P.plane_count; q++)
-            if (q != p) others *= 1.0f - vp[q];
-        PBF_REF(grad) = pbf_sub(PBF_REF(grad), pbf_scale(others, gp[p]));
+    return mask;
+}
+
+/// x reflected across the mirrored axes in `axes` (bits 0-2, a subset of a mirror mask's).
+PBF_FN pbf_vec3 mirror_point(pbf_vec3 x, PBF_UINT axes, pbf_vec3 twice)
+{
+    return pbf_v3((axes & 1u) != 0u ? twice.x - x.x : x.x, (axes & 2u) != 0u ? twice.y - x.y : x.y,
+                  (axes & 4u) != 0u ? twice.z - x.z : x.z);
+}
+
+/// A direction reflected across the axes in `axes`.
+PBF_FN pbf_vec3 mirror_direction(pbf_vec3 v, PBF_UINT axes)
+{
+    return pbf_v3((axes & 1u) != 0u ? -v.x : v.x, (axes & 2u) != 0u ? -v.y : v.y, (axes & 4u) != 0u ? -v.z : v.z);
+}
+
+/// From particle i at xi to its own image across the axes in `axes`: 2 |x_k - c_k| along
+/// each plane's inward normal, so a particle that the prediction carried past a wall is
+/// pushed back in, not out.
+PBF_FN pbf_vec3 self_image_offset(pbf_vec3 xi, PBF_UINT mask, PBF_UINT axes, pbf_vec3 twice)
+{
+    pbf_vec3 r = pbf_v3(0.0f, 0.0f, 0.0f);
+    if ((axes & 1u) != 0u) r.x = ((mask & 8u) != 0u ? -1.0f : 1.0f) * pbf_abs(2.0f * xi.x - twice.x);
+    if ((axes & 2u) != 0u) r.y = ((mask & 16u) != 0u ? -1.0f : 1.0f) * pbf_abs(2.0f * xi.y - twice.y);
+    if ((axes & 4u) != 0u) r.z = ((mask & 32u) != 0u ? -1.0f : 1.0f) * pbf_abs(2.0f * xi.z - twice.z);
+    return r;
+}
+
+/// density_add for neighbour j at xj and for its images in particle i's mirrors (`mask`,
+/// `twice`: mirror_mask), each image counted as a particle of its own, as it is in the
+/// container mirrored about the wall (so a particle next to a wall solves exactly what a
+/// particle in the middle of that doubled container would).
+PBF_FN void density_add_mirrored(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, PBF_UINT mask, pbf_vec3 twice,
+                                 PBF_INOUT(float) sum_w, PBF_INOUT(pbf_vec3) grad_i, PBF_INOUT(float) sum_grad2)
+{
+    PBF_UINT axes = mask & 7u;
+    for (PBF_UINT sub = axes;; sub = (sub - 1u) & axes) { // every subset, the empty one (j itself) last
+        density_add(PBF_P_ pbf_sub(xi, mirror_point(xj, sub, twice)), sum_w, grad_i, sum_grad2);
+        if (sub == 0u) break;
     }
-    return 1.0f - keep;
+}
+
+/// density_add for particle i's own images in its mirrors. In the doubled container an
+/// image is a particle of its own whose multiplier equals i's, so the delta pass moves i by
+/// twice lambda_i times the image's gradient (self_image_gradient).
+PBF_FN void density_add_self_images(PBF_P_ARG pbf_vec3 xi, PBF_UINT mask, pbf_vec3 twice, PBF_INOUT(float) sum_w,
+                                    PBF_INOUT(pbf_vec3) grad_i, PBF_INOUT(float) sum_grad2)
+{
+    PBF_UINT axes = mask & 7u;
+    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes)
+        density_add(PBF_P_ self_image_offset(xi, mask, sub, twice), sum_w, grad_i, sum_grad2);
+}
+
+/// The spiky gradient of neighbour j's images in the mirrors of `mask` (not j itself),
+/// summed: the delta pass adds (lambda_i + lambda_j) times it.
+PBF_FN pbf_vec3 mirrored_gradient(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, PBF_UINT mask, pbf_vec3 twice)
+{
+    pbf_vec3 g = pbf_v3(0.0f, 0.0f, 0.0f);
+    PBF_UINT axes = mask & 7u;
+    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes)
+        g = pbf_add(g, grad_spiky(PBF_P_ pbf_sub(xi, mirror_point(xj, sub, twice))));
+    return g;
+}
+
+/// The spiky gradient of particle i's own images, doubled (density_add_self_images): the
+/// delta pass adds lambda_i times it.
+PBF_FN pbf_vec3 self_image_gradient(PBF_P_ARG pbf_vec3 xi, PBF_UINT mask, pbf_vec3 twice)
+{
+    pbf_vec3 g = pbf_v3(0.0f, 0.0f, 0.0f);
+    PBF_UINT axes = mask & 7u;
+    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes)
+        g = pbf_add(g, pbf_scale(2.0f, grad_spiky(PBF_P_ self_image_offset(xi, mask, sub, twice))));
+    return g;
 }
 
 // ---- wall friction (velocity.comp) -------------------------------------------------------
