@@ -46,18 +46,9 @@ static pbf_world *make_world(float r, float lo[3], float hi[3], uint32_t capacit
     return w;
 }
 
-// The walls' share of a filled neighbourhood at distance d (the closed form of common.glsl),
-// written again here so the test measures densities independently of the solver's code.
-static double boundary_volume(double d, double h)
-{
-    double u = d / h;
-    if (u < 0) u = 0;
-    if (u > 1) u = 1;
-    return 0.5 * pow(1.0 - u, 5) * (1.0 + 2.0 * u); // int_{z>d} W_spiky
-}
-
 /// Water settled in a closed box: the particles next to each wall reach (nearly) the
-/// density of the bulk, i.e. the walls do not make them pile up in layers.
+/// density of the bulk, i.e. the walls do not make them pile up in layers. The densities
+/// are summed here again, images included, independently of the solver's code.
 static void settled_tank_walls_do_not_stack_particles(void **state)
 {
     (void)state;
@@ -86,17 +77,28 @@ static void settled_tank_walls_do_not_stack_particles(void **state)
     for (uint32_t i = 0; i < n; i++) surface = fmax(surface, x[4 * i + 1]);
     for (uint32_t i = 0; i < n; i++) {
         const float *xi = x + 4 * i;
-        double sum = 0;
-        for (uint32_t j = 0; j < n; j++) {
-            double dx = xi[0] - x[4 * j], dy = xi[1] - x[4 * j + 1], dz = xi[2] - x[4 * j + 2];
-            double r2 = dx * dx + dy * dy + dz * dz;
-            if (r2 < h2) sum += -k.spiky_grad / 3.0 * pow(h - sqrt(r2), 3); // W_spiky
-        }
-        double rho = k.mass_density * sum;
         double d[5] = { xi[1] - lo[1], xi[0] - lo[0], hi[0] - xi[0], xi[2] - lo[2], hi[2] - xi[2] };
-        double keep = 1.0; // the walls' union, as the solver counts it (docs/solver.md)
-        for (int q = 0; q < 5; q++) keep *= 1.0 - k.boundary_scale * boundary_volume(d[q], h);
-        rho += p.rest_density * (1.0 - keep);
+        // The walls are mirrors (docs/solver.md, "Walls as mirrors"): per axis the nearest
+        // wall closer than h reflects every particle, i included; near an edge or a corner
+        // the images across two or three walls count too.
+        bool mirrored[3] = { d[1] < h || d[2] < h, d[0] < h, d[3] < h || d[4] < h };
+        double twice[3] = { 2.0 * (d[1] <= d[2] ? lo[0] : hi[0]), 2.0 * lo[1], 2.0 * (d[3] <= d[4] ? lo[2] : hi[2]) };
+        double sum = 0;
+        for (uint32_t j = 0; j < n; j++)
+            for (int sub = 0; sub < 8; sub++) {
+                double img[3];
+                bool skip = false;
+                for (int a = 0; a < 3; a++) {
+                    bool flip = (sub >> a) & 1;
+                    if (flip && !mirrored[a]) skip = true;
+                    img[a] = flip ? twice[a] - x[4 * j + a] : x[4 * j + a];
+                }
+                if (skip) continue;
+                double dx = xi[0] - img[0], dy = xi[1] - img[1], dz = xi[2] - img[2];
+                double r2 = dx * dx + dy * dy + dz * dz;
+                if (r2 < h2) sum += -k.spiky_grad / 3.0 * pow(h - sqrt(r2), 3); // W_spiky
+            }
+        double rho = k.mass_density * sum;
         if (xi[1] > surface - h) continue; // the free surface is not the subject here
         int near = -1;
         for (int q = 0; q < 5; q++)
