@@ -194,12 +194,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                         if (pbf_dot(r, r) < h2 && j != i && row_at(P, xj) == row) {
                             if (n < w->max_neighbours) {
                                 list[n] = j;
-                                if (!solve) {
-                                } else if (mask == 0u) {
-                                    density_add(P, r, &sum_w, &grad_i, &sum_grad2);
-                                } else {
-                                    density_add_mirrored(P, xi, xj, mask, twice, &sum_w, &grad_i, &sum_grad2);
-                                }
+                                if (solve) density_add(P, r, &sum_w, &grad_i, &sum_grad2);
                             }
                             n++;
                         }
@@ -208,6 +203,9 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
             }
         }
         w->nb_count[i] = n;
+        if (solve && mask != 0u) // next to a wall: the neighbours' images
+            for (uint32_t q = 0, nn = n < w->max_neighbours ? n : w->max_neighbours; q < nn; q++)
+                density_add_images(P, xi, pbf_xyz(x[list[q]]), mask, twice, &sum_w, &grad_i, &sum_grad2);
         if (solve) density_finish(w, P, i, xi, mask, twice, sum_w, grad_i, sum_grad2);
     }
 }
@@ -223,11 +221,11 @@ void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P)
         const uint32_t *nb = nb_of(w, i);
         pbf_vec3 twice;
         uint32_t mask = mirror_mask(P, xi, &twice);
-        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-            pbf_vec3 xj = pbf_xyz(w->pred[nb[q]]);
-            if (mask == 0u) density_add(P, pbf_sub(xi, xj), &sum_w, &grad_i, &sum_grad2);
-            else density_add_mirrored(P, xi, xj, mask, twice, &sum_w, &grad_i, &sum_grad2);
-        }
+        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
+            density_add(P, pbf_sub(xi, pbf_xyz(w->pred[nb[q]])), &sum_w, &grad_i, &sum_grad2);
+        if (mask != 0u) // next to a wall: the neighbours' images
+            for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
+                density_add_images(P, xi, pbf_xyz(w->pred[nb[q]]), mask, twice, &sum_w, &grad_i, &sum_grad2);
         density_finish(w, P, i, xi, mask, twice, sum_w, grad_i, sum_grad2);
     }
 }
@@ -412,12 +410,12 @@ float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32
     uint32_t mask = mirror_mask(P, xi, &twice);
     pbf_vec3 unused_grad = { 0.0f, 0.0f, 0.0f };
     float unused_grad2 = 0.0f;
-    for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-        pbf_vec3 xj = pbf_xyz(w->pos[nb[q]]);
-        if (mask == 0u) sum_w += w_spiky(P, pbf_length(pbf_sub(xi, xj)));
-        else density_add_mirrored(P, xi, xj, mask, twice, &sum_w, &unused_grad, &unused_grad2);
+    for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) sum_w += w_spiky(P, pbf_length(pbf_sub(xi, pbf_xyz(w->pos[nb[q]]))));
+    if (mask != 0u) { // next to a wall: the neighbours' images and its own
+        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
+            density_add_images(P, xi, pbf_xyz(w->pos[nb[q]]), mask, twice, &sum_w, &unused_grad, &unused_grad2);
+        density_add_self_images(P, xi, mask, twice, &sum_w, &unused_grad, &unused_grad2);
     }
-    if (mask != 0u) density_add_self_images(P, xi, mask, twice, &sum_w, &unused_grad, &unused_grad2);
     float rho = P->mass_density * sum_w;
     unused_grad = (pbf_vec3){ 0.0f, 0.0f, 0.0f };
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &unused_grad);

@@ -25,9 +25,6 @@ void main()
     vec3 twice;
     uint mask = mirror_mask(xi, twice);
     uint q = 0u;
-    if (mask != 0u) { // next to a wall: the neighbours and their images
-        for (; q < nn; q++) density_add_mirrored(xi, pred[nb_at(i, q)].xyz, mask, twice, sum_w, grad_i, sum_grad2);
-    }
     for (; q + 1u < nn; q += 2u) { // two per trip, loads first; sums still in list order
         vec3 ra = xi - pred[nb_at(i, q)].xyz;
         vec3 rb = xi - pred[nb_at(i, q + 1u)].xyz;
@@ -35,5 +32,8 @@ void main()
         density_add(rb, sum_w, grad_i, sum_grad2);
     }
     if (q < nn) density_add(xi - pred[nb_at(i, q)].xyz, sum_w, grad_i, sum_grad2);
+    if (mask != 0u) { // next to a wall: the neighbours' images
+        for (q = 0u; q < nn; q++) density_add_images(xi, pred[nb_at(i, q)].xyz, mask, twice, sum_w, grad_i, sum_grad2);
+    }
     density_finish(i, xi, mask, twice, sum_w, grad_i, sum_grad2);
 }

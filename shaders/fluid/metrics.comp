@@ -41,11 +41,12 @@ void main()
             uint mask = mirror_mask(xi, twice);
             vec3 unused_grad = vec3(0.0);
             float unused_grad2 = 0.0;
-            for (uint q = 0u; q < nn; q++) {
-                if (mask == 0u) sum_w += w_spiky(length(xi - pos[nb_at(i, q)].xyz));
-                else density_add_mirrored(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
+            for (uint q = 0u; q < nn; q++) sum_w += w_spiky(length(xi - pos[nb_at(i, q)].xyz));
+            if (mask != 0u) { // next to a wall: the neighbours' images and its own
+                for (uint q = 0u; q < nn; q++)
+                    density_add_images(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
+                density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
             }
-            if (mask != 0u) density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
             rho = P.mass_density * sum_w;
             unused_grad = vec3(0.0);
             if (P.collider_count > 0u) colliders_density(xi, rho, unused_grad);

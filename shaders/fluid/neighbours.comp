@@ -70,8 +70,7 @@ void main()
                     if (dot(r, r) < h2 && j != i && row_of(cell_coord(pj)) == row) {
                         if (n < P.max_neighbours) {
                             nb_list[base + n] = j;
-                            if (mask == 0u) density_add(r, sum_w, grad_i, sum_grad2);
-                            else density_add_mirrored(xi, pj, mask, twice, sum_w, grad_i, sum_grad2);
+                            density_add(r, sum_w, grad_i, sum_grad2);
                         }
                         n++;
                     }
@@ -80,5 +79,9 @@ void main()
         }
     }
     nb_count[i] = n;
+    if (mask != 0u) { // next to a wall: the neighbours' images
+        uint nn = min(n, P.max_neighbours);
+        for (uint q = 0u; q < nn; q++) density_add_images(xi, pred[nb_list[base + q]].xyz, mask, twice, sum_w, grad_i, sum_grad2);
+    }
     density_finish(i, xi, mask, twice, sum_w, grad_i, sum_grad2);
 }

@@ -404,18 +404,18 @@ PBF_FN pbf_vec3 self_image_offset(pbf_vec3 xi, PBF_UINT mask, PBF_UINT axes, pbf
     return r;
 }
 
-/// density_add for neighbour j at xj and for its images in particle i's mirrors (`mask`,
-/// `twice`: mirror_mask), each image counted as a particle of its own, as it is in the
-/// container mirrored about the wall (so a particle next to a wall solves exactly what a
-/// particle in the middle of that doubled container would).
-PBF_FN void density_add_mirrored(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, PBF_UINT mask, pbf_vec3 twice,
-                                 PBF_INOUT(float) sum_w, PBF_INOUT(pbf_vec3) grad_i, PBF_INOUT(float) sum_grad2)
+/// density_add for the images of neighbour j (at xj) in particle i's mirrors (`mask`,
+/// `twice`: mirror_mask), not j itself, each image counted as a particle of its own, as it
+/// is in the container mirrored about the wall (so a particle next to a wall solves exactly
+/// what a particle in the middle of that doubled container would). The passes add j itself
+/// while they walk the neighbours and the images after, over the list, so only particles
+/// next to a wall take the second loop.
+PBF_FN void density_add_images(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, PBF_UINT mask, pbf_vec3 twice, PBF_INOUT(float) sum_w,
+                               PBF_INOUT(pbf_vec3) grad_i, PBF_INOUT(float) sum_grad2)
 {
     PBF_UINT axes = mask & 7u;
-    for (PBF_UINT sub = axes;; sub = (sub - 1u) & axes) { // every subset, the empty one (j itself) last
+    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes)
         density_add(PBF_P_ pbf_sub(xi, mirror_point(xj, sub, twice)), sum_w, grad_i, sum_grad2);
-        if (sub == 0u) break;
-    }
 }
 
 /// density_add for particle i's own images in its mirrors. In the doubled container an
