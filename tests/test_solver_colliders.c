@@ -61,6 +61,7 @@ typedef support_gpu fixture;
 // stage-by-stage comparison of tests/test_mirror.c are where the two must agree closely.)
 #define COLLIDER_STEP1 5e-5  // spacings, after the first step
 #define COLLIDER_TIGHT 2e-3  // spacings, steps 1-6
+#define COLLIDER_SWITCHED 1e-2 // spacings, steps 1-6 after a push-out switched (below)
 #define COLLIDER_LOOSE 0.25  // spacings, steps 7-12
 #define FORCE_TIGHT 2e-4     // of the largest |F| of the run, steps 1-6
 #define FORCE_LOOSE 3e-2
@@ -203,9 +204,18 @@ static void check_collider_result(const collider_scene *cs, const collider_resul
 {
     double spacing = pbf_derive_constants(&cs->s.params).spacing;
     assert_true(r->dev[0] < COLLIDER_STEP1 * spacing);
+    // A push-out that happens on one side only (counts 3 or more apart, or a contact) moves
+    // a particle by up to half a spacing and the difference grows from there: since the walls
+    // are mirrors (2026-11-26) the hull scene switches 3 push-outs at step 4 and reaches
+    // 2.3e-3 spacing at step 6, the moving scene at step 3 (4.9e-4 at step 4). Positions
+    // after such a step take COLLIDER_SWITCHED, 4.4 times that and 6 times below the
+    // smallest slip (omega left out, 6.0e-2 by step 6); forces and torques stay tight.
+    bool switched = false;
     for (int k = 0; k < cs->steps; k++) {
         bool tight = k < TIGHT_STEPS;
-        assert_true(r->dev[k] < (tight ? COLLIDER_TIGHT : COLLIDER_LOOSE) * spacing);
+        double near = switched ? COLLIDER_SWITCHED : COLLIDER_TIGHT;
+        assert_true(r->dev[k] < (tight ? near : COLLIDER_LOOSE) * spacing);
+        if (abs(r->pushed_diff[k]) >= 3 || r->contact_diff[k] != 0) switched = true;
         assert_true(r->fdev[k] <= (tight ? FORCE_TIGHT : FORCE_LOOSE) * r->fmax);
         assert_true(r->tdev[k] <= (tight ? TORQUE_TIGHT : TORQUE_LOOSE) * r->tmax);
         assert_true(r->rho[k] < (tight ? DENSITY_REL : 1e-2));
