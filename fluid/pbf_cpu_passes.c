@@ -261,9 +261,9 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
         if (mask != 0u) { // next to a wall: the neighbours' images too, and i's own
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
-                dp = pbf_add(dp, pbf_scale(li + pj.w, mirrored_gradient(P, xi, pbf_xyz(pj), mask, twice)));
+                dp = pbf_add(dp, mirrored_correction(P, xi, pbf_xyz(pj), li + pj.w, mask, twice));
             }
-            dp = pbf_add(dp, pbf_scale(li, self_image_gradient(P, xi, mask, twice)));
+            dp = pbf_add(dp, self_image_correction(P, xi, li, mask, twice));
         }
         if (P->scorr_k > 0.0f) {
             for (uint32_t q = 0; q < nn; q++) {

@@ -25,9 +25,9 @@ void main()
     if (mask != 0u) { // next to a wall: the neighbours' images too, and i's own
         for (uint q = 0u; q < nn; q++) {
             vec4 pj = pred[nb_at(i, q)];
-            dp += (li + pj.w) * mirrored_gradient(xi, pj.xyz, mask, twice);
+            dp += mirrored_correction(xi, pj.xyz, li + pj.w, mask, twice);
         }
-        dp += li * self_image_gradient(xi, mask, twice);
+        dp += self_image_correction(xi, li, mask, twice);
     }
     if (P.scorr_k > 0.0) {
         for (uint q = 0u; q < nn; q++) {

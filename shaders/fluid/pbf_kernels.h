@@ -339,7 +339,8 @@ PBF_FN float plane_distance(PBF_P_ARG PBF_UINT p, pbf_vec3 x, PBF_OUT(pbf_vec3) 
 // (docs/solver.md, "Walls as mirrors"). The container is a box, so the mirrors of one
 // particle are at most one plane per axis (the nearest closer than h); a particle near an
 // edge or a corner also counts the images in two and three of them, which are exact for
-// perpendicular planes. Bodies keep the half-space share (container_boundary's model).
+// perpendicular planes. Bodies keep the half-space share (boundary_volume and
+// boundary_gradient below).
 
 /// The plane facing container plane p (pbf_container_planes' order: floor, x min, x max,
 /// z min, z max, lid).
@@ -420,7 +421,7 @@ PBF_FN void density_add_images(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, PBF_UINT mask
 
 /// density_add for particle i's own images in its mirrors. In the doubled container an
 /// image is a particle of its own whose multiplier equals i's, so the delta pass moves i by
-/// twice lambda_i times the image's gradient (self_image_gradient).
+/// twice lambda_i times the image's gradient (self_image_correction).
 PBF_FN void density_add_self_images(PBF_P_ARG pbf_vec3 xi, PBF_UINT mask, pbf_vec3 twice, PBF_INOUT(float) sum_w,
                                     PBF_INOUT(pbf_vec3) grad_i, PBF_INOUT(float) sum_grad2)
 {
@@ -429,25 +430,37 @@ PBF_FN void density_add_self_images(PBF_P_ARG pbf_vec3 xi, PBF_UINT mask, pbf_ve
         density_add(PBF_P_ self_image_offset(xi, mask, sub, twice), sum_w, grad_i, sum_grad2);
 }
 
-/// The spiky gradient of neighbour j's images in the mirrors of `mask` (not j itself),
-/// summed: the delta pass adds (lambda_i + lambda_j) times it.
-PBF_FN pbf_vec3 mirrored_gradient(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, PBF_UINT mask, pbf_vec3 twice)
+/// The artificial pressure s_corr of a pair at r (0 when P.scorr_k is 0): the delta pass's
+/// -k (W(r) / W(dq))^n, times the scale that makes k read as a constraint violation.
+PBF_FN float scorr_of(PBF_P_ARG pbf_vec3 r)
+{
+    if (P.scorr_k <= 0.0f) return 0.0f;
+    return -P.scorr_k * pbf_pow(w_spiky(PBF_P_ pbf_length(r)) * P.scorr_inv_wdq, P.scorr_n) * P.scorr_scale;
+}
+
+/// The delta pass's sum for neighbour j's images in particle i's mirrors (not j itself):
+/// (lambda_i + lambda_j + s_corr) grad W towards each image, lambda_sum = lambda_i + lambda_j.
+PBF_FN pbf_vec3 mirrored_correction(PBF_P_ARG pbf_vec3 xi, pbf_vec3 xj, float lambda_sum, PBF_UINT mask, pbf_vec3 twice)
 {
     pbf_vec3 g = pbf_v3(0.0f, 0.0f, 0.0f);
     PBF_UINT axes = mask & 7u;
-    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes)
-        g = pbf_add(g, grad_spiky(PBF_P_ pbf_sub(xi, mirror_point(xj, sub, twice))));
+    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes) {
+        pbf_vec3 r = pbf_sub(xi, mirror_point(xj, sub, twice));
+        g = pbf_add(g, pbf_scale(lambda_sum + scorr_of(PBF_P_ r), grad_spiky(PBF_P_ r)));
+    }
     return g;
 }
 
-/// The spiky gradient of particle i's own images, doubled (density_add_self_images): the
-/// delta pass adds lambda_i times it.
-PBF_FN pbf_vec3 self_image_gradient(PBF_P_ARG pbf_vec3 xi, PBF_UINT mask, pbf_vec3 twice)
+/// The same for particle i's own images, whose multiplier is lambda_i's
+/// (density_add_self_images): (2 lambda_i + s_corr) grad W towards each.
+PBF_FN pbf_vec3 self_image_correction(PBF_P_ARG pbf_vec3 xi, float lambda_i, PBF_UINT mask, pbf_vec3 twice)
 {
     pbf_vec3 g = pbf_v3(0.0f, 0.0f, 0.0f);
     PBF_UINT axes = mask & 7u;
-    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes)
-        g = pbf_add(g, pbf_scale(2.0f, grad_spiky(PBF_P_ self_image_offset(xi, mask, sub, twice))));
+    for (PBF_UINT sub = axes; sub != 0u; sub = (sub - 1u) & axes) {
+        pbf_vec3 r = self_image_offset(xi, mask, sub, twice);
+        g = pbf_add(g, pbf_scale(2.0f * lambda_i + scorr_of(PBF_P_ r), grad_spiky(PBF_P_ r)));
+    }
     return g;
 }
 
