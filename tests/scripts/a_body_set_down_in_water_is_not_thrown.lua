@@ -17,7 +17,9 @@ function on_step(dt, t)
     if not made and t >= 1.0 then
         for i, q in ipairs(ratios) do
             local x = cell * (i - 0.5)
-            local level = seiche.surface_height(x - 0.12, cell / 2 - 0.12, 0.02, "mean")
+            -- The level over the cell (the median of its column tops): a sample of one or two
+            -- columns reads a spacing low whenever a particle has just left its top.
+            local level = seiche.surface_height(x, cell / 2, cell / 2 - 0.03, "level")
             bodies[i] = seiche.body { shape = "box", size = { 0.12, h, 0.12 }, position = { x, level + h / 2 - q * h, cell / 2 },
                                       density = q * rho_w, linear_factor = { 0, 1, 0 }, angular_factor = { 0, 0, 0 } }
             track[i] = {}
