@@ -189,10 +189,11 @@ typedef struct pbf_constants {
     float poly6;          ///< 315 / (64 pi h^9) (the XSPH viscosity's weight)
     float spiky_grad;     ///< -45 / (pi h^6); the density kernel is W_spiky = -spiky_grad / 3 (h - r)^3
     float scorr_inv_wdq;  ///< 1 / W_spiky(scorr_dq * h)
-    float boundary_scale; ///< the wall share V(d) and its gradient are multiplied by this:
+    float boundary_scale; ///< a body's share V(d) and its gradient are multiplied by this:
                           ///< the missing share of a rest lattice whose first layer sits half
-                          ///< a spacing from a wall, over the continuous V(spacing / 2), so a
-                          ///< block placed against a wall starts in balance (docs/solver.md)
+                          ///< a spacing from a flat side, over the continuous V(spacing / 2), so
+                          ///< a block placed against it starts in balance (docs/solver.md; the
+                          ///< container's walls are mirrors and need no calibration)
     float scorr_scale;    ///< m^2, 1 / lattice_grad2: the artificial pressure term is
                           ///< -k (W / W(dq))^n * scorr_scale, so k reads as a constraint
                           ///< violation (k = 0.1 pushes like a 10 % compression)

@@ -204,7 +204,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
         }
         w->nb_count[i] = n;
         if (solve && mask != 0u) // next to a wall: the neighbours' images
-            for (uint32_t q = 0, nn = n < w->max_neighbours ? n : w->max_neighbours; q < nn; q++)
+            for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
                 density_add_images(P, xi, pbf_xyz(x[list[q]]), mask, twice, &sum_w, &grad_i, &sum_grad2);
         if (solve) density_finish(w, P, i, xi, mask, twice, sum_w, grad_i, sum_grad2);
     }
@@ -269,8 +269,7 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
                 pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj));
-                float s = -P->scorr_k * powf(w_spiky(P, pbf_length(r)) * P->scorr_inv_wdq, P->scorr_n) * P->scorr_scale;
-                dp = pbf_add(dp, pbf_scale(li + pj.w + s, grad_spiky(P, r)));
+                dp = pbf_add(dp, pbf_scale(li + pj.w + scorr_of(P, r), grad_spiky(P, r)));
             }
         } else {
             for (uint32_t q = 0; q < nn; q++) {
@@ -417,7 +416,6 @@ float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32
         density_add_self_images(P, xi, mask, twice, &sum_w, &unused_grad, &unused_grad2);
     }
     float rho = P->mass_density * sum_w;
-    unused_grad = (pbf_vec3){ 0.0f, 0.0f, 0.0f };
     if (P->collider_count > 0u) pbf_cpu_colliders_density(w, P, xi, &rho, &unused_grad);
     return rho;
 }

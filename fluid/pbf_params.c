@@ -458,6 +458,8 @@ int pbf_container_planes(const float min[3], const float max[3], bool closed_top
             return 0;
         }
     }
+    // This order (floor, x min, x max, z min, z max, lid) is what pbf_kernels.h's
+    // opposite_plane pairs facing planes by.
     const float p[PBF_MAX_PLANES][4] = {
         { 0, 1, 0, min[1] },  { 1, 0, 0, min[0] },   { -1, 0, 0, -max[0] },
         { 0, 0, 1, min[2] },  { 0, 0, -1, -max[2] }, { 0, -1, 0, -max[1] },

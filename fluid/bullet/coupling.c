@@ -699,13 +699,18 @@ static void set_force(body_entry *e, float x, float y, float z)
 }
 
 // The body's position and velocity (and rotation, q may be NULL), false if Bullet has none.
-// What gravity did to it before its first measurement (fall, gained) is forgotten where the
-// host has moved it or set it going since the end of the last such step (`after`).
+static bool body_state(cpl_coupling *c, const body_entry *e, phys_vec3 *p, phys_quat *q, phys_vec3 *v)
+{
+    return phys_body_get_pose(c->def.phys, e->body, p, q) == PHYS_OK &&
+           phys_body_get_linear_velocity(c->def.phys, e->body, v) == PHYS_OK;
+}
+
+// body_state, and what gravity did to the body before its first measurement (fall, gained)
+// is forgotten where the host has moved it or set it going since the end of the last such
+// step (`after`).
 static bool unmeasured_state(cpl_coupling *c, body_entry *e, phys_vec3 *p, phys_quat *q, phys_vec3 *v)
 {
-    if (phys_body_get_pose(c->def.phys, e->body, p, q) != PHYS_OK ||
-        phys_body_get_linear_velocity(c->def.phys, e->body, v) != PHYS_OK)
-        return false;
+    if (!body_state(c, e, p, q, v)) return false;
     if (p->x != e->after[0] || p->y != e->after[1] || p->z != e->after[2]) e->fall[0] = e->fall[1] = e->fall[2] = 0.0f;
     if (v->x != e->after[3] || v->y != e->after[4] || v->z != e->after[5])
         e->gained[0] = e->gained[1] = e->gained[2] = 0.0f;
@@ -849,9 +854,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         body_entry *e = &c->bodies[i];
         if (!e->used || !e->two_way || e->has_force || e->in_water) continue;
         phys_vec3 p, v;
-        if (phys_body_get_pose(c->def.phys, e->body, &p, NULL) != PHYS_OK ||
-            phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK)
-            continue;
+        if (!body_state(c, e, &p, NULL, &v)) continue;
         e->fall[0] += p.x - before_p[i].x - before_v[i].x * dt;
         e->fall[1] += p.y - before_p[i].y - before_v[i].y * dt;
         e->fall[2] += p.z - before_p[i].z - before_v[i].z * dt;

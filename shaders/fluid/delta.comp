@@ -34,8 +34,7 @@ void main()
             uint j = nb_at(i, q);
             vec4 pj = pred[j];
             vec3 r = xi - pj.xyz;
-            float s = -P.scorr_k * pow(w_spiky(length(r)) * P.scorr_inv_wdq, P.scorr_n) * P.scorr_scale;
-            dp += (li + pj.w + s) * grad_spiky(r);
+            dp += (li + pj.w + scorr_of(r)) * grad_spiky(r);
         }
     } else {
         // Two neighbours per trip (loads first): about 10 % faster on llvmpipe, and the

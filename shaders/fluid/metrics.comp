@@ -48,7 +48,6 @@ void main()
                 density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
             }
             rho = P.mass_density * sum_w;
-            unused_grad = vec3(0.0);
             if (P.collider_count > 0u) colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;
             mom = vec4(P.mass * vi, 0.5 * P.mass * dot(vi, vi));

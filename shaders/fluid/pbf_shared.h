@@ -149,7 +149,7 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_UINT count_mode;     // count pass: 0 after sinks removed particles, 1 after an append
     PBF_FLOAT scorr_scale;   // m^2: s_corr is -k (W / W(dq))^n * scorr_scale, a multiplier
                              // of the size a constraint violated by k would get
-    PBF_FLOAT boundary_scale;// calibrates the continuous wall model to the particle lattice
+    PBF_FLOAT boundary_scale;// calibrates the bodies' continuous wall model to the particle lattice
     PBF_FLOAT surface_tension; // gamma, m/s^2 (0: the tension passes do not run)
     PBF_FLOAT cohesion_norm; // 32 / (pi h^9) * m / rho0, 1/m^6: the cohesion spline's factor
     PBF_FLOAT wall_friction; // skin-friction coefficient C_f of the container's planes
