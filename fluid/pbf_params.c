@@ -32,7 +32,7 @@ pbf_params pbf_default_params(void)
     p.max_substeps = 32;
     p.guard_compression = 0.0f; // off: a change of substeps moves the water (docs/solver.md)
     p.surface_fill = 0.0f;  // off: measured, not yet the default (docs/solver.md)
-    p.wall_friction = 0.01f; // a rough wall: the dam-break front on Martin & Moyce's (docs/solver.md)
+    p.wall_friction = 0.02f; // a rough wall: the dam-break front on Martin & Moyce's (docs/solver.md)
     return p;
 }
 

@@ -16,7 +16,7 @@ run() { # radius friction file
         tools/dam_break_front.lua | awk '$1 == "T" { print $2, $4 }' > "$3"
 }
 for r in 0.01 0.005 0.0025; do
-    run "$r" 0.01 "$out/dam_break_front_$r.dat"
+    run "$r" 0.02 "$out/dam_break_front_$r.dat"
 done
 run 0.0025 0 "$out/dam_break_front_0.0025_frictionless.dat"
 # The experiment: the first data block of the file (its Table 2).

@@ -250,14 +250,27 @@ PBF_FN float free_surface_share(PBF_P_ARG float g)
     return P.surface_fill * 0.5f * k * c2 * c2 * c * (3.0f - 2.0f * c);
 }
 
+/// The most the free surface's missing share may add to a constraint: with x = rho/rho0 - 1,
+/// C = max(x, min(x + A, cap)), so the share lifts C to at most `cap` and a particle
+/// compressed beyond it takes none. The share is estimated from the gradient, which in
+/// deep, compressed and disordered water is noise: uncapped, that noise pushed the water
+/// apart at fine spacing (a column 32 layers deep blew up within a second;
+/// docs/solver.md, "The free surface's missing share").
+#define PBF_SURFACE_FILL_CAP 0.05f
+
 /// The multiplier of a particle with density rho (kg/m^3) and the sums above (boundaries
-/// included): C_i = max(rho_i / rho0 + A_i - 1, 0) with A_i the free surface's missing
-/// share (0 unless surface_fill > 0), lambda_i = -C_i / (|grad_i C_i|^2 +
-/// sum_j |grad_j C_i|^2 + epsilon), m^2.
+/// included): C_i = max(rho_i / rho0 - 1, min(rho_i / rho0 - 1 + A_i, PBF_SURFACE_FILL_CAP), 0)
+/// with A_i the free surface's missing share (0 unless surface_fill > 0),
+/// lambda_i = -C_i / (|grad_i C_i|^2 + sum_j |grad_j C_i|^2 + epsilon), m^2. C_i never
+/// falls as rho_i rises.
 PBF_FN float density_lambda(PBF_P_ARG float rho, pbf_vec3 grad_i, float sum_grad2)
 {
-    float air = P.surface_fill > 0.0f ? free_surface_share(PBF_P_ pbf_length(grad_i)) : 0.0f;
-    float C = pbf_max(rho * P.inv_rest_density + air - 1.0f, 0.0f);
+    float x = rho * P.inv_rest_density - 1.0f;
+    if (P.surface_fill > 0.0f) {
+        float air = free_surface_share(PBF_P_ pbf_length(grad_i));
+        x = pbf_max(x, pbf_min(x + air, PBF_SURFACE_FILL_CAP));
+    }
+    float C = pbf_max(x, 0.0f);
     return -C / (pbf_dot(grad_i, grad_i) + sum_grad2 + P.epsilon);
 }
 

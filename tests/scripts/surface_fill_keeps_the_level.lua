@@ -3,7 +3,8 @@
 -- layer from crowding within itself to rho0 (docs/solver.md, "The free surface's missing
 -- share"). Measured (llvmpipe, 2.5 cm particles, 0.2 m deep, 4 s): the level (median of
 -- the column tops) +1.1 % of the depth with surface_fill 1, -1.4 % at 0.5;
--- -3.4 % with it off, where the top layer holds 1.3 layers' worth of particles.
+-- -3.4 % with it off, where the top layer holds 1.3 layers' worth of particles. Since the
+-- share is capped (PBF_SURFACE_FILL_CAP): +1.85 % with surface_fill 1.
 -- frames: 241
 local L, D = 0.4, 0.2
 seiche.scene { capacity = 20000, container = { min = { 0, 0, 0 }, max = { L, 0.6, L } },
