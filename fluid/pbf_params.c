@@ -414,17 +414,24 @@ uint32_t pbf_hash_buckets(uint32_t capacity)
 // The relaxation factors (sor 0; docs/solver.md, "Under-relaxed Jacobi"). On a filled
 // lattice the Jacobi iteration matrix has eigenvalues mu in (0, PBF_JACOBI_MU_MAX]; K
 // iterations with factors w_k multiply a mode's error by p(mu) = prod (1 - w_k mu), and a
-// PBD step is stable only while p stays in (-1/3, 1). A constant 0.6 keeps an even count
-// inside; an odd count starts with the triple (1, 1, w3) whose p(mu_max) = 0.25 and p >= 0
-// elsewhere (at 0.6 three iterations give p(mu_max) = -0.31, one -0.68: a tank boils); one
-// iteration alone takes 0.35 (0.43, p(mu_max) = -0.2, still left a tank at 42 mm/s).
+// PBD step is stable only while p stays in (-1/3, 1). An even count takes pairs (w_a, w_b)
+// with the sum 1.2 of the constant 0.6 they replace (the low modes, which carry the
+// hydrostatic pressure, lose the same 1.2 mu a pair) and p(PBF_JACOBI_MU_DEEP) = 1: the
+// roots of w^2 - 1.2 w + 1.2 / mu_deep, 0.845 and 0.355, whose p >= -0.2 everywhere and
+// stays below 1 up to mu_deep (0.6's up to 3.33 only: compressed water at depth boiled).
+// An odd count starts with the triple (1, 1, w3) whose p(mu_max) = 0.25 and p >= 0
+// elsewhere (at 0.6 three iterations give p(mu_max) = -0.31, one -0.68: a tank boils), then
+// pairs; one iteration alone takes 0.35 (0.43, p(mu_max) = -0.2, still left a tank at
+// 42 mm/s).
 float pbf_relaxation(const pbf_params *p, int it)
 {
     if (p->sor > 0.0f) return p->sor;
     const double m = PBF_JACOBI_MU_MAX;
     if (p->iterations == 1) return 0.35f;
     if (p->iterations % 2 == 1 && it < 3) return it < 2 ? 1.0f : (float)((1.0 - 0.25 / ((1.0 - m) * (1.0 - m))) / m);
-    return 0.6f;
+    const double sum = 1.2, d = sqrt(sum * sum - 4.0 * sum / PBF_JACOBI_MU_DEEP);
+    int k = p->iterations % 2 == 1 ? it - 3 : it; // the pairs' own index
+    return (float)(k % 2 == 0 ? 0.5 * (sum + d) : 0.5 * (sum - d));
 }
 
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],

@@ -16,6 +16,12 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
 /// "Under-relaxed Jacobi"; tests/test_solver.c computes it.
 #define PBF_JACOBI_MU_MAX 2.8
 
+/// The eigenvalue up to which an even iteration count's pairs of factors still damp: water
+/// compressed and disordered at depth reaches beyond PBF_JACOBI_MU_MAX (a 0.4 m column of
+/// 1.25 cm particles boiled at its bottom with the constant 0.6, which is undamped from
+/// 3.33): docs/solver.md, "Under-relaxed Jacobi".
+#define PBF_JACOBI_MU_DEEP 4.0
+
 /// The relaxation factor of iteration `it` (0-based) of p->iterations: the uniform `relax`
 /// of delta.comp and collide.comp, the `relax` argument of the CPU reference's passes.
 float pbf_relaxation(const pbf_params *p, int it);

@@ -232,7 +232,7 @@ PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(
 /// wall, and about G(d) at distance d below a free surface). A plane of air at distance d
 /// takes k V(d) and gives k G(d) (the wall model of the boundaries below, with its lattice
 /// calibration k = P.boundary_scale): with c = 1 - d/h, G h / (1.5 k) = c^4 (5 - 4c) is
-/// solved for c by bisection and V = k c^5 (3 - 2c) / 2 returned, times P.surface_fill.
+/// solved for c (bisection, then linear interpolation in the last bracket) and V = k c^5 (3 - 2c) / 2 returned, times P.surface_fill.
 /// It depends on the neighbours' balance, not their number, so a surface layer that crowds
 /// within itself cannot fill its missing half that way.
 PBF_FN float free_surface_share(PBF_P_ARG float g)
@@ -240,13 +240,16 @@ PBF_FN float free_surface_share(PBF_P_ARG float g)
     float k = P.boundary_scale;
     float y = g * P.h / (1.5f * k);
     if (y >= 1.0f) return P.surface_fill * 0.5f * k;
-    float lo = 0.0f, hi = 1.0f;
-    for (int it = 0; it < 14; it++) {
-        float c = 0.5f * (lo + hi);
-        if (c * c * c * c * (5.0f - 4.0f * c) < y) lo = c;
-        else hi = c;
+    // Bisection to a bracket of 2^-10, then one step of linear interpolation in it: the
+    // result is continuous in y to rounding (the bracket's midpoint was not: a comparison
+    // that fell the other way in the GPU's or the CPU's rounding moved c by the bracket).
+    float lo = 0.0f, hi = 1.0f, flo = 0.0f, fhi = 1.0f;
+    for (int it = 0; it < 10; it++) {
+        float c = 0.5f * (lo + hi), f = c * c * c * c * (5.0f - 4.0f * c);
+        if (f < y) { lo = c; flo = f; }
+        else { hi = c; fhi = f; }
     }
-    float c = 0.5f * (lo + hi), c2 = c * c;
+    float c = lo + (hi - lo) * pbf_clamp((y - flo) / pbf_max(fhi - flo, 1e-20f), 0.0f, 1.0f), c2 = c * c;
     return P.surface_fill * 0.5f * k * c2 * c2 * c * (3.0f - 2.0f * c);
 }
 
