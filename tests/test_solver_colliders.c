@@ -54,17 +54,20 @@ typedef support_gpu fixture;
 // < h or not) turn rounding noise into differences that grow two- to fourfold per step
 // (measured at step 12: 2.1e-2 spacing, 1.4e-1 N, 1.9e-2 N m, densities 1.4e-4); the sides
 // must then agree as physics: a quarter spacing (one switch moves a particle by at most a
-// radius, half a spacing), 3 % of the largest force, 15 % of the largest torque, densities
+// radius, half a spacing), 5 % of the largest force, 15 % of the largest torque, densities
 // within 1 %. (With the hashed grid's neighbour order, one swept hit that switches at step
 // 12 of the hull scene makes 2.4 % of the largest force, 1.85 N of 76 N, and 10.4 % of the
-// largest torque, 0.16 of 1.56 N m; the bounds were 2 % and 5 %. Steps 1-6 and the
+// largest torque, 0.16 of 1.56 N m; the bounds were 2 % and 5 %. With the even counts' pair
+// of relaxation factors (2026-11-26) two push-outs switch at step 5 of the hull scene and
+// step 12 differs by 2.54 N of 83.7 N, 3.03 %: the force bound went from 3 to 5 %, still
+// 40 times below the slip that leaves collision pushes out of the force. Steps 1-6 and the
 // stage-by-stage comparison of tests/test_mirror.c are where the two must agree closely.)
 #define COLLIDER_STEP1 5e-5  // spacings, after the first step
 #define COLLIDER_TIGHT 2e-3  // spacings, steps 1-6
 #define COLLIDER_SWITCHED 1e-2 // spacings, steps 1-6 after a push-out switched (below)
 #define COLLIDER_LOOSE 0.25  // spacings, steps 7-12
 #define FORCE_TIGHT 2e-4     // of the largest |F| of the run, steps 1-6
-#define FORCE_LOOSE 3e-2
+#define FORCE_LOOSE 5e-2
 #define TORQUE_TIGHT 2e-3    // of the largest |T| of the run, steps 1-6
 #define TORQUE_LOOSE 0.15
 #define TIGHT_STEPS 6
