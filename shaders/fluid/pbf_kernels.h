@@ -232,7 +232,8 @@ PBF_FN void density_add(PBF_P_ARG pbf_vec3 r, PBF_INOUT(float) sum_w, PBF_INOUT(
 /// wall, and about G(d) at distance d below a free surface). A plane of air at distance d
 /// takes k V(d) and gives k G(d) (the wall model of the boundaries below, with its lattice
 /// calibration k = P.boundary_scale): with c = 1 - d/h, G h / (1.5 k) = c^4 (5 - 4c) is
-/// solved for c (bisection, then linear interpolation in the last bracket) and V = k c^5 (3 - 2c) / 2 returned, times P.surface_fill.
+/// solved for c (bisection, then linear interpolation in the last bracket) and
+/// V = k c^5 (3 - 2c) / 2 returned, times P.surface_fill.
 /// It depends on the neighbours' balance, not their number, so a surface layer that crowds
 /// within itself cannot fill its missing half that way.
 PBF_FN float free_surface_share(PBF_P_ARG float g)
