@@ -11,14 +11,16 @@ out=${1:-docs/plots}
 mkdir -p "$out"
 command -v gnuplot >/dev/null || { echo "dam_break_plot: gnuplot is missing (apt-get install gnuplot-nox)"; exit 2; }
 
-run() { # radius friction file
-    build/bin/seiche --headless --quiet --frames 21 --set fluid.particle_radius="$1" --set fluid.wall_friction="$2" \
-        tools/dam_break_front.lua | awk '$1 == "T" { print $2, $4 }' > "$3"
+run() { # file radius [more runner options]
+    file=$1 r=$2
+    shift 2
+    build/bin/seiche --headless --quiet --frames 21 --set fluid.particle_radius="$r" "$@" \
+        tools/dam_break_front.lua | awk '$1 == "T" { print $2, $4 }' > "$file"
 }
 for r in 0.01 0.005 0.0025; do
-    run "$r" 0.02 "$out/dam_break_front_$r.dat"
+    run "$out/dam_break_front_$r.dat" "$r" # the library's wall friction
 done
-run 0.0025 0 "$out/dam_break_front_0.0025_frictionless.dat"
+run "$out/dam_break_front_0.0025_frictionless.dat" 0.0025 --set fluid.wall_friction=0
 # The experiment: the first data block of the file (its Table 2).
 awk '/^# block:/ { b++ } b == 1 && $0 !~ /^#/ && NF == 2' docs/data/martin_moyce_1952.txt > "$out/martin_moyce_table2.dat"
 

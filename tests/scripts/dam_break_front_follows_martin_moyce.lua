@@ -1,9 +1,9 @@
 -- The dam-break surge front (tools/dam_break_front.lua: a column a = 0.2 m wide and 2a
 -- high, 5 mm particles) at the defaults (the walls' skin friction C_f = 0.02) stays within
 -- 10 % of Martin & Moyce's front (1952, Table 2) for 0.5 <= T <= 3: worst +7.9 % measured
--- (at T = 1.16; +8.9 % at C_f = 0.01). With frictionless walls (fluid.wall_friction=0) it leads by 10.4 % at
--- T = 1.3 and by 8.9 % at T = 3, and fails. docs/validation.md, "Dam-break front", has
--- three spacings.
+-- (at T = 1.16; +8.9 % at C_f = 0.01). With frictionless walls (fluid.wall_friction=0) it
+-- leads by 10.4 % at T = 1.3 and by 8.9 % at T = 3, and fails. docs/validation.md,
+-- "Dam-break front", has three spacings.
 -- frames: 20
 -- trusted: runs tools/dam_break_front.lua (dofile)
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
