@@ -5,6 +5,7 @@
 #include <epoxy/gl.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 void pbf_world_set_stage_hook(pbf_world *w, pbf_stage_hook_fn *fn, void *user)
 {
@@ -42,6 +43,28 @@ static GLuint binding_buffer(const pbf_world *w, int binding)
     }
 }
 
+// The neighbour lists are interleaved on the GPU (entry k of particle i at k * capacity + i,
+// shaders/fluid/common.glsl nb_index); they come back a row of max_neighbours per particle,
+// the CPU reference's layout: `bytes` covers the rows of the first bytes / (4 max) particles.
+static pbf_result read_lists(pbf_world *w, size_t bytes, uint32_t *out)
+{
+    size_t max = w->max_neighbours, cap = w->capacity, n = bytes / 4 / max;
+    if (n * max * 4 != bytes || n > cap)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_read_binding: %zu bytes of the neighbour lists is not whole "
+                        "rows of %zu entries for at most %zu particles", bytes, max, cap);
+    size_t words = (max - 1) * cap + n;
+    uint32_t *all = malloc(words * 4);
+    if (!all) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_read_binding: out of memory (%zu bytes)", words * 4);
+    if (!pbf_download(w, w->nb_list, 0, (GLsizeiptr)(words * 4), all)) {
+        free(all);
+        return pbf_fail(w, PBF_ERR_GL, "pbf_world_read_binding: no read-back buffer of %zu bytes (out of memory?)", words * 4);
+    }
+    for (size_t i = 0; i < n; i++)
+        for (size_t k = 0; k < max; k++) out[i * max + k] = all[k * cap + i];
+    free(all);
+    return PBF_OK;
+}
+
 pbf_result pbf_world_read_binding(pbf_world *w, int binding, size_t bytes, void *out)
 {
     GLuint buf = binding_buffer(w, binding);
@@ -53,6 +76,7 @@ pbf_result pbf_world_read_binding(pbf_world *w, int binding, size_t bytes, void 
     if ((uint64_t)bytes > (uint64_t)size)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_read_binding: %zu bytes asked of binding %d, which holds %lld",
                         bytes, binding, (long long)size);
+    if (binding == PBF_B_NB_LIST) return read_lists(w, bytes, out);
     // Through the read-back buffer, after the barrier shader writes need (pbf_download).
     if (!pbf_download(w, buf, 0, (GLsizeiptr)bytes, out))
         return pbf_fail(w, PBF_ERR_GL, "pbf_world_read_binding: no read-back buffer of %zu bytes (out of memory?)", bytes);

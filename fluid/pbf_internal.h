@@ -243,7 +243,9 @@ void pbf_world_set_stage_hook(pbf_world *w, pbf_stage_hook_fn *fn, void *user);
 /// Reads `bytes` from the start of the buffer the passes see at storage binding `binding`
 /// (PBF_B_POS ... PBF_B_COLLIDER_DATA, the ping-pong pairs as currently bound), which
 /// holds its data in slot order; waits for the GPU (a GL_BUFFER_UPDATE barrier, then
-/// glGetBufferSubData). For tests and tools only: it stalls the pipeline.
+/// glGetBufferSubData). For tests and tools only: it stalls the pipeline. The neighbour
+/// lists (PBF_B_NB_LIST), interleaved on the GPU, come back a row of max_neighbours
+/// entries per particle, as the CPU reference holds them.
 pbf_result pbf_world_read_binding(pbf_world *w, int binding, size_t bytes, void *out);
 
 #endif

@@ -3,7 +3,8 @@
 # unpacks the GL dispatch packages and the binaries, then the benchmark (64k-4M, 3 and 4
 # iterations), every scene (frame 0 against llvmpipe's) and the suite in strict GL mode,
 # each with its own time limit so that one call of the device tool fits (BUDGET seconds
-# in all, default 530). Results go to $OUT as they come: env.txt, run.log, bench.tgz,
+# in all, default 530). With shader variants packed (tools/gpu_pack.sh NAME=DIR), the
+# benchmark is instead tools/gpu_ab.sh: each variant against the tree's shaders. Results go to $OUT as they come: env.txt, run.log, bench.tgz,
 # scenes.tgz, suite.log, testlogs.tgz. tools/gpu_check.sh does the work; see
 # docs/performance.md, "On an NVIDIA H200", for what a run found.
 cd "$(dirname "$0")/.." || exit 2
@@ -27,13 +28,33 @@ mkdir -p build && rm -rf build/bin build/lib && tar xzf .gpu/bin.tgz -C build
     ldd build/bin/seiche | grep -E 'not found' ; nproc
 } >"$O/env.txt" 2>&1
 el "env"
-for it in 4 3; do
-    timeout -k 5 80 tools/gpu_check.sh --parts bench --bench-iterations $it --bench-steps 60 --bench-warmup 10 \
-        --timeout 40 --out build/g-bench$it >>"$O/run.log" 2>&1
-    el "bench, $it iterations: exit $?"
-done
-tar czf "$O/bench.tgz" -C build g-bench4 g-bench3
-grep '^| [0-9]' build/g-bench4/report.md | cut -c1-80
+if [ -d .gpu/variants ] && [ -n "$(ls .gpu/variants)" ]; then
+    # Shader variants packed by tools/gpu_pack.sh NAME=DIR: timed against the tree's shaders
+    # (4 iterations, 1 substep), then the tree's at stable settings, then 1M x 3 x 1 with
+    # the driver's KHR_debug messages on (SEICHE_GL_DEBUG=1).
+    set --
+    for d in .gpu/variants/*; do set -- "$@" "$(basename "$d")=$d"; done
+    timeout -k 5 ${AB_LIMIT:-200} tools/gpu_ab.sh --sizes ${AB_SIZES:-262144,1048576,4194304} --timeout 45 \
+        --out build/g-ab "$@" tree=shaders >>"$O/run.log" 2>&1
+    el "variants: exit $?"
+    cut -c1-100 build/g-ab/table.txt
+    timeout -k 5 60 build/bin/seiche-bench --particles 1048576 --iterations 2,3 --substeps 4 --steps 30 --warmup 10 \
+        --shaders shaders >build/g-ab/stable.txt 2>&1
+    el "stable settings: exit $?"
+    grep -E '^ *[0-9]' build/g-ab/stable.txt | cut -c1-100
+    SEICHE_GL_DEBUG=1 timeout -k 5 40 build/bin/seiche-bench --particles 1048576 --iterations 3 --steps 20 --warmup 2 \
+        --shaders shaders >build/g-ab/debug.txt 2>&1
+    el "1M x 3 x 1 with KHR_debug: exit $?"
+    tar czf "$O/ab.tgz" -C build g-ab
+else
+    for it in 4 3; do
+        timeout -k 5 80 tools/gpu_check.sh --parts bench --bench-iterations $it --bench-steps 60 --bench-warmup 10 \
+            --timeout 40 --out build/g-bench$it >>"$O/run.log" 2>&1
+        el "bench, $it iterations: exit $?"
+    done
+    tar czf "$O/bench.tgz" -C build g-bench4 g-bench3
+    grep '^| [0-9]' build/g-bench4/report.md | cut -c1-80
+fi
 timeout -k 5 120 tools/gpu_check.sh --parts scenes --frames 120 --timeout 25 --reference .gpu/ref.json \
     --out build/g-scenes >>"$O/run.log" 2>&1
 el "scenes: exit $?"

@@ -8,6 +8,9 @@
 # .gpu/debs; and an llvmpipe reference of each scene's frame-0 density in .gpu/ref.json.
 # Then, through the device tool: run `sh tools/gpu_device.sh` with carry [".gpu"].
 # Build first (make build). About 30 MB.
+# Arguments NAME=DIR (optional): shader trees to time against the tree's own shaders on the
+# device (tools/gpu_ab.sh), copied to .gpu/variants/NAME; e.g. the shaders of an earlier
+# commit: git archive HEAD~1 shaders | tar -x -C /tmp/old, then old=/tmp/old/shaders.
 set -e
 cd "$(dirname "$0")/.."
 [ -x build/bin/seiche ] || { echo "gpu_pack: build first (make build)" >&2; exit 2; }
@@ -32,6 +35,12 @@ for b in build/bin/seiche build/bin/seiche-* build/bin/test_*; do ldd "$b"; done
     done
 (cd .gpu/debs && apt-get download libegl1 libglvnd0 libopengl0 libgl1 libglx0 libgles2 >/dev/null 2>&1) ||
     echo "gpu_pack: apt-get download of the GL dispatch packages failed: .gpu/debs is empty" >&2
+for v in "$@"; do
+    case $v in *=*) ;; *) echo "gpu_pack: a variant is NAME=DIR (got '$v')" >&2; exit 2 ;; esac
+    [ -f "${v#*=}/fluid/common.glsl" ] || { echo "gpu_pack: ${v#*=} is not a shader tree" >&2; exit 2; }
+    mkdir -p ".gpu/variants/${v%%=*}"
+    cp -r "${v#*=}/." ".gpu/variants/${v%%=*}/"
+done
 tools/gpu_check.sh --parts scenes --frames 2 --out build/gpu-ref >/dev/null 2>&1 || true
 cp build/gpu-ref/report.json .gpu/ref.json
 echo "gpu_pack: .gpu/ ready ($(du -sh .gpu | cut -f1)); on the device: sh tools/gpu_device.sh (carry .gpu)"

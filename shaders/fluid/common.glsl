@@ -148,8 +148,14 @@ layout(std430, binding = PBF_B_NB_COUNT) buffer NbCount { uint nb_count[]; };
 layout(std430, binding = PBF_B_NB_COUNT) readonly buffer NbCount { uint nb_count[]; };
 #endif
 // Neighbour j (a slot) of particle i, k < nb_len(i); the particle itself is not listed.
+// The lists are interleaved: entry k of every particle, then entry k + 1 (index
+// k * capacity + i), so the invocations of a work group, consecutive particles, read and
+// write consecutive words at each k (coalesced on a GPU) instead of one word each from rows
+// max_neighbours apart. The CPU reference keeps a row per particle; pbf_world_read_binding
+// hands the lists back in that layout.
+uint nb_index(uint i, uint k) { return k * P.capacity + i; }
 uint nb_len(uint i) { return min(nb_count[i], P.max_neighbours); }
-uint nb_at(uint i, uint k) { return nb_list[i * P.max_neighbours + k]; }
+uint nb_at(uint i, uint k) { return nb_list[nb_index(i, k)]; }
 #endif
 #ifdef USE_FORCES
 #ifdef WRITE_FORCES

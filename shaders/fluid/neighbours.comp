@@ -42,7 +42,6 @@ void main()
     int reach = int(ceil(P.h * P.inv_cell - 1e-4));
     float h2 = P.h * P.h;
     uint n = 0u;
-    uint base = i * P.max_neighbours;
     float sum_w = w_spiky(0.0);
     vec3 grad_i = vec3(0.0);
     float sum_grad2 = 0.0;
@@ -69,7 +68,7 @@ void main()
                     vec3 r = xi - pj;
                     if (dot(r, r) < h2 && j != i && row_of(cell_coord(pj)) == row) {
                         if (n < P.max_neighbours) {
-                            nb_list[base + n] = j;
+                            nb_list[nb_index(i, n)] = j;
                             density_add(r, sum_w, grad_i, sum_grad2);
                         }
                         n++;
@@ -81,7 +80,7 @@ void main()
     nb_count[i] = n;
     if (mask != 0u) { // next to a wall: the neighbours' images
         uint nn = min(n, P.max_neighbours);
-        for (uint q = 0u; q < nn; q++) density_add_images(xi, pred[nb_list[base + q]].xyz, mask, twice, sum_w, grad_i, sum_grad2);
+        for (uint q = 0u; q < nn; q++) density_add_images(xi, pred[nb_at(i, q)].xyz, mask, twice, sum_w, grad_i, sum_grad2);
     }
     density_finish(i, xi, mask, twice, sum_w, grad_i, sum_grad2);
 }
