@@ -88,13 +88,18 @@ void pbf_cpu_grid_scatter(pbf_cpu_world *w)
 }
 
 /// grid_sort.comp: each slot takes the rank of its slot among its cell's (a stable counting
-/// sort whatever order the scatter left): order, place -> slot.
+/// sort whatever order the scatter left): order, place -> slot. A cell of more than
+/// PBF_SORT_RANK_MAX particles keeps the scatter's order (the rank is quadratic in it).
 void pbf_cpu_grid_sort(pbf_cpu_world *w)
 {
     for (uint32_t k = 0; k < w->count; k++) {
         uint32_t me = w->sorted[k];
         uint32_t c = w->cell_of[me];
         uint32_t b = w->cell_start[c], e = w->cell_start[c + 1];
+        if (e - b > PBF_SORT_RANK_MAX) {
+            w->order[k] = me;
+            continue;
+        }
         uint32_t rank = 0;
         for (uint32_t m = b; m < e; m++) rank += w->sorted[m] < me ? 1u : 0u;
         w->order[b + rank] = me;
@@ -171,9 +176,12 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
         uint32_t mask = mirror_mask(P, xi, &twice);
         // Rows of cells (fixed y, z) in z then y order, each trimmed to the x cells the
         // kernel sphere reaches; rows whose y-z slab lies farther than h are skipped.
-        for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1); z++) {
+        // The search stops at max_neighbours + 1 found (an overflow: counted, not listed),
+        // so a pile of particles in one cell costs no more than a full list each.
+        uint32_t stop = w->max_neighbours;
+        for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1) && n <= stop; z++) {
             float dz = slab_distance(xi.z, P->grid_origin.z, cs, z);
-            for (int y = max_int(c[1] - reach, 0); y <= min_int(c[1] + reach, dims[1] - 1); y++) {
+            for (int y = max_int(c[1] - reach, 0); y <= min_int(c[1] + reach, dims[1] - 1) && n <= stop; y++) {
                 float dy = slab_distance(xi.y, P->grid_origin.y, cs, y);
                 float ryz = dy * dy + dz * dz;
                 if (ryz >= h2) continue;
@@ -184,10 +192,10 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 // rows hashed into them are skipped by their row number.
                 uint32_t row = row_of(P, y, z), b0 = bucket_of(P, x0, y, z), b1 = bucket_of(P, x1, y, z);
                 int ranges = b0 <= b1 ? 1 : 2;
-                for (int part = 0; part < ranges; part++) {
+                for (int part = 0; part < ranges && n <= stop; part++) {
                     uint32_t b = w->cell_start[part == 0 ? b0 : 0u];
                     uint32_t e = w->cell_start[(part == 0 && ranges == 1) || part == 1 ? b1 + 1u : P->grid_dims.w];
-                    for (uint32_t k = b; k < e; k++) {
+                    for (uint32_t k = b; k < e && n <= stop; k++) {
                         uint32_t j = place ? place[k] : k;
                         pbf_vec3 xj = pbf_xyz(x[j]);
                         pbf_vec3 r = pbf_sub(xi, xj);

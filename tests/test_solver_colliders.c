@@ -67,6 +67,7 @@ typedef support_gpu fixture;
 #define COLLIDER_SWITCHED 1e-2 // spacings, steps 1-6 after a push-out switched (below)
 #define COLLIDER_LOOSE 0.25  // spacings, steps 7-12
 #define FORCE_TIGHT 2e-4     // of the largest |F| of the run, steps 1-6
+#define FORCE_SWITCHED 1e-3 // of the largest |F|, steps 1-6 after a push-out switched
 #define FORCE_LOOSE 5e-2
 #define TORQUE_TIGHT 2e-3    // of the largest |T| of the run, steps 1-6
 #define TORQUE_LOOSE 0.15
@@ -212,14 +213,19 @@ static void check_collider_result(const collider_scene *cs, const collider_resul
     // are mirrors (2026-11-26) the hull scene switches 3 push-outs at step 4 and reaches
     // 2.3e-3 spacing at step 6, the moving scene at step 3 (4.9e-4 at step 4). Positions
     // after such a step take COLLIDER_SWITCHED, 4.4 times that and 6 times below the
-    // smallest slip (omega left out, 6.0e-2 by step 6); forces and torques stay tight.
+    // smallest slip (omega left out, 6.0e-2 by step 6). Forces after such a step take
+    // FORCE_SWITCHED: on an NVIDIA H100 (2026-11-26) the hull scene switched 3 push-outs at
+    // step 1 and 6 at step 3, and step 6's forces differed by 1.81e-2 N, 2.2e-4 of the
+    // largest 83.7 N (the tight bound is 2e-4); 1e-3 is still 26 times below the smallest
+    // force slip (the reaction without omega). Torques stay tight.
     bool switched = false;
     for (int k = 0; k < cs->steps; k++) {
         bool tight = k < TIGHT_STEPS;
         double near = switched ? COLLIDER_SWITCHED : COLLIDER_TIGHT;
         assert_true(r->dev[k] < (tight ? near : COLLIDER_LOOSE) * spacing);
         if (abs(r->pushed_diff[k]) >= 3 || r->contact_diff[k] != 0) switched = true;
-        assert_true(r->fdev[k] <= (tight ? FORCE_TIGHT : FORCE_LOOSE) * r->fmax);
+        double force_near = switched ? FORCE_SWITCHED : FORCE_TIGHT;
+        assert_true(r->fdev[k] <= (tight ? force_near : FORCE_LOOSE) * r->fmax);
         assert_true(r->tdev[k] <= (tight ? TORQUE_TIGHT : TORQUE_LOOSE) * r->tmax);
         assert_true(r->rho[k] < (tight ? DENSITY_REL : 1e-2));
     }

@@ -30,21 +30,26 @@ mkdir -p build && rm -rf build/bin build/lib && tar xzf .gpu/bin.tgz -C build
 el "env"
 if [ -d .gpu/variants ] && [ -n "$(ls .gpu/variants)" ]; then
     # Shader variants packed by tools/gpu_pack.sh NAME=DIR: timed against the tree's shaders
-    # (4 iterations, 1 substep), then the tree's at stable settings, then 1M x 3 x 1 with
+    # (4 iterations, 1 substep; AB_SIZES, AB_ROUNDS), then the tree's over iteration x
+    # substep choices (QUALITY_ARGS: seiche-bench's), then with DEBUG_RUN=1 1M x 3 x 1 with
     # the driver's KHR_debug messages on (SEICHE_GL_DEBUG=1).
     set --
     for d in .gpu/variants/*; do set -- "$@" "$(basename "$d")=$d"; done
-    timeout -k 5 ${AB_LIMIT:-200} tools/gpu_ab.sh --sizes ${AB_SIZES:-262144,1048576,4194304} --timeout 45 \
-        --out build/g-ab "$@" tree=shaders >>"$O/run.log" 2>&1
+    timeout -k 5 ${AB_LIMIT:-200} tools/gpu_ab.sh --sizes ${AB_SIZES:-262144,1048576,4194304} --rounds ${AB_ROUNDS:-1} \
+        --timeout 45 --out build/g-ab "$@" tree=shaders >>"$O/run.log" 2>&1
     el "variants: exit $?"
     cut -c1-100 build/g-ab/table.txt
-    timeout -k 5 60 build/bin/seiche-bench --particles 1048576 --iterations 2,3 --substeps 4 --steps 30 --warmup 10 \
-        --shaders shaders >build/g-ab/stable.txt 2>&1
-    el "stable settings: exit $?"
-    grep -E '^ *[0-9]' build/g-ab/stable.txt | cut -c1-100
-    SEICHE_GL_DEBUG=1 timeout -k 5 40 build/bin/seiche-bench --particles 1048576 --iterations 3 --steps 20 --warmup 2 \
-        --shaders shaders >build/g-ab/debug.txt 2>&1
-    el "1M x 3 x 1 with KHR_debug: exit $?"
+    # Quality per millisecond: the tree's shaders over iteration x substep choices.
+    # shellcheck disable=SC2086
+    timeout -k 5 ${QUALITY_LIMIT:-90} build/bin/seiche-bench ${QUALITY_ARGS:---particles 1048576 --iterations 2,3 --substeps 4} \
+        --steps 60 --warmup 10 --shaders shaders --json build/g-ab/quality.json >build/g-ab/quality.txt 2>&1
+    el "quality: exit $?"
+    grep -E '^ *[0-9]' build/g-ab/quality.txt | cut -c1-100
+    if [ "${DEBUG_RUN:-0}" = 1 ]; then
+        SEICHE_GL_DEBUG=1 timeout -k 5 40 build/bin/seiche-bench --particles 1048576 --iterations 3 --steps 20 --warmup 2 \
+            --shaders shaders >build/g-ab/debug.txt 2>&1
+        el "1M x 3 x 1 with KHR_debug: exit $?"
+    fi
     tar czf "$O/ab.tgz" -C build g-ab
 else
     for it in 4 3; do

@@ -25,7 +25,18 @@ void main()
     vec3 twice;
     uint mask = mirror_mask(xi, twice);
     uint q = 0u;
-    for (; q + 1u < nn; q += 2u) { // two per trip, loads first; sums still in list order
+    for (; q + 3u < nn; q += 4u) { // four per trip, loads first; sums still in list order
+        uint ja = nb_at(i, q), jb = nb_at(i, q + 1u), jc = nb_at(i, q + 2u), jd = nb_at(i, q + 3u);
+        vec3 ra = xi - pred[ja].xyz;
+        vec3 rb = xi - pred[jb].xyz;
+        vec3 rc = xi - pred[jc].xyz;
+        vec3 rd = xi - pred[jd].xyz;
+        density_add(ra, sum_w, grad_i, sum_grad2);
+        density_add(rb, sum_w, grad_i, sum_grad2);
+        density_add(rc, sum_w, grad_i, sum_grad2);
+        density_add(rd, sum_w, grad_i, sum_grad2);
+    }
+    for (; q + 1u < nn; q += 2u) {
         vec3 ra = xi - pred[nb_at(i, q)].xyz;
         vec3 rb = xi - pred[nb_at(i, q + 1u)].xyz;
         density_add(ra, sum_w, grad_i, sum_grad2);

@@ -9,6 +9,8 @@
 // row number, so each neighbour is found once.
 // A particle with more neighbours than the list holds keeps the first max_neighbours found
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
+// The search stops at max_neighbours + 1 found, so a pile of particles in one cell (a
+// diverged solve) costs a full list each, not the whole pile each.
 // The first iteration's density and lambda are computed here too, from the listed
 // neighbours in list order (exactly what density.comp would do next), saving a pass.
 #define USE_PRED
@@ -47,9 +49,10 @@ void main()
     float sum_grad2 = 0.0;
     vec3 twice;
     uint mask = mirror_mask(xi, twice);
-    for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1); z++) {
+    uint stop = P.max_neighbours;
+    for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1) && n <= stop; z++) {
         float dz = slab_distance(xi.z, P.grid_origin.z, cs, z);
-        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1); y++) {
+        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1) && n <= stop; y++) {
             float dy = slab_distance(xi.y, P.grid_origin.y, cs, y);
             float ryz = dy * dy + dz * dz;
             if (ryz >= h2) continue;
@@ -60,10 +63,10 @@ void main()
             uint b0 = bucket_of(ivec3(x0, y, z)), b1 = bucket_of(ivec3(x1, y, z));
             // Buckets b0..b1 in order, wrapping past the last bucket into the first.
             uint ranges = b0 <= b1 ? 1u : 2u;
-            for (uint part = 0u; part < ranges; part++) {
+            for (uint part = 0u; part < ranges && n <= stop; part++) {
                 uint b = cell_start[part == 0u ? b0 : 0u];
                 uint e = cell_start[(part == 0u && ranges == 1u) || part == 1u ? b1 + 1u : P.grid_dims.w];
-                for (uint j = b; j < e; j++) {
+                for (uint j = b; j < e && n <= stop; j++) {
                     vec3 pj = pred[j].xyz;
                     vec3 r = xi - pj;
                     if (dot(r, r) < h2 && j != i && row_of(cell_coord(pj)) == row) {

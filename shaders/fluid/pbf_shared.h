@@ -31,6 +31,10 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 
 // Work-group sizes (threads per group) of the particle and cell passes.
 #define PBF_WG 128
+// Cells of more particles than this keep the scatter's order instead of the grid sort's
+// (a rank among the cell's particles is quadratic in them; a cell holds 8-16 in water):
+// only a pile (a diverged solve, particles spawned on one spot) is then not bit-reproducible.
+#define PBF_SORT_RANK_MAX 256
 // The prefix scan: threads per group, consecutive elements per thread, elements per group.
 #define PBF_SCAN_WG 64
 #define PBF_SCAN_PER_THREAD 16
@@ -66,7 +70,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_SCAN_DATA 20 // the array a scan level works on (a range of a buffer)
 #define PBF_B_SCAN_SUMS 21 // its block sums
 #define PBF_B_NB_LIST 22   // uint[cap * max_neighbours]: neighbour slots of each particle
-#define PBF_B_NB_COUNT 23  // uint[cap]: neighbours found (may exceed max_neighbours: overflow)
+#define PBF_B_NB_COUNT 23  // uint[cap]: neighbours found (max_neighbours + 1: an overflow, the search stopped)
 #define PBF_B_STATE 24     // pbf_gpu_state: the live particle count, kept on the GPU
 #define PBF_B_STAGE_POS 25 // vec4[]: particles waiting to be appended (emitters, blocks)
 #define PBF_B_STAGE_VEL 26 // vec4[]

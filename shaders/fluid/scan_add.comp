@@ -1,5 +1,6 @@
 #version 430
-// Stage grid scan, part 2: adds each block's scanned offset to its elements.
+// Stage grid scan, part 2: adds each block's scanned offset to its elements, consecutive
+// threads on consecutive elements (coalesced on a GPU).
 #include "pbf_shared.h"
 layout(local_size_x = PBF_SCAN_WG) in;
 layout(std430, binding = PBF_B_SCAN_DATA) buffer Data { uint data[]; };
@@ -10,7 +11,9 @@ void main()
 {
     uint block = gl_WorkGroupID.x;
     uint add = sums[block];
-    uint base = block * uint(PBF_SCAN_BLOCK) + gl_LocalInvocationID.x * uint(PBF_SCAN_PER_THREAD);
-    for (uint k = 0u; k < uint(PBF_SCAN_PER_THREAD); k++)
-        if (base + k < scan_n) data[base + k] += add;
+    uint base = block * uint(PBF_SCAN_BLOCK) + gl_LocalInvocationID.x;
+    for (uint k = 0u; k < uint(PBF_SCAN_PER_THREAD); k++) {
+        uint a = base + k * uint(PBF_SCAN_WG);
+        if (a < scan_n) data[a] += add;
+    }
 }
