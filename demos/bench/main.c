@@ -37,6 +37,7 @@ typedef struct options {
     float tank[3];      // m, the container (and domain) from the origin
     float block;        // m, side of the block of water at the origin
     bool tank_test;     // also run each case in a tank 20x wider and deeper
+    const char *trace;    // --trace FILE: one CSV line per measured step (appended)
 } options;
 
 typedef struct result {
@@ -151,15 +152,21 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     int got = 0;
     double rho_sum = 0.0, err_sum = 0.0;
     pbf_step_stats st[16];
+    double *submit = calloc((size_t)cap, sizeof *submit), *poll = calloc((size_t)cap, sizeof *poll);
+    double *rho_max = calloc((size_t)cap, sizeof *rho_max);
+    uint32_t *overflow = calloc((size_t)cap, sizeof *overflow);
     glFinish();
     double t0 = now_s(), c0 = cpu_s();
     bool failed = false;
     for (int i = 0; i < o->steps && !failed; i++) {
+        double ts = now_s();
         if (pbf_world_step(w, (float)o->dt) != PBF_OK) {
             fprintf(stderr, "seiche-bench: %ld particles: %s\n", n, pbf_world_last_error(w));
             failed = true;
             break;
         }
+        double tp = now_s();
+        submit[i] = (tp - ts) * 1000.0;
         eng_progress_update(pr, base + o->warmup + i + 1, -1.0);
         int k;
         while ((k = pbf_world_poll_stats(w, st, 16, i == o->steps - 1)) > 0) {
@@ -170,12 +177,15 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
                 err_sum += st[j].density_error_avg;
                 double e = st[j].density_max / st[j].rest_density - 1.0;
                 if (e > r->rho_err_max) r->rho_err_max = e;
+                rho_max[got] = e;
+                overflow[got] = st[j].overflow_count;
                 r->nan_count += st[j].nan_count;
                 r->outside_count += st[j].outside_count;
                 r->overflow_count += st[j].overflow_count;
             }
             if (k < 16) break;
         }
+        poll[i] = (now_s() - tp) * 1000.0;
     }
     glFinish();
     r->wall_ms = (now_s() - t0) * 1000.0 / o->steps;
@@ -184,6 +194,30 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     for (int s = 0; s < PBF_STAGE_COUNT; s++) r->stage_ms[s] = median(stage[s], got);
     r->rho_err_avg = got ? rho_sum / got : 0.0;
     r->err_avg = got ? err_sum / got : 0.0;
+    FILE *tf = o->trace ? fopen(o->trace, "a") : NULL;
+    if (o->trace && !tf) fprintf(stderr, "seiche-bench: cannot append to --trace %s\n", o->trace);
+    if (tf) {
+        // Where a step's time went: the CPU inside pbf_world_step and inside the statistics
+        // poll, against the GPU's own timers of that step.
+        if (ftell(tf) == 0) {
+            fprintf(tf, "particles,iterations,substeps,step,submit_ms,poll_ms,gpu_ms,rho_max_pct,overflow");
+            for (int g = 0; g < PBF_STAGE_COUNT; g++) fprintf(tf, ",%s", pbf_stage_name((pbf_stage)g));
+            fprintf(tf, "\n");
+        }
+        for (int i = 0; i < o->steps; i++) {
+            fprintf(tf, "%u,%d,%d,%d,%.4f,%.4f", r->particles, iterations, substeps, i, submit[i], poll[i]);
+            if (i < got) {
+                fprintf(tf, ",%.4f,%.3f,%u", step[i], 100.0 * rho_max[i], overflow[i]);
+                for (int g = 0; g < PBF_STAGE_COUNT; g++) fprintf(tf, ",%.4f", stage[g][i]);
+            }
+            fprintf(tf, "\n");
+        }
+        fclose(tf);
+    }
+    free(submit);
+    free(poll);
+    free(rho_max);
+    free(overflow);
     free(step);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) free(stage[s]);
     pbf_world_destroy(w);
@@ -220,13 +254,15 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--sor W] [--json FILE] [--shaders DIR]\n"
-               "                    [--tank X,Y,Z] [--block S] [--tank-test]\n"
+               "                    [--tank X,Y,Z] [--block S] [--tank-test] [--trace FILE]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
                "          --sor 0 (the library's default, pbf_params.sor: the relaxation schedule; W in (0, 2):\n"
                "          that constant factor on every iteration)\n"
                "          --tank 4,3,1.5 (m) --block 1 (m: a block S x S x S at the tank's corner)\n"
                "--tank-test runs each case again in a tank 20x wider and deeper (x, z) and prints the\n"
                "ratios of GPU time per step and of memory: cost should follow the water, not the tank\n"
+               "--trace appends one CSV line per measured step to FILE: CPU ms inside the step and the\n"
+               "statistics poll, the GPU's ms of that step and of each stage, rho_max, overflows\n"
                "lists (comma-separated) of particles, iterations and substeps run every combination\n"
                "exit status: 0 ok, 1 a run lost particles or produced NaN, 2 a usage, world or write error,\n"
                "             3 no OpenGL 4.3 compute context\n");
@@ -313,6 +349,8 @@ int main(int argc, char **argv)
             o.block = (float)b;
         } else if (strcmp(a, "--json") == 0) {
             o.json = v;
+        } else if (strcmp(a, "--trace") == 0) {
+            o.trace = v;
         } else if (strcmp(a, "--shaders") == 0) {
             o.shader_dir = v;
         } else {
