@@ -177,8 +177,9 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
         // Rows of cells (fixed y, z) in z then y order, each trimmed to the x cells the
         // kernel sphere reaches; rows whose y-z slab lies farther than h are skipped.
         // The search stops at max_neighbours + 1 found (an overflow: counted, not listed),
-        // so a pile of particles in one cell costs no more than a full list each.
-        uint32_t stop = w->max_neighbours;
+        // so a pile of particles in one cell costs no more than a full list each, and after
+        // PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates (an overflow too).
+        uint32_t stop = w->max_neighbours, budget = PBF_CANDIDATES_PER_ENTRY * w->max_neighbours;
         for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1) && n <= stop; z++) {
             float dz = slab_distance(xi.z, P->grid_origin.z, cs, z);
             for (int y = max_int(c[1] - reach, 0); y <= min_int(c[1] + reach, dims[1] - 1) && n <= stop; y++) {
@@ -196,6 +197,11 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                     uint32_t b = w->cell_start[part == 0 ? b0 : 0u];
                     uint32_t e = w->cell_start[(part == 0 && ranges == 1) || part == 1 ? b1 + 1u : P->grid_dims.w];
                     for (uint32_t k = b; k < e && n <= stop; k++) {
+                        if (budget == 0) { // looked at enough candidates: an overflow
+                            n = stop + 1;
+                            break;
+                        }
+                        budget--;
                         uint32_t j = place ? place[k] : k;
                         pbf_vec3 xj = pbf_xyz(x[j]);
                         pbf_vec3 r = pbf_sub(xi, xj);

@@ -10,7 +10,10 @@
 // A particle with more neighbours than the list holds keeps the first max_neighbours found
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
 // The search stops at max_neighbours + 1 found, so a pile of particles in one cell (a
-// diverged solve) costs a full list each, not the whole pile each.
+// diverged solve) costs a full list each, not the whole pile each; and after
+// PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates, counted as an overflow too, so a
+// crowd of particles that are not neighbours (colliding rows, non-finite positions) costs
+// a bounded search as well.
 // The first iteration's density and lambda are computed here too, from the listed
 // neighbours in list order (exactly what density.comp would do next), saving a pass.
 #define USE_PRED
@@ -50,6 +53,7 @@ void main()
     vec3 twice;
     uint mask = mirror_mask(xi, twice);
     uint stop = P.max_neighbours;
+    uint budget = PBF_CANDIDATES_PER_ENTRY * P.max_neighbours;
     for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1) && n <= stop; z++) {
         float dz = slab_distance(xi.z, P.grid_origin.z, cs, z);
         for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1) && n <= stop; y++) {
@@ -67,6 +71,11 @@ void main()
                 uint b = cell_start[part == 0u ? b0 : 0u];
                 uint e = cell_start[(part == 0u && ranges == 1u) || part == 1u ? b1 + 1u : P.grid_dims.w];
                 for (uint j = b; j < e && n <= stop; j++) {
+                    if (budget == 0u) { // looked at enough: an overflow, the loops end
+                        n = stop + 1u;
+                        break;
+                    }
+                    budget--;
                     vec3 pj = pred[j].xyz;
                     vec3 r = xi - pj;
                     if (dot(r, r) < h2 && j != i && row_of(cell_coord(pj)) == row) {

@@ -35,6 +35,12 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 // (a rank among the cell's particles is quadratic in them; a cell holds 8-16 in water):
 // only a pile (a diverged solve, particles spawned on one spot) is then not bit-reproducible.
 #define PBF_SORT_RANK_MAX 256
+// The neighbour search of one particle looks at no more than this many candidates per
+// entry of its list (16 x max_neighbours: 1408 at the default 88; water at rest offers about
+// 110, compressed twice 250): past that it stops and counts an overflow. A pile of
+// particles that are not neighbours (a hash bucket crowded by a diverged solve, non-finite
+// positions, which no comparison finds near anything) then costs a bounded search each.
+#define PBF_CANDIDATES_PER_ENTRY 16u
 // The prefix scan: threads per group, consecutive elements per thread, elements per group.
 #define PBF_SCAN_WG 64
 #define PBF_SCAN_PER_THREAD 16
