@@ -44,7 +44,11 @@ static GLuint new_buffer(GLsizeiptr size, const void *data, const char *label, G
 
 GLuint pbf_gpu_buffer(GLsizeiptr size, const char *label)
 {
-    GLuint b = new_buffer(size, NULL, label, GL_DYNAMIC_DRAW);
+    // _COPY: written and read by GL only. With _DRAW (the application writes) an NVIDIA
+    // H100 moved pbf.forces, cleared and copied on the GPU every step, to host memory
+    // ("is being copied/moved from VIDEO memory to HOST memory"), where the collide pass's
+    // atomics would reach it across the bus.
+    GLuint b = new_buffer(size, NULL, label, GL_DYNAMIC_COPY);
     glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
     return b;
 }
