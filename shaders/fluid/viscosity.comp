@@ -1,12 +1,17 @@
 #version 430
 // Stage viscosity: vorticity confinement f = eps (N x omega), N = grad|omega| / |grad|omega||,
-// and XSPH viscosity v += c sum_j (m / rho_j) (v_j - v_i) W_ij. Writes vel_out.
+// and XSPH viscosity v += c sum_j (m / rho_j) (v_j - v_i) W_ij. Writes vel_out. Walking the
+// list over the step's final positions anyway, it also sums their density (fluid and the
+// walls' images: what metrics.comp would sum again) into lambda_rho[i].y, free after the
+// velocity pass; the metrics pass then reads it instead of walking the list a second time.
 #define USE_POS
 #define USE_VEL
 #define USE_VEL_OUT
 #define WRITE_VEL_OUT
 #define USE_NB
 #define USE_OMEGA
+#define USE_LAMBDA
+#define WRITE_LAMBDA
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
@@ -19,6 +24,7 @@ void main()
     vec3 xsph = vec3(0.0);
     uint nn = nb_len(i);
     vec3 v = vi;
+    float sum_w = w_spiky(0.0);
     if (P.vorticity > 0.0) {
         // omega was computed by the vorticity pass (which only runs when vorticity > 0).
         float wi = omega[i].w;
@@ -29,6 +35,7 @@ void main()
             vec4 vj = vel[j]; // w: volume m / rho_j (velocity pass)
             eta += vj.w * (omega[j].w - wi) * grad_spiky(r);
             xsph += vj.w * (vj.xyz - vi) * w_poly6(dot(r, r));
+            sum_w += w_spiky(length(r));
         }
         float le = length(eta);
         if (le > 1e-9) v += P.dt * P.vorticity * cross(eta / le, omega[i].xyz);
@@ -38,8 +45,19 @@ void main()
             vec3 r = xi - pos[j].xyz;
             vec4 vj = vel[j];
             xsph += vj.w * (vj.xyz - vi) * w_poly6(dot(r, r));
+            sum_w += w_spiky(length(r));
         }
     }
+    vec3 twice;
+    uint mask = mirror_mask(xi, twice);
+    if (mask != 0u) { // next to a wall: the neighbours' images and its own
+        vec3 unused_grad = vec3(0.0);
+        float unused_grad2 = 0.0;
+        for (uint q = 0u; q < nn; q++)
+            density_add_images(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
+        density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
+    }
+    lambda_rho[i].y = P.mass_density * sum_w; // the final positions' density, bodies' share aside
     v += P.viscosity * xsph;
     vel_out[i] = vec4(v, vel[i].w);
 }
