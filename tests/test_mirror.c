@@ -542,8 +542,10 @@ static void bodies_pose(int body, double t, float position[3], float rotation[4]
 /// 1 m/s onto a sphere sunk in the pool, whose particles inside it are still being pushed
 /// out, and a box paddle moving through the pool (both two-way): artificial pressure (s_corr
 /// k = 0.1), over-relaxation 1.2, damping 0.5 1/s, surface tension 2 m/s^2, the free
-/// surface's missing share (surface_fill 1), 3 iterations, 2 substeps; compared over 3
-/// steps after 4 (the slab hits the bodies).
+/// surface's missing share (surface_fill 1), 3 iterations, 2 substeps, XSPH and vorticity
+/// off (so the metrics pass sums the density itself: with XSPH on it reads the XSPH pass's
+/// sum, which the dam break compares); compared over 3 steps after 4 (the slab hits the
+/// bodies).
 static mirror_scene slab_on_bodies(void)
 {
     mirror_scene s = dam_break();
@@ -557,6 +559,8 @@ static mirror_scene slab_on_bodies(void)
     s.s.params.surface_fill = 1.0f;
     s.s.params.iterations = 3;
     s.s.params.substeps = 2;
+    s.s.params.viscosity = 0.0f;
+    s.s.params.vorticity = 0.0f;
     const float lo[3] = { 0.0f, 0.17f, 0.0f }, hi[3] = { 0.5f, 0.27f, 0.25f };
     memcpy(s.s.block.min, lo, sizeof lo);
     memcpy(s.s.block.max, hi, sizeof hi);
@@ -738,7 +742,9 @@ static void every_stage_matches_the_cpu_reference_around_moving_colliders(void *
     tally t;
     run_scene(*state, &s, &t);
     judge(&s, &t);
-    for (int c = 0; c < C_COUNT; c++) assert_true(t.calls[c] > 0);
+    // Every stage but vorticity and XSPH (off here: the dam break compares them).
+    for (int c = 0; c < C_COUNT; c++)
+        if (c != C_VORTICITY && c != C_VISCOSITY_V) assert_true(t.calls[c] > 0);
 }
 
 int main(void)
