@@ -471,7 +471,9 @@ typedef struct pbf_step_stats {
                               ///< time-step guard: params.cfl)
 } pbf_step_stats;
 
-/// Returns up to `max` completed step records, oldest first, each once. With `wait`, waits
+/// Returns up to `max` completed step records, oldest first, each once (a step whose slot
+/// was needed again while the GPU had not finished it 10 s later is skipped: its record
+/// is dropped, docs/architecture.md rule 3). With `wait`, waits
 /// for every step issued so far (use at the end of a run); otherwise never blocks.
 int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wait);
 

@@ -764,8 +764,8 @@ bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait)
         if (w->log) {
             char msg[320];
             snprintf(msg, sizeof msg, "the GPU has not finished step %llu after %.0f s (glClientWaitSync: %s): the GL "
-                     "context is hung or lost (on NVIDIA the kernel log names it, as an Xid); its statistics and "
-                     "forces are read as they are", (unsigned long long)r->step, PBF_STEP_WAIT_NS * 1e-9,
+                     "context is hung, lost or far behind (on NVIDIA the kernel log names a hang, as an Xid); the "
+                     "records of steps not finished in time are dropped, not read", (unsigned long long)r->step, PBF_STEP_WAIT_NS * 1e-9,
                      st == GL_TIMEOUT_EXPIRED ? "GL_TIMEOUT_EXPIRED" : "GL_WAIT_FAILED");
             w->log(w->log_user, 2, msg);
         }
@@ -808,10 +808,18 @@ int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
 pbf_result pbf_world_step(pbf_world *w, float dt) { return pbf_world_step_with(w, dt, NULL, NULL); }
 
 // Reads a pending step record now, waiting for its fence if need be, and keeps it for the
-// next poll. With no poll at all, the oldest kept records make room.
+// next poll. With no poll at all, the oldest kept records make room. A step the GPU has not
+// finished after PBF_STEP_WAIT_NS is dropped, not read: its slot still holds the record of
+// the step RING before it (an NVIDIA H100 handed those out as new while a diverging 1M run
+// took seconds a step), so the records polled skip that step (and its forces never come).
 static void read_early(pbf_world *w, stats_slot *slot)
 {
-    pbf_step_done(w, slot, true);
+    if (!pbf_step_done(w, slot, true)) {
+        glDeleteSync(slot->fence);
+        slot->fence = NULL;
+        slot->pending = false;
+        return;
+    }
     if (w->done_count == RING) {
         memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
         w->done_count--;
