@@ -1,12 +1,13 @@
 #!/bin/sh
 # Runs on a lent GPU machine, from the tree's root, with .gpu/ made by tools/gpu_pack.sh:
 # unpacks the GL dispatch packages and the binaries, then the benchmark (64k-4M, 3 and 4
-# iterations), every scene (frame 0 against llvmpipe's) and the suite in strict GL mode,
-# each with its own time limit so that one call of the device tool fits (BUDGET seconds
-# in all, default 530). With shader variants packed (tools/gpu_pack.sh NAME=DIR), the
-# benchmark is instead tools/gpu_ab.sh: each variant against the tree's shaders. Results go to $OUT as they come: env.txt, run.log, bench.tgz,
-# scenes.tgz, suite.log, testlogs.tgz. tools/gpu_check.sh does the work; see
-# docs/performance.md, "On an NVIDIA H200", for what a run found.
+# iterations; with shader variants packed, tools/gpu_pack.sh NAME=DIR, tools/gpu_ab.sh
+# instead: each variant against the tree's shaders, and a table of iteration x substep
+# choices), a traced diverging run, every scene (frame 0 against llvmpipe's) and the suite
+# in strict GL mode, each with its own time limit so that one call of the device tool fits
+# (BUDGET seconds in all, default 530). Results go to $OUT as they come: env.txt, run.log,
+# bench.tgz or ab.tgz, trace.tgz, scenes.tgz, suite.log, testlogs.tgz. tools/gpu_check.sh
+# does the work; docs/performance.md, "On an NVIDIA H100", has what runs found.
 cd "$(dirname "$0")/.." || exit 2
 T0=$(date +%s)
 el() { echo "[$(($(date +%s) - T0)) s] $*"; }
@@ -60,6 +61,16 @@ else
     tar czf "$O/bench.tgz" -C build g-bench4 g-bench3
     grep '^| [0-9]' build/g-bench4/report.md | cut -c1-80
 fi
+# A dam break that diverges (1M, 2 iterations x 1 substep): with --trace, one line per step;
+# its neighbour pass once grew to seconds a step (docs/performance.md, "On an NVIDIA H100").
+mkdir -p build/g-trace
+timeout -k 5 ${TRACE_LIMIT:-60} build/bin/seiche-bench --particles 1048576 --iterations 2 --steps 60 --warmup 10 \
+    --shaders shaders --trace build/g-trace/trace_1m_2x1.csv >build/g-trace/bench.txt 2>&1
+el "diverging 1M x 2 x 1, traced: exit $?"
+grep -E '^ *[0-9]' build/g-trace/bench.txt | cut -c1-100
+awk -F, 'NR > 1 && $7 + 0 > m { m = $7 + 0; s = $4 } END { print "slowest step on the GPU: " s ", " m " ms" }' \
+    build/g-trace/trace_1m_2x1.csv 2>/dev/null
+tar czf "$O/trace.tgz" -C build g-trace
 timeout -k 5 120 tools/gpu_check.sh --parts scenes --frames 120 --timeout 25 --reference .gpu/ref.json \
     --out build/g-scenes >>"$O/run.log" 2>&1
 el "scenes: exit $?"
