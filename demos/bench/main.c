@@ -36,6 +36,7 @@ typedef struct options {
     const char *shader_dir;
     float tank[3];      // m, the container (and domain) from the origin
     float block;        // m, side of the block of water at the origin
+    unsigned grid_cells;  // pbf_world_def.grid_cells_per_kernel (0: the library's default)
     bool tank_test;     // also run each case in a tank 20x wider and deeper
     const char *trace;    // --trace FILE: one CSV line per measured step (appended)
 } options;
@@ -124,6 +125,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     memcpy(d.domain_min, lo, sizeof lo);
     memcpy(d.domain_max, hi, sizeof hi);
     if (o->shader_dir) d.shader_dir = o->shader_dir;
+    if (o->grid_cells) d.grid_cells_per_kernel = o->grid_cells;
     r->memory_mib = (double)pbf_world_def_memory(&d) / (1024.0 * 1024.0);
     char err[1024];
     pbf_world *w = pbf_world_create(&d, err, sizeof err);
@@ -255,6 +257,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--sor W] [--json FILE] [--shaders DIR]\n"
                "                    [--tank X,Y,Z] [--block S] [--tank-test] [--trace FILE]\n"
+               "                    [--grid-cells K]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
                "          --sor 0 (the library's default, pbf_params.sor: the relaxation schedule; W in (0, 2):\n"
                "          that constant factor on every iteration)\n"
@@ -263,6 +266,7 @@ static void usage(FILE *f)
                "ratios of GPU time per step and of memory: cost should follow the water, not the tank\n"
                "--trace appends one CSV line per measured step to FILE: CPU ms inside the step and the\n"
                "statistics poll, the GPU's ms of that step and of each stage, rho_max, overflows\n"
+               "--grid-cells K: neighbour grid cells per kernel radius (default: the library's, 2)\n"
                "lists (comma-separated) of particles, iterations and substeps run every combination\n"
                "exit status: 0 ok, 1 a run lost particles or produced NaN, 2 a usage, world or write error,\n"
                "             3 no OpenGL 4.3 compute context\n");
@@ -339,6 +343,15 @@ int main(int argc, char **argv)
                 return 2;
             }
             memcpy(o.tank, t, sizeof t);
+        } else if (strcmp(a, "--grid-cells") == 0) {
+            char *end;
+            long k = strtol(v, &end, 10);
+            if (*end || k < 1 || k > 4) {
+                fprintf(stderr, "seiche-bench: --grid-cells must be 1, 2, 3 or 4 neighbour grid cells per kernel radius "
+                                "(pbf_world_def.grid_cells_per_kernel; got '%s')\n", v);
+                return 2;
+            }
+            o.grid_cells = (unsigned)k;
         } else if (strcmp(a, "--block") == 0) {
             char *end;
             double b = strtod(v, &end);
