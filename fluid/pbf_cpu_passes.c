@@ -120,7 +120,8 @@ void pbf_cpu_reorder(pbf_cpu_world *w)
 
 static uint32_t nb_len(const pbf_cpu_world *w, uint32_t i)
 {
-    return w->nb_count[i] < w->max_neighbours ? w->nb_count[i] : w->max_neighbours;
+    uint32_t n = w->nb_count[i] & ~PBF_NB_CUT;
+    return n < w->max_neighbours ? n : w->max_neighbours;
 }
 
 static const uint32_t *nb_of(const pbf_cpu_world *w, uint32_t i) { return w->nb_list + (size_t)i * w->max_neighbours; }
@@ -178,11 +179,12 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
         // kernel sphere reaches; rows whose y-z slab lies farther than h are skipped.
         // The search stops at max_neighbours + 1 found (an overflow: counted, not listed),
         // so a pile of particles in one cell costs no more than a full list each, and after
-        // PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates (an overflow too).
-        uint32_t stop = w->max_neighbours, budget = PBF_CANDIDATES_PER_ENTRY * w->max_neighbours;
-        for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1) && n <= stop; z++) {
+        // PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates (PBF_NB_CUT in the count: an
+        // overflow, the neighbours found so far still listed).
+        uint32_t stop = w->max_neighbours, budget = PBF_CANDIDATES_PER_ENTRY * w->max_neighbours, cut = 0;
+        for (int z = max_int(c[2] - reach, 0); z <= min_int(c[2] + reach, dims[2] - 1) && n <= stop && !cut; z++) {
             float dz = slab_distance(xi.z, P->grid_origin.z, cs, z);
-            for (int y = max_int(c[1] - reach, 0); y <= min_int(c[1] + reach, dims[1] - 1) && n <= stop; y++) {
+            for (int y = max_int(c[1] - reach, 0); y <= min_int(c[1] + reach, dims[1] - 1) && n <= stop && !cut; y++) {
                 float dy = slab_distance(xi.y, P->grid_origin.y, cs, y);
                 float ryz = dy * dy + dz * dz;
                 if (ryz >= h2) continue;
@@ -193,12 +195,12 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 // rows hashed into them are skipped by their row number.
                 uint32_t row = row_of(P, y, z), b0 = bucket_of(P, x0, y, z), b1 = bucket_of(P, x1, y, z);
                 int ranges = b0 <= b1 ? 1 : 2;
-                for (int part = 0; part < ranges && n <= stop; part++) {
+                for (int part = 0; part < ranges && n <= stop && !cut; part++) {
                     uint32_t b = w->cell_start[part == 0 ? b0 : 0u];
                     uint32_t e = w->cell_start[(part == 0 && ranges == 1) || part == 1 ? b1 + 1u : P->grid_dims.w];
-                    for (uint32_t k = b; k < e && n <= stop; k++) {
+                    for (uint32_t k = b; k < e && n <= stop && !cut; k++) {
                         if (budget == 0) { // looked at enough candidates: an overflow
-                            n = stop + 1;
+                            cut = PBF_NB_CUT;
                             break;
                         }
                         budget--;
@@ -216,7 +218,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 }
             }
         }
-        w->nb_count[i] = n;
+        w->nb_count[i] = n | cut;
         if (solve && mask != 0u) // next to a wall: the neighbours' images
             for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++)
                 density_add_images(P, xi, pbf_xyz(x[list[q]]), mask, twice, &sum_w, &grad_i, &sum_grad2);

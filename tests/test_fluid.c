@@ -15,6 +15,7 @@
 
 #include "engine/gl/context.h"
 #include "fluid/pbf.h"
+#include "fluid/pbf_internal.h"
 #include "fluid/pbf_uniforms.h"
 #include "tests/support.h"
 
@@ -374,6 +375,11 @@ static void a_crowded_bucket_stops_the_search(void **state)
     print_message("%u of %d particles stopped their search (overflow)\n", st.overflow_count, K);
     assert_int_equal(st.overflow_count, K);
     assert_int_equal(st.nan_count, 0);
+    // Each count is the flag and the neighbours listed (none): the passes walk only what
+    // was written (a count of max_neighbours + 1 had them read stale entries).
+    static uint32_t count[K];
+    assert_int_equal(pbf_world_read_binding(w, PBF_B_NB_COUNT, sizeof count, count), PBF_OK);
+    for (int k = 0; k < K; k++) assert_int_equal(count[k], PBF_NB_CUT);
     pbf_world_destroy(w);
 }
 

@@ -154,7 +154,7 @@ layout(std430, binding = PBF_B_NB_COUNT) readonly buffer NbCount { uint nb_count
 // max_neighbours apart. The CPU reference keeps a row per particle; pbf_world_read_binding
 // hands the lists back in that layout.
 uint nb_index(uint i, uint k) { return k * P.capacity + i; }
-uint nb_len(uint i) { return min(nb_count[i], P.max_neighbours); }
+uint nb_len(uint i) { return min(nb_count[i] & ~PBF_NB_CUT, P.max_neighbours); }
 uint nb_at(uint i, uint k) { return nb_list[nb_index(i, k)]; }
 #endif
 #ifdef USE_FORCES

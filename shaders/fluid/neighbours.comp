@@ -11,9 +11,9 @@
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
 // The search stops at max_neighbours + 1 found, so a pile of particles in one cell (a
 // diverged solve) costs a full list each, not the whole pile each; and after
-// PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates, counted as an overflow too, so a
-// crowd of particles that are not neighbours (colliding rows, non-finite positions) costs
-// a bounded search as well.
+// PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates, flagged in the count (PBF_NB_CUT:
+// an overflow, the neighbours found so far still listed), so a crowd of particles that are
+// not neighbours (colliding rows, non-finite positions) costs a bounded search as well.
 // The first iteration's density and lambda are computed here too, from the listed
 // neighbours in list order (exactly what density.comp would do next), saving a pass.
 #define USE_PRED
@@ -54,9 +54,10 @@ void main()
     uint mask = mirror_mask(xi, twice);
     uint stop = P.max_neighbours;
     uint budget = PBF_CANDIDATES_PER_ENTRY * P.max_neighbours;
-    for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1) && n <= stop; z++) {
+    uint cut = 0u;
+    for (int z = max(c.z - reach, 0); z <= min(c.z + reach, dims.z - 1) && n <= stop && cut == 0u; z++) {
         float dz = slab_distance(xi.z, P.grid_origin.z, cs, z);
-        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1) && n <= stop; y++) {
+        for (int y = max(c.y - reach, 0); y <= min(c.y + reach, dims.y - 1) && n <= stop && cut == 0u; y++) {
             float dy = slab_distance(xi.y, P.grid_origin.y, cs, y);
             float ryz = dy * dy + dz * dz;
             if (ryz >= h2) continue;
@@ -67,12 +68,12 @@ void main()
             uint b0 = bucket_of(ivec3(x0, y, z)), b1 = bucket_of(ivec3(x1, y, z));
             // Buckets b0..b1 in order, wrapping past the last bucket into the first.
             uint ranges = b0 <= b1 ? 1u : 2u;
-            for (uint part = 0u; part < ranges && n <= stop; part++) {
+            for (uint part = 0u; part < ranges && n <= stop && cut == 0u; part++) {
                 uint b = cell_start[part == 0u ? b0 : 0u];
                 uint e = cell_start[(part == 0u && ranges == 1u) || part == 1u ? b1 + 1u : P.grid_dims.w];
-                for (uint j = b; j < e && n <= stop; j++) {
-                    if (budget == 0u) { // looked at enough: an overflow, the loops end
-                        n = stop + 1u;
+                for (uint j = b; j < e && n <= stop && cut == 0u; j++) {
+                    if (budget == 0u) { // looked at enough: an overflow; the list keeps what it has
+                        cut = PBF_NB_CUT;
                         break;
                     }
                     budget--;
@@ -89,7 +90,7 @@ void main()
             }
         }
     }
-    nb_count[i] = n;
+    nb_count[i] = n | cut;
     if (mask != 0u) { // next to a wall: the neighbours' images
         uint nn = min(n, P.max_neighbours);
         for (uint q = 0u; q < nn; q++) density_add_images(xi, pred[nb_at(i, q)].xyz, mask, twice, sum_w, grad_i, sum_grad2);

@@ -41,6 +41,10 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 // particles that are not neighbours (a hash bucket crowded by a diverged solve, non-finite
 // positions, which no comparison finds near anything) then costs a bounded search each.
 #define PBF_CANDIDATES_PER_ENTRY 16u
+// Set in a particle's neighbour count when its search stopped at that budget: the low bits
+// still count the neighbours listed (what the passes walk), and the count as a whole is
+// above max_neighbours, so the metrics count it as an overflow.
+#define PBF_NB_CUT 0x80000000u
 // The prefix scan: threads per group, consecutive elements per thread, elements per group.
 #define PBF_SCAN_WG 64
 #define PBF_SCAN_PER_THREAD 16
@@ -76,7 +80,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_SCAN_DATA 20 // the array a scan level works on (a range of a buffer)
 #define PBF_B_SCAN_SUMS 21 // its block sums
 #define PBF_B_NB_LIST 22   // uint[cap * max_neighbours]: neighbour slots of each particle
-#define PBF_B_NB_COUNT 23  // uint[cap]: neighbours found (max_neighbours + 1: an overflow, the search stopped)
+#define PBF_B_NB_COUNT 23  // uint[cap]: neighbours found (> max_neighbours: an overflow; PBF_NB_CUT: the budget ran out)
 #define PBF_B_STATE 24     // pbf_gpu_state: the live particle count, kept on the GPU
 #define PBF_B_STAGE_POS 25 // vec4[]: particles waiting to be appended (emitters, blocks)
 #define PBF_B_STAGE_VEL 26 // vec4[]
