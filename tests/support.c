@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "engine/gl/screenshot.h"
@@ -293,4 +294,11 @@ void support_assert_mentions(const char *message, const char *const *needles)
 {
     for (; *needles; needles++)
         if (!strstr(message, *needles)) fail_msg("message \"%s\" does not mention \"%s\"", message, *needles);
+}
+
+double support_seconds(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }

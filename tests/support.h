@@ -107,5 +107,7 @@ pbf_cpu_world *support_cpu_world(const support_scene *s);
 double support_max_deviation(const float *a, const float *b, uint32_t n);
 /// Fails unless `message` contains every string of the NULL-terminated `needles`.
 void support_assert_mentions(const char *message, const char *const *needles);
+/// Seconds on the monotonic clock (for timing a call within a test).
+double support_seconds(void);
 
 #endif

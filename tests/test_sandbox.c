@@ -13,7 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "engine/script/script.h"
@@ -31,13 +30,6 @@ static eng_script *new_script(double budget, bool trusted)
     return s;
 }
 
-static double seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 // How long a case may run before the budget stops it: the hook fires between instructions,
 // so one C call over 64 MiB finishes first. Under AddressSanitizer that call alone took
 // 1.5-1.7 s (string.upper of 64 MiB, 2026-11-26), so the sanitizer build allows twice as long.
@@ -52,9 +44,9 @@ static double seconds(void)
 static void expect_budget_stop(const char *code)
 {
     eng_script *s = new_script(0.2, false);
-    double t0 = seconds();
+    double t0 = support_seconds();
     eng_script_status st = eng_script_load_string(s, "case.lua", code);
-    double secs = seconds() - t0;
+    double secs = support_seconds() - t0;
     if (st != ENG_SCRIPT_ERROR || !strstr(eng_script_error(s), "ran longer than its budget of 0.2 s"))
         fail_msg("not stopped by the budget (status %d): %s\n  %s", (int)st, code, eng_script_error(s));
     if (strncmp(eng_script_error(s), "case.lua:", 9) != 0) fail_msg("no file:line first: %s", eng_script_error(s));

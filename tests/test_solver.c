@@ -11,7 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "fluid/pbf.h"
 #include "fluid/pbf_cpu.h"
@@ -22,13 +21,6 @@
 // ---- fixture: one headless context for the GPU tests, the scenes of tests/support.h ------
 
 typedef support_gpu fixture;
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static double kinetic_energy(const float *vel, uint32_t n, float mass)
 {
@@ -212,17 +204,17 @@ static void compare_dam_break(const fixture *f, const pbf_params *params, double
     pbf_step_stats gs[16];
     double dev[16], vdev[16], t_gpu = 0.0, t_cpu = 0.0;
     for (int k = 0; k < steps; k++) {
-        double t0 = now_s();
+        double t0 = support_seconds();
         assert_int_equal(pbf_world_step(g, dt), PBF_OK);
         assert_int_equal(pbf_world_read_particles(g, gp, gv, NULL, n), n);
         // Poll every step: the world keeps only its last 8 records.
         assert_int_equal(pbf_world_poll_stats(g, &gs[k], 1, true), 1);
         assert_int_equal(gs[k].step, (uint64_t)k);
-        double t1 = now_s();
+        double t1 = support_seconds();
         assert_int_equal(pbf_cpu_world_step(c, dt), PBF_OK);
         cs[k] = pbf_cpu_world_density_stats(c);
         assert_int_equal(pbf_cpu_world_read_particles(c, cp, cv, NULL, n), n);
-        double t2 = now_s();
+        double t2 = support_seconds();
         t_gpu += t1 - t0;
         t_cpu += t2 - t1;
         dev[k] = support_max_deviation(gp, cp, n);
