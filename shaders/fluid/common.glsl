@@ -168,6 +168,23 @@ layout(std430, binding = PBF_B_FORCES) readonly buffer Forces { int forces[]; };
 // ---- kernels, boundaries, rigid frames: shared with the CPU reference ----------------
 #include "pbf_kernels.h"
 
+#if defined(USE_POS) && defined(USE_NB)
+// The walls' share of the density at particle i's step-end position xi (next to a wall
+// only): its nn listed neighbours' images and its own, added to sum_w. For the passes that
+// sum the final positions' density (viscosity.comp, and metrics.comp when that one did not run).
+void add_final_wall_images(uint i, vec3 xi, uint nn, inout float sum_w)
+{
+    vec3 twice;
+    uint mask = mirror_mask(xi, twice);
+    if (mask == 0u) return;
+    vec3 unused_grad = vec3(0.0);
+    float unused_grad2 = 0.0;
+    for (uint q = 0u; q < nn; q++)
+        density_add_images(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
+    density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
+}
+#endif
+
 // ---- grid ---------------------------------------------------------------------------
 ivec3 cell_coord(vec3 x)
 {

@@ -37,9 +37,9 @@ void main()
             dp += (li + pj.w + scorr_of(r)) * grad_spiky(r);
         }
     } else {
-        // Four neighbours per trip, then two (loads first; the sum still in list order):
-        // two were about 10 % faster than one on llvmpipe, four 5 % faster than two on an
-        // NVIDIA H100 (docs/performance.md, "Kernel changes").
+        // Four neighbours per trip (loads first; the sum still in list order): two were
+        // about 10 % faster than one on llvmpipe, four 5 % faster than two on an NVIDIA
+        // H100 (docs/performance.md, "Kernel changes").
         uint q = 0u;
         for (; q + 3u < nn; q += 4u) {
             uint ja = nb_at(i, q), jb = nb_at(i, q + 1u), jc = nb_at(i, q + 2u), jd = nb_at(i, q + 3u);
@@ -53,15 +53,7 @@ void main()
             dp += (li + pc.w) * gc;
             dp += (li + pd.w) * gd;
         }
-        for (; q + 1u < nn; q += 2u) {
-            vec4 pa = pred[nb_at(i, q)];
-            vec4 pb = pred[nb_at(i, q + 1u)];
-            vec3 ga = grad_spiky(xi - pa.xyz);
-            vec3 gb = grad_spiky(xi - pb.xyz);
-            dp += (li + pa.w) * ga;
-            dp += (li + pb.w) * gb;
-        }
-        if (q < nn) {
+        for (; q < nn; q++) { // the last 0-3
             vec4 pj = pred[nb_at(i, q)];
             dp += (li + pj.w) * grad_spiky(xi - pj.xyz);
         }

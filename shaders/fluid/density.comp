@@ -36,13 +36,7 @@ void main()
         density_add(rc, sum_w, grad_i, sum_grad2);
         density_add(rd, sum_w, grad_i, sum_grad2);
     }
-    for (; q + 1u < nn; q += 2u) {
-        vec3 ra = xi - pred[nb_at(i, q)].xyz;
-        vec3 rb = xi - pred[nb_at(i, q + 1u)].xyz;
-        density_add(ra, sum_w, grad_i, sum_grad2);
-        density_add(rb, sum_w, grad_i, sum_grad2);
-    }
-    if (q < nn) density_add(xi - pred[nb_at(i, q)].xyz, sum_w, grad_i, sum_grad2);
+    for (; q < nn; q++) density_add(xi - pred[nb_at(i, q)].xyz, sum_w, grad_i, sum_grad2); // the last 0-3
     if (mask != 0u) { // next to a wall: the neighbours' images
         for (q = 0u; q < nn; q++) density_add_images(xi, pred[nb_at(i, q)].xyz, mask, twice, sum_w, grad_i, sum_grad2);
     }

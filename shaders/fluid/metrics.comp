@@ -37,23 +37,16 @@ void main()
         if (any(isnan(xi)) || any(isinf(xi)) || any(isnan(vi)) || any(isinf(vi))) {
             bad = 1u;
         } else {
-            vec3 unused_grad = vec3(0.0);
-            float unused_grad2 = 0.0;
             if (P.viscosity > 0.0 || P.vorticity > 0.0) { // the viscosity pass ran (pbf_world.c)
                 rho = lambda_rho[i].y;
             } else {
                 float sum_w = w_spiky(0.0);
                 uint nn = nb_len(i);
-                vec3 twice;
-                uint mask = mirror_mask(xi, twice);
                 for (uint q = 0u; q < nn; q++) sum_w += w_spiky(length(xi - pos[nb_at(i, q)].xyz));
-                if (mask != 0u) { // next to a wall: the neighbours' images and its own
-                    for (uint q = 0u; q < nn; q++)
-                        density_add_images(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
-                    density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
-                }
+                add_final_wall_images(i, xi, nn, sum_w);
                 rho = P.mass_density * sum_w;
             }
+            vec3 unused_grad = vec3(0.0);
             if (P.collider_count > 0u) colliders_density(xi, rho, unused_grad);
             if (nb_count[i] > P.max_neighbours) overflow = 1u;
             mom = vec4(P.mass * vi, 0.5 * P.mass * dot(vi, vi));

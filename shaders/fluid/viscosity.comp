@@ -48,15 +48,7 @@ void main()
             sum_w += w_spiky(length(r));
         }
     }
-    vec3 twice;
-    uint mask = mirror_mask(xi, twice);
-    if (mask != 0u) { // next to a wall: the neighbours' images and its own
-        vec3 unused_grad = vec3(0.0);
-        float unused_grad2 = 0.0;
-        for (uint q = 0u; q < nn; q++)
-            density_add_images(xi, pos[nb_at(i, q)].xyz, mask, twice, sum_w, unused_grad, unused_grad2);
-        density_add_self_images(xi, mask, twice, sum_w, unused_grad, unused_grad2);
-    }
+    add_final_wall_images(i, xi, nn, sum_w);
     lambda_rho[i].y = P.mass_density * sum_w; // the final positions' density, bodies' share aside
     v += P.viscosity * xsph;
     vel_out[i] = vec4(v, vel[i].w);
