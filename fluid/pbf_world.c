@@ -773,6 +773,14 @@ bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait)
     return false;
 }
 
+// A slot whose record was taken (or dropped): free for the next step.
+static void release_slot(stats_slot *slot)
+{
+    glDeleteSync(slot->fence);
+    slot->fence = NULL;
+    slot->pending = false;
+}
+
 int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
 {
     if (!w) return 0;
@@ -797,9 +805,7 @@ int pbf_world_poll_stats(pbf_world *w, pbf_step_stats *out, int max, bool wait)
         read_slot(w, r, &tmp);
         if (n < max && out) out[n] = tmp;
         if (n < max || !out) n++;
-        glDeleteSync(r->fence);
-        r->fence = NULL;
-        r->pending = false;
+        release_slot(r);
         if (out && n >= max) break;
     }
     return n;
@@ -814,20 +820,14 @@ pbf_result pbf_world_step(pbf_world *w, float dt) { return pbf_world_step_with(w
 // took seconds a step), so the records polled skip that step (and its forces never come).
 static void read_early(pbf_world *w, stats_slot *slot)
 {
-    if (!pbf_step_done(w, slot, true)) {
-        glDeleteSync(slot->fence);
-        slot->fence = NULL;
-        slot->pending = false;
-        return;
+    if (pbf_step_done(w, slot, true)) {
+        if (w->done_count == RING) {
+            memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
+            w->done_count--;
+        }
+        read_slot(w, slot, &w->done[w->done_count++]);
     }
-    if (w->done_count == RING) {
-        memmove(w->done, w->done + 1, (RING - 1) * sizeof w->done[0]);
-        w->done_count--;
-    }
-    read_slot(w, slot, &w->done[w->done_count++]);
-    glDeleteSync(slot->fence);
-    slot->fence = NULL;
-    slot->pending = false;
+    release_slot(slot);
 }
 
 // The fastest particle speed of a finished step, read (waiting for it) if not yet; -1 when
