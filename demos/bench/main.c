@@ -79,8 +79,9 @@ static int cmp_double(const void *a, const void *b)
 
 static double median(double *v, int n)
 {
+    if (n == 0) return 0.0;
     qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 static int parse_list(const char *s, long *out, int *count, const char *name, long lo, long hi)
@@ -157,9 +158,11 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     double *submit = calloc((size_t)cap, sizeof *submit), *poll = calloc((size_t)cap, sizeof *poll);
     double *rho_max = calloc((size_t)cap, sizeof *rho_max);
     uint32_t *overflow = calloc((size_t)cap, sizeof *overflow);
+    bool failed = !step || !submit || !poll || !rho_max || !overflow;
+    for (int s = 0; s < PBF_STAGE_COUNT; s++) failed |= !stage[s];
+    if (failed) fprintf(stderr, "seiche-bench: %ld particles: out of memory for %d steps' timings\n", n, cap);
     glFinish();
     double t0 = now_s(), c0 = cpu_s();
-    bool failed = false;
     for (int i = 0; i < o->steps && !failed; i++) {
         double ts = now_s();
         if (pbf_world_step(w, (float)o->dt) != PBF_OK) {
@@ -196,8 +199,8 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     for (int s = 0; s < PBF_STAGE_COUNT; s++) r->stage_ms[s] = median(stage[s], got);
     r->rho_err_avg = got ? rho_sum / got : 0.0;
     r->err_avg = got ? err_sum / got : 0.0;
-    FILE *tf = o->trace ? fopen(o->trace, "a") : NULL;
-    if (o->trace && !tf) fprintf(stderr, "seiche-bench: cannot append to --trace %s\n", o->trace);
+    FILE *tf = o->trace && !failed ? fopen(o->trace, "a") : NULL;
+    if (o->trace && !failed && !tf) fprintf(stderr, "seiche-bench: cannot append to --trace %s\n", o->trace);
     if (tf) {
         // Where a step's time went: the CPU inside pbf_world_step and inside the statistics
         // poll, against the GPU's own timers of that step.
