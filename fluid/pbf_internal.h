@@ -154,6 +154,7 @@ struct pbf_world {
     uint64_t speed_step[PBF_GUARD_HISTORY]; // 1 + the step each holds (0: none)
     float added_speed[PBF_GUARD_HISTORY];   // fastest particle appended before step k, same index
     bool guard_capped;          // the guard wanted more than max_substeps (warned once)
+    bool tension_warned;        // surface_tension > 0 was reported as experimental (until it is 0 again)
     bool warned_hang;           // a step's fence did not signal in PBF_STEP_WAIT_NS (said once)
     pbf_guard_seen seen_of[PBF_GUARD_HISTORY]; // step k's compression and substeps, same index as speed_of
     pbf_guard_state compression; // the compression guard's level and quiet count (pbf_guard_compression)
