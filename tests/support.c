@@ -302,3 +302,11 @@ double support_seconds(void)
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
+
+void support_capture_warning(void *user, int level, const char *message)
+{
+    support_warnings *c = user;
+    if (level != 2) return;
+    c->warnings++;
+    snprintf(c->last, sizeof c->last, "%s", message);
+}

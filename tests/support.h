@@ -110,4 +110,12 @@ void support_assert_mentions(const char *message, const char *const *needles);
 /// Seconds on the monotonic clock (for timing a call within a test).
 double support_seconds(void);
 
+/// The warnings (level 2) a world logs: how many, and the last one's text. Pass
+/// support_capture_warning as pbf_world_def.log with a support_warnings as log_user.
+typedef struct support_warnings {
+    int warnings;
+    char last[512];
+} support_warnings;
+void support_capture_warning(void *user, int level, const char *message);
+
 #endif

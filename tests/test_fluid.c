@@ -489,22 +489,9 @@ static void step_stats_match_the_particles_read_back(void **state)
     pbf_world_destroy(w);
 }
 
-typedef struct log_capture {
-    int warnings;
-    char last[512];
-} log_capture;
-
-static void capture_log(void *user, int level, const char *msg)
-{
-    log_capture *c = user;
-    if (level != 2) return;
-    c->warnings++;
-    snprintf(c->last, sizeof c->last, "%s", msg);
-}
-
 /// The substeps of one step of a block thrown at `speed` m/s in zero gravity (the most
 /// any of 4 steps took); *hash (may be NULL) receives the state hash after them.
-static int substeps_at(float speed, float cfl, int max_substeps, log_capture *log, uint64_t *hash)
+static int substeps_at(float speed, float cfl, int max_substeps, support_warnings *log, uint64_t *hash)
 {
     pbf_world_def d = pbf_default_world_def();
     d.params.particle_radius = 0.01f;
@@ -517,7 +504,7 @@ static int substeps_at(float speed, float cfl, int max_substeps, log_capture *lo
     const float lo[3] = { 0, 0, 0 }, hi[3] = { 4, 1, 1 };
     memcpy(d.domain_min, lo, sizeof lo);
     memcpy(d.domain_max, hi, sizeof hi);
-    d.log = capture_log;
+    d.log = support_capture_warning;
     d.log_user = log;
     char err[512];
     pbf_world *w = pbf_world_create(&d, err, sizeof err);
@@ -544,7 +531,7 @@ static int substeps_at(float speed, float cfl, int max_substeps, log_capture *lo
 static void time_step_guard_takes_substeps_for_fast_particles(void **state)
 {
     (void)state;
-    log_capture log = { 0, "" };
+    support_warnings log = { 0, "" };
     uint64_t h1 = 0, h2 = 0;
     assert_int_equal(substeps_at(5.9f, 0.5f, 32, &log, &h1), 10);
     assert_int_equal(substeps_at(5.9f, 0.5f, 32, &log, &h2), 10);

@@ -168,41 +168,28 @@ static void tension_pulls_a_stretched_droplet_round(void **state)
     assert_true(without.final_aniso > 0.8 * without.first_peak);
 }
 
-typedef struct warnings {
-    int count;
-    char last[512];
-} warnings;
-
-static void count_warning(void *user, int level, const char *msg)
-{
-    warnings *c = user;
-    if (level != 2) return;
-    c->count++;
-    snprintf(c->last, sizeof c->last, "%s", msg);
-}
-
 // Turning surface tension on is reported once (with where to read why), at the first step
 // that runs with it; off and on again is reported again.
 static void tension_is_reported_as_experimental(void **state)
 {
     (void)state;
-    warnings seen = { 0, "" };
+    support_warnings seen = { 0, "" };
     pbf_world_def def = pbf_default_world_def();
     def.capacity = 64;
-    def.log = count_warning;
+    def.log = support_capture_warning;
     def.log_user = &seen;
     char err[512];
     pbf_world *w = pbf_world_create(&def, err, sizeof err);
     if (!w) fail_msg("%s", err);
     pbf_params p = *pbf_world_params(w);
     assert_int_equal(pbf_world_step(w, DT), PBF_OK);
-    assert_int_equal(seen.count, 0);
+    assert_int_equal(seen.warnings, 0);
     p.surface_tension = 20.0f;
     assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
-    assert_int_equal(seen.count, 0); // said when a step runs with it, not when set
+    assert_int_equal(seen.warnings, 0); // said when a step runs with it, not when set
     assert_int_equal(pbf_world_step(w, DT), PBF_OK);
     assert_int_equal(pbf_world_step(w, DT), PBF_OK);
-    assert_int_equal(seen.count, 1);
+    assert_int_equal(seen.warnings, 1);
     assert_non_null(strstr(seen.last, "surface_tension = 20 is experimental"));
     assert_non_null(strstr(seen.last, "docs/solver.md"));
     p.surface_tension = 0.0f;
@@ -211,7 +198,7 @@ static void tension_is_reported_as_experimental(void **state)
     p.surface_tension = 5.0f;
     assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
     assert_int_equal(pbf_world_step(w, DT), PBF_OK);
-    assert_int_equal(seen.count, 2);
+    assert_int_equal(seen.warnings, 2);
     pbf_world_destroy(w);
 }
 
