@@ -56,9 +56,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 11
-#define PBF_VERSION_PATCH 1
-#define PBF_VERSION_STRING "0.11.1"
+#define PBF_VERSION_MINOR 12
+#define PBF_VERSION_PATCH 0
+#define PBF_VERSION_STRING "0.12.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -90,7 +90,7 @@ typedef enum pbf_stage {
     PBF_STAGE_VELOCITY,    ///< v = (x* - x) / dt
     PBF_STAGE_VORTICITY,   ///< curl of the velocity field
     PBF_STAGE_VISCOSITY,   ///< vorticity confinement and XSPH viscosity
-    PBF_STAGE_TENSION,     ///< surface normals, cohesion and curvature (surface_tension > 0)
+    PBF_STAGE_TENSION,     ///< the cohesion force (surface_tension > 0)
     PBF_STAGE_METRICS,     ///< density statistics reduced on the GPU (once per step)
     PBF_STAGE_COUNT
 } pbf_stage;
@@ -117,9 +117,10 @@ typedef struct pbf_params {
     float gravity[3];       ///< m/s^2, finite, each |g| <= 1000
     float damping;          ///< linear velocity damping, 1/s, [0, 100]
     float max_speed;        ///< velocity clamp, m/s, (0, 1000]
-    float surface_tension;  ///< gamma of the cohesion and curvature forces (Akinci et al.
-                            ///< 2013, with the rest volume in place of the mass), m/s^2,
-                            ///< [0, 1000]; 0 (the default) skips both passes
+    float surface_tension;  ///< surface tension sigma, N/m, [0, 1000]: the strength of a
+                            ///< cohesion force between particles (Akinci et al. 2013) set so
+                            ///< that a flat surface of the rest lattice has this sigma; 0
+                            ///< (the default) skips its pass (docs/solver.md, "Surface tension")
     float cfl;              ///< time-step guard: a step takes more substeps (up to
                             ///< max_substeps) when the fastest particle would move more than
                             ///< cfl particle spacings in one substep, [0, 10]; 0 turns it off

@@ -124,7 +124,7 @@ void pbf_bind_all(pbf_world *w)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_ORDER, w->order);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LAMBDA, w->lambda);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_OMEGA, w->omega);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NORMAL, w->normal);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_TENSION, w->tension);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_COLLIDERS, w->colliders);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_FORCES, w->forces, 0, PBF_MAX_COLLIDERS * 8 * 4);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_REDUCE, w->reduce);

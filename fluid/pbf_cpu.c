@@ -111,7 +111,7 @@ pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity,
     w->pred = malloc(v4);
     w->pred_out = malloc(v4);
     w->omega = calloc(n, sizeof(pbf_float4));
-    w->normal = calloc(n, sizeof(pbf_float4));
+    w->tension = calloc(n, sizeof(pbf_float4));
     w->id = malloc(n * 4);
     w->id_out = malloc(n * 4);
     w->lambda_rho = calloc(2 * n, sizeof(float));
@@ -120,7 +120,7 @@ pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity,
     w->order = malloc(n * 4);
     w->nb_count = calloc(n, 4);
     w->nb_list = malloc(n * w->max_neighbours * 4);
-    if (!w->pos || !w->pos_out || !w->vel || !w->vel_out || !w->pred || !w->pred_out || !w->omega || !w->normal || !w->id ||
+    if (!w->pos || !w->pos_out || !w->vel || !w->vel_out || !w->pred || !w->pred_out || !w->omega || !w->tension || !w->id ||
         !w->id_out || !w->lambda_rho || !w->cell_of || !w->sorted || !w->order || !w->nb_count || !w->nb_list) {
         snprintf(err, err_size, "pbf_cpu_world_create: out of memory for %u particles", capacity);
         pbf_cpu_world_destroy(w);
@@ -132,7 +132,7 @@ pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity,
 void pbf_cpu_world_destroy(pbf_cpu_world *w)
 {
     if (!w) return;
-    void *blocks[] = { w->pos, w->pos_out, w->vel, w->vel_out, w->pred, w->pred_out, w->omega, w->normal,
+    void *blocks[] = { w->pos, w->pos_out, w->vel, w->vel_out, w->pred, w->pred_out, w->omega, w->tension,
                        w->id, w->id_out, w->lambda_rho, w->cell_of, w->cell_start, w->cell_fill,
                        w->sorted, w->order, w->nb_list, w->nb_count, w->collider_data };
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; i++) free(blocks[i]);
@@ -201,6 +201,7 @@ static void append(pbf_cpu_world *w, const float p[3], const float v[3])
     float *fastest = &w->added_speed[w->steps % PBF_GUARD_HISTORY];
     if (speed > *fastest) *fastest = speed;
     w->id[i] = i; // no removal: ids are 0 .. count - 1 in creation order
+    w->tension[i] = (pbf_float4){ 0.0f, 0.0f, 0.0f, 0.0f };
     w->nb_valid = false;
 }
 
@@ -331,10 +332,8 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
         swap4(&w->vel, &w->vel_out);
     }
     if (p->surface_tension > 0.0f) {
-        pbf_cpu_normals(w, P);
         pbf_cpu_tension(w, P);
         stage_done(w, PBF_STAGE_TENSION, s, -1);
-        swap4(&w->vel, &w->vel_out);
     }
 }
 
@@ -415,7 +414,7 @@ void *pbf_cpu_world_binding(pbf_cpu_world *w, int binding, size_t *bytes)
     case PBF_B_ORDER: a = w->order, size = n * 4; break;
     case PBF_B_LAMBDA: a = w->lambda_rho, size = n * 8; break;
     case PBF_B_OMEGA: a = w->omega, size = v4; break;
-    case PBF_B_NORMAL: a = w->normal, size = v4; break;
+    case PBF_B_TENSION: a = w->tension, size = v4; break;
     case PBF_B_NB_LIST: a = w->nb_list, size = n * w->max_neighbours * 4; break;
     case PBF_B_NB_COUNT: a = w->nb_count, size = n * 4; break;
     case PBF_B_FORCES: a = w->forces, size = (size_t)w->gpu_count * sizeof w->forces[0]; break;

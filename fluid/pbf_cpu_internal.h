@@ -61,7 +61,7 @@ struct pbf_cpu_world {
     // pbf_cpu_world_binding); the second of each pair is the ping-pong partner, flipped by
     // the step where pbf_world.c flips its bindings. pred.w carries lambda after the density
     // pass, vel.w the particle's volume m / rho after the velocity pass, as on the GPU.
-    pbf_float4 *pos, *pos_out, *vel, *vel_out, *pred, *pred_out, *omega, *normal;
+    pbf_float4 *pos, *pos_out, *vel, *vel_out, *pred, *pred_out, *omega, *tension;
     uint32_t *id, *id_out;
     float *lambda_rho; // (lambda, rho kg/m^3) pairs: PBF_B_LAMBDA
     // Grid (cells + 2 starts: the cells, the removed cell of sinks, the total) and lists.
@@ -103,7 +103,6 @@ void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P);
-void pbf_cpu_normals(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P);
 /// metrics.comp's density of slot i at its position (kg/m^3).
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i);

@@ -15,7 +15,9 @@ float pbf_cpu_curved_boundary(float d, float h, float R, float *G) { return pbf_
 void pbf_cpu_predict(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        pbf_vec3 v = pbf_add(pbf_xyz(w->vel[i]), pbf_scale(P->dt, pbf_xyz(P->gravity)));
+        pbf_vec3 a = pbf_xyz(P->gravity);
+        if (P->surface_tension > 0.0f) a = pbf_add(a, pbf_xyz(w->tension[i]));
+        pbf_vec3 v = pbf_add(pbf_xyz(w->vel[i]), pbf_scale(P->dt, a));
         v = pbf_scale(1.0f / (1.0f + P->damping * P->dt), v);
         float s = pbf_length(v);
         if (s > P->max_speed) v = pbf_scale(P->max_speed / s, v);
@@ -380,38 +382,19 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
     }
 }
 
-/// normals.comp: n_i = -h sum_j V_j grad_i W_ij, the volumes in vel[j].w.
-void pbf_cpu_normals(pbf_cpu_world *w, const pbf_gpu_params *P)
-{
-    for (uint32_t i = 0; i < w->count; i++) {
-        pbf_vec3 xi = pbf_xyz(w->pos[i]);
-        pbf_vec3 n = { 0.0f, 0.0f, 0.0f };
-        const uint32_t *nb = nb_of(w, i);
-        for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
-            uint32_t j = nb[q];
-            n = pbf_add(n, tension_normal_of(P, pbf_sub(xi, pbf_xyz(w->pos[j])), w->vel[j].w));
-        }
-        w->normal[i] = (pbf_float4){ n.x, n.y, n.z, 0.0f };
-    }
-}
-
-/// tension.comp: v -= dt gamma sum_j tension_pair(...), into vel_out.
+/// tension.comp: a_i = sum_j tension_pair(...), into tension[i] (the next predict adds it).
 void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_vec3 xi = pbf_xyz(w->pos[i]);
-        pbf_float4 vi = w->vel[i];
-        pbf_vec3 ni = pbf_xyz(w->normal[i]);
-        float rho_i = P->mass / fmaxf(vi.w, 1e-12f);
+        float rho_i = P->mass / fmaxf(w->vel[i].w, 1e-12f);
         pbf_vec3 a = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
             uint32_t j = nb[q];
-            float rho_j = P->mass / fmaxf(w->vel[j].w, 1e-12f);
-            a = pbf_add(a, tension_pair(P, pbf_sub(xi, pbf_xyz(w->pos[j])), rho_i, rho_j, ni, pbf_xyz(w->normal[j])));
+            a = pbf_add(a, tension_pair(P, pbf_sub(xi, pbf_xyz(w->pos[j])), rho_i, P->mass / fmaxf(w->vel[j].w, 1e-12f)));
         }
-        pbf_vec3 v = pbf_sub(pbf_xyz(vi), pbf_scale(P->dt * P->surface_tension, a));
-        w->vel_out[i] = (pbf_float4){ v.x, v.y, v.z, vi.w };
+        w->tension[i] = (pbf_float4){ a.x, a.y, a.z, 0.0f };
     }
 }
 

@@ -32,7 +32,7 @@ static GLuint binding_buffer(const pbf_world *w, int binding)
     case PBF_B_ORDER: return w->order;
     case PBF_B_LAMBDA: return w->lambda;
     case PBF_B_OMEGA: return w->omega;
-    case PBF_B_NORMAL: return w->normal;
+    case PBF_B_TENSION: return w->tension;
     case PBF_B_COLLIDERS: return w->colliders;
     case PBF_B_FORCES: return w->forces; // the step's accumulators come first
     case PBF_B_NB_LIST: return w->nb_list;

@@ -31,7 +31,6 @@ enum program_id {
     PROG_LIVE_COUNT,
     PROG_APPEND,
     PROG_GRID_CLEAR,
-    PROG_NORMALS,
     PROG_TENSION,
     PROG_TINT,
     PROG_COUNT
@@ -116,7 +115,7 @@ struct pbf_world {
     GLint u_scan_n[2], u_frame, u_tint[4], u_relax[2]; // u_relax: delta, collide
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
-    GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, normal, scan, colliders, forces,
+    GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, tension, scan, colliders, forces,
         reduce, metrics, draw, params_ubo, nb_list, nb_count, state, stage_pos, stage_vel, stage_id, order;
     GLuint forces_ring;        // the forces of the last RING steps, read by the CPU (pbf_read_buffer)
     GLuint readback;           // pbf_download's buffer, grown on demand
@@ -154,7 +153,7 @@ struct pbf_world {
     uint64_t speed_step[PBF_GUARD_HISTORY]; // 1 + the step each holds (0: none)
     float added_speed[PBF_GUARD_HISTORY];   // fastest particle appended before step k, same index
     bool guard_capped;          // the guard wanted more than max_substeps (warned once)
-    bool tension_warned;        // surface_tension > 0 was reported as experimental (until it is 0 again)
+    bool tension_warned;        // the cohesion needed more than max_substeps (warned once)
     bool warned_hang;           // a step's fence did not signal in PBF_STEP_WAIT_NS (said once)
     pbf_guard_seen seen_of[PBF_GUARD_HISTORY]; // step k's compression and substeps, same index as speed_of
     pbf_guard_state compression; // the compression guard's level and quiet count (pbf_guard_compression)

@@ -155,7 +155,7 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
     CHECK(isfinite(p->max_speed) && p->max_speed > 0.0f && p->max_speed <= 1000.0f, "max_speed", "%g",
           (double)p->max_speed, "in (0, 1000] m/s");
     CHECK(isfinite(p->surface_tension) && p->surface_tension >= 0.0f && p->surface_tension <= 1000.0f,
-          "surface_tension", "%g", (double)p->surface_tension, "in [0, 1000] m/s^2 (0: off)");
+          "surface_tension", "%g", (double)p->surface_tension, "in [0, 1000] N/m (0: off)");
     CHECK(isfinite(p->cfl) && p->cfl >= 0.0f && p->cfl <= 10.0f, "cfl", "%g", (double)p->cfl,
           "in [0, 10] particle spacings per substep (0: off)");
     CHECK(p->max_substeps >= 1 && p->max_substeps <= 64, "max_substeps", "%d", p->max_substeps, "in [1, 64]");
@@ -186,7 +186,7 @@ static const pbf_param_info param_table[] = {
     F(viscosity, "", 0.0, 1.0, "XSPH viscosity c"),
     F(damping, "1/s", 0.0, 100.0, "linear velocity damping"),
     F(max_speed, "m/s", 0.0, 1000.0, "particle speed clamp, (0, 1000]"),
-    F(surface_tension, "m/s^2", 0.0, 1000.0, "surface tension gamma: cohesion and curvature (Akinci 2013); 0 off"),
+    F(surface_tension, "N/m", 0.0, 1000.0, "surface tension sigma of the cohesion force (Akinci 2013); 0 off"),
     F(cfl, "", 0.0, 10.0, "time-step guard: most particle spacings the fastest particle moves per substep (0 off)"),
     I(max_substeps, "", 1, 64, "most substeps the time-step guard may take"),
     F(guard_compression, "", 0.0, 1.0, "time-step guard: worst compression (mean: a tenth) a step aims under (0 off)"),
@@ -295,6 +295,22 @@ pbf_result pbf_params_apply(pbf_params *p, const char *const *names, const doubl
     return r;
 }
 
+double pbf_cohesion_factor(const pbf_params *p)
+{
+    // A flat surface of the rest lattice (n = 1/s^3 particles of mass m = rho0 s^3) cut by
+    // pair forces m k S(r): the bonds across the plane hold an energy per area of
+    // (pi/2) n^2 int r^3 phi(r) dr with phi(r) = m k int_r^h S, which is 2 sigma; by parts,
+    // sigma = (pi/8) n^2 m k int_0^h r^4 S(r) dr = (pi/8) (rho0 / s^3) k J h^11 with J the
+    // integral in units of h (the two branches of S, u = r / h):
+    //   int_0^1 u^7 (1-u)^3 du = 1/1320, plus int_0^1/2 u^7 (1-u)^3 - u^4/64 du.
+    const double half = 0.5;
+    double inner = pow(half, 8) / 8.0 - 3.0 * pow(half, 9) / 9.0 + 3.0 * pow(half, 10) / 10.0 - pow(half, 11) / 11.0 -
+                   pow(half, 5) / (5.0 * 64.0);
+    double J = 1.0 / 1320.0 + inner;
+    double h = p->kernel_radius, s = 2.0 * p->particle_radius;
+    return 8.0 * (double)p->surface_tension * s * s * s / (PBF_PI * p->rest_density * J * pow(h, 11));
+}
+
 void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt)
 {
     double h = p->kernel_radius;
@@ -322,8 +338,18 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->surface_tension = p->surface_tension;
     g->wall_friction = p->wall_friction;
     g->surface_fill = p->surface_fill;
-    // V0 * 32 / (pi h^9), V0 = m / rho0 the rest volume of a particle.
-    g->cohesion_norm = (float)((double)k->mass / p->rest_density * 32.0 / (PBF_PI * pow(h, 9)));
+    g->cohesion_norm = (float)pbf_cohesion_factor(p);
+}
+
+int pbf_tension_substeps(const pbf_params *p, float dt)
+{
+    if (!(p->surface_tension > 0.0f) || !(dt > 0.0f)) return 1;
+    // A pair's strongest pull, k S(h/2) = k h^6 / 64 (m/s^2), times a substep squared stays
+    // under PBF_TENSION_STIFFNESS of the kernel radius (docs/solver.md, "Surface tension").
+    double h = p->kernel_radius;
+    double pull = pbf_cohesion_factor(p) * pow(h, 6) / 64.0;
+    double n = ceil((double)dt * sqrt(pull / (PBF_TENSION_STIFFNESS * h)) - 1e-9);
+    return n < 1.0 ? 1 : n > 1e6 ? 1000000 : (int)n;
 }
 
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
@@ -331,6 +357,11 @@ int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t st
 {
     if (capped) *capped = false;
     int base = p->substeps;
+    int most = p->max_substeps > base ? p->max_substeps : base;
+    // The cohesion force is explicit: it needs substeps short enough for its stiffness
+    // whether or not the guard is on (pbf_tension_substeps).
+    int tension = pbf_tension_substeps(p, dt);
+    if (tension > base) base = tension < most ? tension : most; // beyond most: pbf_world warns
     if (!(p->cfl > 0.0f) || !(spacing > 0.0f)) return base;
     if (seen != seen || seen > 1e30f) return base; // diverged: the host's check reports it
     // Unknown (the first steps) counts as at rest: what gravity adds is still expected.
@@ -340,7 +371,6 @@ int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t st
         if (added[(step - k) % PBF_GUARD_HISTORY] > v) v = added[(step - k) % PBF_GUARD_HISTORY];
     if (v > p->max_speed) v = p->max_speed; // the solver clamps faster particles
     double needed = ceil((double)v * dt / ((double)p->cfl * spacing));
-    int most = p->max_substeps > base ? p->max_substeps : base;
     if (needed > most) {
         if (capped) *capped = true;
         return most;

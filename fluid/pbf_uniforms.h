@@ -9,6 +9,9 @@
 
 /// The solver's part: gravity, time step (s), kernel constants, masses, relaxation,
 /// artificial pressure, vorticity, viscosity, damping, speed clamp, particle radius.
+/// k (1/(m^5 s^2)) of the cohesion pull k S(r) that gives a flat rest surface the tension
+/// p->surface_tension (N/m): pbf_kernels.h cohesion_of.
+double pbf_cohesion_factor(const pbf_params *p);
 void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt);
 
 /// The largest eigenvalue of the Jacobi iteration matrix A D^-1 on a filled cubic lattice at
@@ -55,6 +58,11 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// spacings in one, at least params.substeps and at most max(substeps, max_substeps).
 /// *capped (may be NULL) says whether more were needed than allowed. Shared by the GPU and
 /// CPU worlds.
+/// Measured on droplets (docs/solver.md, "Surface tension"): a pair's strongest cohesion pull
+/// times a substep squared, in kernel radii, that stays stable.
+#define PBF_TENSION_STIFFNESS 0.005
+/// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it).
+int pbf_tension_substeps(const pbf_params *p, float dt);
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
                        const float added[PBF_GUARD_HISTORY], bool *capped);
 

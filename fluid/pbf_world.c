@@ -37,7 +37,7 @@ static const char *const program_files[PROG_COUNT] = {
     "fluid/reorder.comp",   "fluid/neighbours.comp", "fluid/density.comp",    "fluid/delta.comp", "fluid/collide.comp",
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
     "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
-    "fluid/grid_clear.comp", "fluid/normals.comp", "fluid/tension.comp", "fluid/tint.comp",
+    "fluid/grid_clear.comp", "fluid/tension.comp", "fluid/tint.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
@@ -319,7 +319,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->order = pbf_gpu_buffer(cap * 4, "pbf.order");
     w->lambda = pbf_gpu_buffer(cap * 8, "pbf.lambda");
     w->omega = pbf_gpu_buffer(cap * 16, "pbf.omega");
-    w->normal = pbf_gpu_buffer(cap * 16, "pbf.normal");
+    w->tension = pbf_gpu_buffer(cap * 16, "pbf.tension");
     w->nb_list = pbf_gpu_buffer(cap * (GLsizeiptr)w->max_neighbours * 4, "pbf.nb_list");
     w->nb_count = pbf_gpu_buffer(cap * 4, "pbf.nb_count");
     w->colliders = pbf_cpu_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider), NULL, "pbf.colliders");
@@ -357,7 +357,7 @@ void pbf_world_destroy(pbf_world *w)
     for (int i = 0; i < PROG_COUNT; i++)
         if (w->programs[i]) glDeleteProgram(w->programs[i]);
     GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
-                      w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega, w->normal,
+                      w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega, w->tension,
                       w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
                       w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id, w->order,
                       w->forces_ring, w->readback };
@@ -389,6 +389,13 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     bool regrid = p->kernel_radius != w->params.kernel_radius;
     pbf_params old = w->params;
     w->params = *p;
+    if (p->surface_tension > 0.0f && !(old.surface_tension > 0.0f)) {
+        // The pulls kept from when it was last on belong to particles since reordered: the
+        // first predict starts from none (every tension pass and append wrote before this).
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->tension);
+        glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32F, GL_RED, GL_FLOAT, NULL);
+    }
     if (regrid) {
         if (grid_layout(w, err, sizeof err) != PBF_OK) {
             w->params = old;
@@ -691,11 +698,8 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         pbf_bind_particles(w);
     }
     if (p->surface_tension > 0.0f) {
-        dispatch_particles(s, PROG_NORMALS, PBF_STAGE_TENSION);
         dispatch_particles(s, PROG_TENSION, PBF_STAGE_TENSION);
         stage_done(s, PBF_STAGE_TENSION, -1);
-        w->cur_vel ^= 1;
-        pbf_bind_particles(w);
     }
 }
 
@@ -850,26 +854,30 @@ static float speed_of_step(pbf_world *w, uint64_t step)
 // pbf_guard_compression): the substeps this step takes, with a warning (once while it
 // lasts) when max_substeps is not enough. They read the records of steps now - 2 (and, for
 // the compression's pace, now - 3), which the GPU has normally finished: no stall.
-// surface_tension is experimental (docs/solver.md, "Surface tension"): said once each time it
-// is turned on, at the first step that runs with it.
-static void warn_tension(pbf_world *w)
+// The cohesion force is explicit: a step needs pbf_tension_substeps of it to stay stable.
+// When max_substeps allows fewer, say so (once, until the need is met again).
+static void warn_tension(pbf_world *w, float dt)
 {
-    bool on = w->params.surface_tension > 0.0f;
-    if (on && !w->tension_warned && w->log) {
+    const pbf_params *p = &w->params;
+    int need = pbf_tension_substeps(p, dt);
+    int most = p->max_substeps > p->substeps ? p->max_substeps : p->substeps;
+    bool short_of = need > most;
+    if (short_of && !w->tension_warned && w->log) {
         char msg[512];
-        snprintf(msg, sizeof msg, "surface_tension = %g is experimental: its curvature force throws particles out of "
-                 "a free droplet at every strength measured (at 20 m/s^2 a droplet of 6 spacings' radius has under a "
-                 "third of its particles within 1.5 radii and 2 spacings of its centre after 3 s); docs/solver.md, \"Surface tension\"",
-                 (double)w->params.surface_tension);
+        snprintf(msg, sizeof msg, "surface_tension = %g N/m needs %d substeps of a %.3g s step to stay stable and "
+                 "max_substeps = %d allows %d: the water may blow up (lower surface_tension or the step, or raise "
+                 "max_substeps; docs/solver.md, \"Surface tension\")", (double)p->surface_tension, need, (double)dt,
+                 p->max_substeps, most);
         w->log(w->log_user, 2, msg);
     }
-    w->tension_warned = on;
+    w->tension_warned = short_of;
 }
 
 static int guard_substeps(pbf_world *w, float dt)
 {
     const pbf_params *p = &w->params;
-    if (!(p->cfl > 0.0f) && !(p->guard_compression > 0.0f)) return p->substeps;
+    if (!(p->cfl > 0.0f) && !(p->guard_compression > 0.0f))
+        return pbf_guard_substeps(p, w->k.spacing, dt, w->step_index, -1.0f, w->added_speed, NULL); // tension's floor
     float seen = -1.0f;
     const pbf_guard_seen *record = NULL, *before = NULL;
     if (w->step_index >= PBF_GUARD_LATENCY) {
@@ -923,7 +931,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     if (slot->pending) read_early(w, slot);
     int substeps = guard_substeps(w, dt);
     w->step_substeps = substeps;
-    warn_tension(w);
+    warn_tension(w, dt);
     slot->nq = 0;
     slot->step = w->step_index;
     slot->appended_total = w->appended_total;

@@ -9,6 +9,8 @@
 #define WRITE_PRED
 #define USE_ID
 #define WRITE_ID
+#define USE_TENSION
+#define WRITE_TENSION
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 layout(std430, binding = PBF_B_STAGE_POS) readonly buffer StagePos { vec4 stage_pos[]; };
@@ -25,4 +27,5 @@ void main()
     pred[slot] = vec4(stage_pos[k].xyz, 0.0);
     vel[slot] = stage_vel[k];
     pid[slot] = stage_id[k];
+    tension[slot] = vec4(0.0); // no pull before its first tension pass
 }

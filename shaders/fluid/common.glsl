@@ -122,11 +122,11 @@ layout(std430, binding = PBF_B_OMEGA) buffer Omega { vec4 omega[]; };
 layout(std430, binding = PBF_B_OMEGA) readonly buffer Omega { vec4 omega[]; };
 #endif
 #endif
-#ifdef USE_NORMAL
-#ifdef WRITE_NORMAL
-layout(std430, binding = PBF_B_NORMAL) buffer Normal { vec4 normal[]; };
+#ifdef USE_TENSION
+#ifdef WRITE_TENSION
+layout(std430, binding = PBF_B_TENSION) buffer Tension { vec4 tension[]; };
 #else
-layout(std430, binding = PBF_B_NORMAL) readonly buffer Normal { vec4 normal[]; };
+layout(std430, binding = PBF_B_TENSION) readonly buffer Tension { vec4 tension[]; };
 #endif
 #endif
 #ifdef USE_COLLIDERS

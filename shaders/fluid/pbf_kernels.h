@@ -170,24 +170,17 @@ PBF_FN pbf_vec3 grad_spiky(PBF_P_ARG pbf_vec3 r)
     return pbf_scale(P.spiky_grad * d * d / len, r);
 }
 
-// ---- surface tension (normals.comp, tension.comp) -----------------------------------------
-// Akinci, Akinci & Teschner 2013, "Versatile surface tension and adhesion for SPH fluids":
-// a cohesion force along each pair, C(r) a spline that attracts beyond h/2 and repels
-// closer, and a curvature force from the difference of the pair's surface normals. Here
-// both are accelerations: a_i = -gamma sum_j K_ij (V0 C(r) r/|r| + n_i - n_j), with the rest
-// volume V0 = m / rho0 in place of the paper's mass (so gamma is in m/s^2) and
-// K_ij = 2 rho0 / (rho_i + rho_j), which evens out the particle deficiency at the surface.
+// ---- surface tension (tension.comp, predict.comp) ----------------------------------------
+// The cohesion force of Akinci, Akinci & Teschner 2013 ("Versatile surface tension and
+// adhesion for SPH fluids"): along each pair, k S(r) with S their spline, which pulls beyond
+// h/2 and pushes closer, times K_ij = 2 rho0 / (rho_i + rho_j) (evens out the particle
+// deficiency at the surface). k comes from the surface tension sigma (N/m) the pair force
+// gives a flat surface of the rest lattice (pbf_cohesion_factor). Their curvature term is
+// left out: its push on the particles under the surface scattered droplets under the
+// unilateral density constraint (docs/solver.md, "Surface tension").
 
-/// The surface normal's share of neighbour j at r = x_i - x_j with volume V_j (m^3):
-/// n_i = -h sum_j V_j grad_i W_ij, which points out of the fluid and has length about 1
-/// at a flat surface, 0 inside.
-PBF_FN pbf_vec3 tension_normal_of(PBF_P_ARG pbf_vec3 r, float volume_j)
-{
-    return pbf_scale(-P.h * volume_j, grad_spiky(PBF_P_ r));
-}
-
-/// V0 C(r) (dimensionless) of Akinci's spline: 32 / (pi h^9) (h - r)^3 r^3 for h/2 < r <= h,
-/// 2 (h - r)^3 r^3 - h^6 / 64 (times the same factor) for 0 < r <= h/2, 0 elsewhere.
+/// S(r) of Akinci's spline, m^6: (h - r)^3 r^3 for h/2 < r <= h, 2 (h - r)^3 r^3 - h^6 / 64
+/// for 0 < r <= h/2, 0 elsewhere; times P.cohesion_norm (k) it is a pair's pull, m/s^2.
 PBF_FN float cohesion_of(PBF_P_ARG float r)
 {
     if (r <= 0.0f || r > P.h) return 0.0f;
@@ -197,15 +190,14 @@ PBF_FN float cohesion_of(PBF_P_ARG float r)
     return P.cohesion_norm * (2.0f * a - h3 * h3 / 64.0f);
 }
 
-/// Neighbour j's share of the surface tension acceleration of i (m/s^2, before the factor
-/// -gamma): K_ij (V0 C(|r|) r / |r| + n_i - n_j), r = x_i - x_j.
-PBF_FN pbf_vec3 tension_pair(PBF_P_ARG pbf_vec3 r, float rho_i, float rho_j, pbf_vec3 n_i, pbf_vec3 n_j)
+/// Neighbour j's share of i's surface tension acceleration (m/s^2), r = x_i - x_j:
+/// -K_ij k S(|r|) r / |r| (towards j where S > 0).
+PBF_FN pbf_vec3 tension_pair(PBF_P_ARG pbf_vec3 r, float rho_i, float rho_j)
 {
     float len = pbf_length(r);
     if (len <= 1e-9f * P.h || len >= P.h) return pbf_v3(0.0f, 0.0f, 0.0f);
     float k = 2.0f * P.rest_density / pbf_max(rho_i + rho_j, 1e-6f * P.rest_density);
-    pbf_vec3 cohesion = pbf_scale(cohesion_of(PBF_P_ len) / len, r);
-    return pbf_scale(k, pbf_add(cohesion, pbf_sub(n_i, n_j)));
+    return pbf_scale(-k * cohesion_of(PBF_P_ len) / len, r);
 }
 
 // ---- the density constraint (density.glsl) ----------------------------------------------

@@ -86,7 +86,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_STAGE_VEL 26 // vec4[]
 #define PBF_B_STAGE_ID 27  // uint[]
 #define PBF_B_ORDER 28     // uint[cap]: new slot -> old slot, in deterministic order
-#define PBF_B_NORMAL 29    // vec4[cap]: surface normal n_i of the surface tension pass (dimensionless)
+#define PBF_B_TENSION 29   // vec4[cap]: surface tension acceleration (m/s^2) of the tension pass, added by the next predict
 
 // Uniform block binding of pbf_gpu_params.
 #define PBF_U_PARAMS 0
@@ -165,7 +165,7 @@ PBF_STRUCT(pbf_gpu_params) {
                              // of the size a constraint violated by k would get
     PBF_FLOAT boundary_scale;// calibrates the bodies' continuous wall model to the particle lattice
     PBF_FLOAT surface_tension; // gamma, m/s^2 (0: the tension passes do not run)
-    PBF_FLOAT cohesion_norm; // 32 / (pi h^9) * m / rho0, 1/m^6: the cohesion spline's factor
+    PBF_FLOAT cohesion_norm; // k, 1/(m^5 s^2): a pair's pull is k S(r) (pbf_cohesion_factor, from sigma)
     PBF_FLOAT wall_friction; // skin-friction coefficient C_f of the container's planes
     PBF_FLOAT surface_fill;  // share of the free surface's missing neighbourhood counted in C (0 off)
 } PBF_END(pbf_gpu_params);
