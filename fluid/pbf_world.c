@@ -850,10 +850,6 @@ static float speed_of_step(pbf_world *w, uint64_t step)
     return -1.0f;
 }
 
-// The time-step guard (params.cfl, pbf_guard_substeps; params.guard_compression,
-// pbf_guard_compression): the substeps this step takes, with a warning (once while it
-// lasts) when max_substeps is not enough. They read the records of steps now - 2 (and, for
-// the compression's pace, now - 3), which the GPU has normally finished: no stall.
 // The cohesion force is explicit: a step needs pbf_tension_substeps of it to stay stable.
 // When max_substeps allows fewer, say so (once, until the need is met again).
 static void warn_tension(pbf_world *w, float dt)
@@ -873,6 +869,10 @@ static void warn_tension(pbf_world *w, float dt)
     w->tension_warned = short_of;
 }
 
+// The time-step guard (params.cfl, pbf_guard_substeps; params.guard_compression,
+// pbf_guard_compression): the substeps this step takes, with a warning (once while it
+// lasts) when max_substeps is not enough. They read the records of steps now - 2 (and, for
+// the compression's pace, now - 3), which the GPU has normally finished: no stall.
 static int guard_substeps(pbf_world *w, float dt)
 {
     const pbf_params *p = &w->params;
