@@ -60,7 +60,7 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// CPU worlds.
 /// Measured on droplets (docs/solver.md, "Surface tension"): a pair's strongest cohesion pull
 /// times a substep squared, in kernel radii, that stays stable.
-#define PBF_TENSION_STIFFNESS 0.005
+#define PBF_TENSION_STIFFNESS 0.00125
 /// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it).
 int pbf_tension_substeps(const pbf_params *p, float dt);
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
