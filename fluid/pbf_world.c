@@ -876,8 +876,6 @@ static void warn_tension(pbf_world *w, float dt)
 static int guard_substeps(pbf_world *w, float dt)
 {
     const pbf_params *p = &w->params;
-    if (!(p->cfl > 0.0f) && !(p->guard_compression > 0.0f))
-        return pbf_guard_substeps(p, w->k.spacing, dt, w->step_index, -1.0f, w->added_speed, NULL); // tension's floor
     float seen = -1.0f;
     const pbf_guard_seen *record = NULL, *before = NULL;
     if (w->step_index >= PBF_GUARD_LATENCY) {
