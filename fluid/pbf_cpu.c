@@ -152,6 +152,8 @@ pbf_result pbf_cpu_world_set_params(pbf_cpu_world *w, const pbf_params *p)
         if (r != PBF_OK) return pbf_cpu_fail(w, r, "%s", err);
         w->nb_valid = false;
     }
+    if (p->surface_tension > 0.0f && !(w->params.surface_tension > 0.0f)) // as pbf_world_set_params
+        memset(w->tension, 0, (size_t)w->capacity * sizeof w->tension[0]);
     w->params = *p;
     w->k = pbf_derive_constants(p);
     return PBF_OK;

@@ -23,6 +23,9 @@
 #include <cmocka.h>
 
 #include "fluid/pbf.h"
+#include "fluid/pbf_cpu.h"
+#include "fluid/pbf_cpu_internal.h"
+#include "fluid/pbf_internal.h"
 #include "fluid/pbf_uniforms.h"
 #include "tests/support.h"
 
@@ -189,12 +192,63 @@ static void a_strong_tension_takes_more_substeps(void **state)
     support_assert_mentions(seen.last, (const char *const[]){ "surface_tension = 20 N/m needs", "max_substeps = 4", NULL });
 }
 
+static bool all_zero(const float *a, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (a[i] != 0.0f) return false;
+    return true;
+}
+
+// The pulls a world keeps for the next predict belong to the particles' order of the step
+// that wrote them: turned off, stepped (the particles reorder) and on again, tension starts
+// from no pull, in the shaders and in the CPU reference alike.
+static void tension_turned_on_again_starts_from_no_pull(void **state)
+{
+    support_gpu *f = *state;
+    support_scene sc = support_dam_break();
+    sc.params.surface_tension = 5.0f;
+    pbf_world *g = support_gpu_world(f, &sc);
+    pbf_cpu_world *c = support_cpu_world(&sc);
+    assert_non_null(g);
+    assert_non_null(c);
+    uint32_t n = pbf_cpu_world_particle_count(c);
+    assert_true(n > 0);
+    float *gt = malloc((size_t)n * 16);
+    assert_non_null(gt);
+    pbf_params p = sc.params;
+    for (int round = 0; round < 2; round++) {
+        assert_int_equal(pbf_world_step(g, DT), PBF_OK);
+        assert_int_equal(pbf_cpu_world_step(c, DT), PBF_OK);
+        assert_int_equal(pbf_world_read_binding(g, PBF_B_TENSION, (size_t)n * 16, gt), PBF_OK);
+        size_t bytes = 0;
+        const float *ct = pbf_cpu_world_binding(c, PBF_B_TENSION, &bytes);
+        assert_false(all_zero(gt, (size_t)n * 4)); // the pass ran
+        assert_false(all_zero(ct, (size_t)n * 4));
+        p.surface_tension = 0.0f;
+        assert_int_equal(pbf_world_set_params(g, &p), PBF_OK);
+        assert_int_equal(pbf_cpu_world_set_params(c, &p), PBF_OK);
+        assert_int_equal(pbf_world_step(g, DT), PBF_OK);
+        assert_int_equal(pbf_cpu_world_step(c, DT), PBF_OK);
+        p.surface_tension = 5.0f;
+        assert_int_equal(pbf_world_set_params(g, &p), PBF_OK);
+        assert_int_equal(pbf_cpu_world_set_params(c, &p), PBF_OK);
+        assert_int_equal(pbf_world_read_binding(g, PBF_B_TENSION, (size_t)n * 16, gt), PBF_OK);
+        ct = pbf_cpu_world_binding(c, PBF_B_TENSION, &bytes);
+        assert_true(all_zero(gt, (size_t)n * 4));
+        assert_true(all_zero(ct, (size_t)n * 4));
+    }
+    free(gt);
+    pbf_cpu_world_destroy(c);
+    pbf_world_destroy(g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_pair_force_gives_the_tension_asked),
         cmocka_unit_test(a_strong_tension_takes_more_substeps),
         cmocka_unit_test(tension_holds_a_droplet_together),
+        cmocka_unit_test(tension_turned_on_again_starts_from_no_pull),
     };
     return cmocka_run_group_tests(tests, support_gpu_setup, support_gpu_teardown);
 }
