@@ -263,8 +263,9 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
     w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
 }
 
-/// delta.comp: the correction from the fluid (lambda of each particle in pred.w) and the
-/// container, times the iteration's factor relax, then the container's collisions and the
+/// delta.comp: the correction from the fluid (lambda of each particle in pred.w; with surface
+/// tension on along the pairs' directions at the substep's start) and the container, times
+/// the iteration's factor relax, then the container's collisions and the
 /// domain clamp, into pred_out.
 void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
 {
@@ -283,7 +284,14 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
             }
             dp = pbf_add(dp, self_image_correction(P, xi, li, mask, twice));
         }
-        if (P->scorr_k > 0.0f) {
+        if (P->surface_tension > 0.0f) { // along the pairs' directions at the substep's start
+            pbf_vec3 x0 = pbf_xyz(w->pos[i]);
+            for (uint32_t q = 0; q < nn; q++) {
+                pbf_float4 pj = w->pred[nb[q]];
+                pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj)), r0 = pbf_sub(x0, pbf_xyz(w->pos[nb[q]]));
+                dp = pbf_add(dp, pbf_scale(li + pj.w + scorr_of(P, r), grad_spiky_along(P, r, r0)));
+            }
+        } else if (P->scorr_k > 0.0f) {
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
                 pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj));
