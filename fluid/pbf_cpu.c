@@ -307,6 +307,11 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
     swap_ids(&w->id, &w->id_out);
     pbf_cpu_neighbours(w, P, w->pred, NULL, true);
     stage_done(w, PBF_STAGE_NEIGHBOURS, s, -1);
+    if (p->surface_tension > 0.0f) {
+        pbf_cpu_tension(w, P);
+        stage_done(w, PBF_STAGE_TENSION, s, -1);
+        swap4(&w->pred, &w->pred_out);
+    }
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
         if (it > 0) {
@@ -332,10 +337,6 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
         pbf_cpu_viscosity(w, P);
         stage_done(w, PBF_STAGE_VISCOSITY, s, -1);
         swap4(&w->vel, &w->vel_out);
-    }
-    if (p->surface_tension > 0.0f) {
-        pbf_cpu_tension(w, P);
-        stage_done(w, PBF_STAGE_TENSION, s, -1);
     }
 }
 

@@ -15,9 +15,7 @@ float pbf_cpu_curved_boundary(float d, float h, float R, float *G) { return pbf_
 void pbf_cpu_predict(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        pbf_vec3 a = pbf_xyz(P->gravity);
-        if (P->surface_tension > 0.0f) a = pbf_add(a, pbf_xyz(w->tension[i]));
-        pbf_vec3 v = pbf_add(pbf_xyz(w->vel[i]), pbf_scale(P->dt, a));
+        pbf_vec3 v = pbf_add(pbf_xyz(w->vel[i]), pbf_scale(P->dt, pbf_xyz(P->gravity)));
         v = pbf_scale(1.0f / (1.0f + P->damping * P->dt), v);
         float s = pbf_length(v);
         if (s > P->max_speed) v = pbf_scale(P->max_speed / s, v);
@@ -263,9 +261,8 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
     w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, 0.0f };
 }
 
-/// delta.comp: the correction from the fluid (lambda of each particle in pred.w; with surface
-/// tension on along the pairs' directions at the substep's start) and the container, times
-/// the iteration's factor relax, then the container's collisions and the
+/// delta.comp: the correction from the fluid (lambda of each particle in pred.w) and the
+/// container, times the iteration's factor relax, then the container's collisions and the
 /// domain clamp, into pred_out.
 void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
 {
@@ -284,14 +281,7 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
             }
             dp = pbf_add(dp, self_image_correction(P, xi, li, mask, twice));
         }
-        if (P->surface_tension > 0.0f) { // along the pairs' directions at the substep's start
-            pbf_vec3 x0 = pbf_xyz(w->pos[i]);
-            for (uint32_t q = 0; q < nn; q++) {
-                pbf_float4 pj = w->pred[nb[q]];
-                pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj)), r0 = pbf_sub(x0, pbf_xyz(w->pos[nb[q]]));
-                dp = pbf_add(dp, pbf_scale(li + pj.w + scorr_of(P, r), grad_spiky_along(P, r, r0)));
-            }
-        } else if (P->scorr_k > 0.0f) {
+        if (P->scorr_k > 0.0f) {
             for (uint32_t q = 0; q < nn; q++) {
                 pbf_float4 pj = w->pred[nb[q]];
                 pbf_vec3 r = pbf_sub(xi, pbf_xyz(pj));
@@ -390,19 +380,22 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
     }
 }
 
-/// tension.comp: a_i = sum_j tension_pair(...), into tension[i] (the next predict adds it).
+/// tension.comp: a_i = sum_j tension_pair(...) at x*, into tension[i], and x* + dt^2 a_i
+/// (lambda kept) into pred_out.
 void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
-        pbf_vec3 xi = pbf_xyz(w->pos[i]);
+        pbf_vec3 xi = pbf_xyz(w->pred[i]);
         float rho_i = P->mass / fmaxf(w->vel[i].w, 1e-12f);
         pbf_vec3 a = { 0.0f, 0.0f, 0.0f };
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
             uint32_t j = nb[q];
-            a = pbf_add(a, tension_pair(P, pbf_sub(xi, pbf_xyz(w->pos[j])), rho_i, P->mass / fmaxf(w->vel[j].w, 1e-12f)));
+            a = pbf_add(a, tension_pair(P, pbf_sub(xi, pbf_xyz(w->pred[j])), rho_i, P->mass / fmaxf(w->vel[j].w, 1e-12f)));
         }
         w->tension[i] = (pbf_float4){ a.x, a.y, a.z, 0.0f };
+        pbf_vec3 x = pbf_add(xi, pbf_scale(P->dt * P->dt, a));
+        w->pred_out[i] = (pbf_float4){ x.x, x.y, x.z, w->pred[i].w };
     }
 }
 

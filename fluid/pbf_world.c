@@ -390,8 +390,9 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     pbf_params old = w->params;
     w->params = *p;
     if (p->surface_tension > 0.0f && !(old.surface_tension > 0.0f)) {
-        // The pulls kept from when it was last on belong to particles since reordered: the
-        // first predict starts from none (every tension pass and append wrote before this).
+        // The pulls kept (for inspection) from when it was last on belong to particles since
+        // reordered: the buffer reads zero until the next tension pass writes it (every tension
+        // pass and append wrote before this).
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->tension);
         glClearBufferData(GL_SHADER_STORAGE_BUFFER, GL_R32F, GL_RED, GL_FLOAT, NULL);
@@ -666,6 +667,13 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
     }
     dispatch_particles(s, PROG_NEIGHBOURS, PBF_STAGE_NEIGHBOURS);
     stage_done(s, PBF_STAGE_NEIGHBOURS, -1);
+    if (p->surface_tension > 0.0f) {
+        // The cohesion pull at x*, into x* (tension.comp): the solve below answers it.
+        dispatch_particles(s, PROG_TENSION, PBF_STAGE_TENSION);
+        stage_done(s, PBF_STAGE_TENSION, -1);
+        w->cur_pred ^= 1;
+        pbf_bind_particles(w);
+    }
 
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
@@ -696,10 +704,6 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         stage_done(s, PBF_STAGE_VISCOSITY, -1);
         w->cur_vel ^= 1;
         pbf_bind_particles(w);
-    }
-    if (p->surface_tension > 0.0f) {
-        dispatch_particles(s, PROG_TENSION, PBF_STAGE_TENSION);
-        stage_done(s, PBF_STAGE_TENSION, -1);
     }
 }
 
@@ -850,7 +854,8 @@ static float speed_of_step(pbf_world *w, uint64_t step)
     return -1.0f;
 }
 
-// The cohesion force is explicit: a step needs pbf_tension_substeps of it to stay stable.
+// The cohesion force is explicit: a step needs pbf_tension_substeps of it to stay quiet and,
+// far short of them, stable.
 // When max_substeps allows fewer, say so (once, until the need is met again).
 static void warn_tension(pbf_world *w, float dt)
 {

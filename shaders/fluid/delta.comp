@@ -2,11 +2,8 @@
 // Stage delta: the position correction from the fluid and the container,
 //   dp_i = relax * ( (m/rho0) sum_j (lambda_i + lambda_j + s_corr) grad W_ij
 //                    + lambda_i grad V_walls )
-// (with surface tension on, grad W_ij along the pair's direction at the substep's start:
-// grad_spiky_along in pbf_kernels.h)
 // then collisions with the container (a particle radius from every wall) and the domain
 // clamp. Bodies come after, in collide.comp (only when there are any).
-#define USE_POS
 #define USE_PRED
 #define USE_PRED_OUT
 #define WRITE_PRED_OUT
@@ -32,14 +29,7 @@ void main()
         }
         dp += self_image_correction(xi, li, mask, twice);
     }
-    if (P.surface_tension > 0.0) { // along the pairs' directions at the substep's start
-        vec3 x0 = pos[i].xyz;
-        for (uint q = 0u; q < nn; q++) {
-            uint j = nb_at(i, q);
-            vec4 pj = pred[j];
-            dp += (li + pj.w + scorr_of(xi - pj.xyz)) * grad_spiky_along(xi - pj.xyz, x0 - pos[j].xyz);
-        }
-    } else if (P.scorr_k > 0.0) {
+    if (P.scorr_k > 0.0) {
         for (uint q = 0u; q < nn; q++) {
             uint j = nb_at(i, q);
             vec4 pj = pred[j];

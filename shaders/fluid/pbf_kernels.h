@@ -170,22 +170,7 @@ PBF_FN pbf_vec3 grad_spiky(PBF_P_ARG pbf_vec3 r)
     return pbf_scale(P.spiky_grad * d * d / len, r);
 }
 
-/// grad_spiky's magnitude at r = x*_i - x*_j (the iteration's positions) along the pair's
-/// direction at the substep's start, r0 = x_i - x_j: the correction the delta pass makes with
-/// surface tension on. A push along r, which the substep's motion has turned towards the
-/// pair's relative velocity, adds to that velocity: under a steady load each compressed pair's
-/// relative rotation grows by the push over its distance every substep, a negative shear
-/// viscosity that spun a droplet held by tension up until it flew apart. Along r0 the
-/// corrections keep the angular momentum (docs/solver.md, "Surface tension").
-PBF_FN pbf_vec3 grad_spiky_along(PBF_P_ARG pbf_vec3 r, pbf_vec3 r0)
-{
-    float len = pbf_length(r), len0 = pbf_length(r0);
-    if (len <= 1e-9f * P.h || len >= P.h || len0 <= 1e-9f * P.h) return pbf_v3(0.0f, 0.0f, 0.0f);
-    float d = P.h - len;
-    return pbf_scale(P.spiky_grad * d * d / len0, r0);
-}
-
-// ---- surface tension (tension.comp, predict.comp) ----------------------------------------
+// ---- surface tension (tension.comp) ----------------------------------------
 // The cohesion force of Akinci, Akinci & Teschner 2013 ("Versatile surface tension and
 // adhesion for SPH fluids"): along each pair, k S(r) with S their spline, which pulls beyond
 // h/2 and pushes closer, times K_ij = 2 rho0 / (rho_i + rho_j) (evens out the particle

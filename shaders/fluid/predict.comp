@@ -1,12 +1,11 @@
 #version 430
-// Stage predict: gravity (and the surface tension of the last substep's tension pass, whose
-// buffer holds zeros for new particles), damping and the speed clamp on v; x* = x + dt v.
+// Stage predict: gravity, damping and the speed clamp on v; x* = x + dt v. (Surface tension
+// moves x* after the neighbour search: tension.comp.)
 #define USE_POS
 #define USE_VEL
 #define WRITE_VEL
 #define USE_PRED
 #define WRITE_PRED
-#define USE_TENSION
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 
@@ -15,7 +14,6 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
     vec3 a = P.gravity.xyz;
-    if (P.surface_tension > 0.0) a += tension[i].xyz;
     vec3 v = vel[i].xyz + P.dt * a;
     v *= 1.0 / (1.0 + P.damping * P.dt);
     float s = length(v);
