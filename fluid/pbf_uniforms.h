@@ -59,8 +59,9 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// *capped (may be NULL) says whether more were needed than allowed. Shared by the GPU and
 /// CPU worlds.
 /// Measured on droplets (docs/solver.md, "Surface tension"): a pair's strongest cohesion pull
-/// times a substep squared, in kernel radii, that stays stable.
-#define PBF_TENSION_STIFFNESS 0.00125
+/// times a substep squared, in kernel radii, that keeps a droplet quiet (0.075 still held one,
+/// 0.19 blew it up; 0.00125 until the pull was taken at the predicted positions).
+#define PBF_TENSION_STIFFNESS 0.01
 /// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it).
 int pbf_tension_substeps(const pbf_params *p, float dt);
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,

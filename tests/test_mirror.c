@@ -548,7 +548,7 @@ static void bodies_pose(int body, double t, float position[3], float rotation[4]
 /// 1 m/s onto a sphere sunk in the pool, whose particles inside it are still being pushed
 /// out, and a box paddle moving through the pool (both two-way): artificial pressure (s_corr
 /// k = 0.1), over-relaxation 1.2, damping 0.5 1/s, surface tension 0.5 N/m, the free
-/// surface's missing share (surface_fill 1), 3 iterations, 3 substeps (the fewest the tension allows), XSPH and vorticity
+/// surface's missing share (surface_fill 1), 3 iterations, 3 substeps, XSPH and vorticity
 /// off (so the metrics pass sums the density itself: with XSPH on it reads the XSPH pass's
 /// sum, which the dam break compares); compared over 3 steps after 4 (the slab hits the
 /// bodies).

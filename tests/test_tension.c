@@ -167,8 +167,9 @@ static void tension_holds_a_droplet_together(void **state)
 // substep's start, where the pair pointed elsewhere by the substep's turn: pull and push did
 // not cancel along the motion, and the ball spun up until it flew apart (at half the spacing
 // within 3 s even when still: docs/solver.md, "Surface tension"). The pull is taken at x* now
-// (tension.comp, after the neighbour search). Measured: 0.0183 -> 0.0180 m^2/s over 3 s
-// (0.0185 -> 0.101 before, 7 % of the particles gone).
+// (tension.comp, after the neighbour search). Measured: 0.0182 -> 0.0176 m^2/s over 3 s at the
+// 6 substeps the rule takes (0.0183 -> 0.0180 at 16; 0.0185 -> 0.101 before at 16, 7 % of the
+// particles gone).
 static void a_turning_droplet_keeps_its_angular_momentum(void **state)
 {
     (void)state;
