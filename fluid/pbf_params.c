@@ -352,12 +352,17 @@ int pbf_tension_substeps(const pbf_params *p, float dt)
     return n < 1.0 ? 1 : n > 1e6 ? 1000000 : (int)n;
 }
 
+int pbf_most_substeps(const pbf_params *p)
+{
+    return p->max_substeps > p->substeps ? p->max_substeps : p->substeps;
+}
+
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
                        const float added[PBF_GUARD_HISTORY], bool *capped)
 {
     if (capped) *capped = false;
     int base = p->substeps;
-    int most = p->max_substeps > base ? p->max_substeps : base;
+    int most = pbf_most_substeps(p);
     // The cohesion force is explicit: it needs substeps short enough for its stiffness
     // whether or not the guard is on (pbf_tension_substeps).
     int tension = pbf_tension_substeps(p, dt);
@@ -382,7 +387,7 @@ int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf
                           const pbf_guard_seen *before, bool *capped)
 {
     int base = p->substeps;
-    int most = p->max_substeps > base ? p->max_substeps : base;
+    int most = pbf_most_substeps(p);
     float target = p->guard_compression;
     if (!(target > 0.0f)) { // off (or turned off since): no say
         state->level = base;

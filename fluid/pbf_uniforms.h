@@ -64,6 +64,10 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 #define PBF_TENSION_STIFFNESS 0.01
 /// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it).
 int pbf_tension_substeps(const pbf_params *p, float dt);
+/// The most substeps a step may take: max(substeps, max_substeps). Any of the guards
+/// (pbf_guard_substeps, pbf_guard_compression) and the tension's floor may go up to it,
+/// whether or not cfl is on.
+int pbf_most_substeps(const pbf_params *p);
 int pbf_guard_substeps(const pbf_params *p, float spacing, float dt, uint64_t step, float seen,
                        const float added[PBF_GUARD_HISTORY], bool *capped);
 

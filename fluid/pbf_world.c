@@ -181,8 +181,10 @@ static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
     int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3 + 2; // + 2: tension
-    int most = p->cfl > 0.0f && p->max_substeps > p->substeps ? p->max_substeps : p->substeps;
-    int need = 1 + per_substep * most + 4;
+    // Room for the most substeps a step may take: the tension's floor and the compression
+    // guard raise them with cfl off too (sized by cfl alone, their later substeps' timestamps
+    // were dropped: 35.8 ms a step read for 63.2 at 200 N/m).
+    int need = 1 + per_substep * pbf_most_substeps(p) + 4;
     if (need <= w->max_queries) return;
     for (int s = 0; s < RING; s++) {
         stats_slot *r = &w->ring[s];
@@ -861,7 +863,7 @@ static void warn_tension(pbf_world *w, float dt)
 {
     const pbf_params *p = &w->params;
     int need = pbf_tension_substeps(p, dt);
-    int most = p->max_substeps > p->substeps ? p->max_substeps : p->substeps;
+    int most = pbf_most_substeps(p);
     bool short_of = need > most;
     if (short_of && !w->tension_warned && w->log) {
         char msg[512];
