@@ -358,10 +358,12 @@ pbf_result pbf_cpu_world_step(pbf_cpu_world *w, float dt)
     w->report_substeps = (uint32_t)substeps; // the colliders' force scales follow it
     pbf_cpu_colliders_begin_step(w);
     P.collider_count = w->gpu_count;
+    w->stepping = true;
     for (int s = 0; s < substeps; s++) {
         P.substep = (uint32_t)s;
         substep(w, &P, s);
     }
+    w->stepping = false;
     pbf_cpu_colliders_end_step(w);
     w->last_substep = (uint32_t)(substeps - 1);
     // The fastest finite particle at the end of the step (the metrics pass's speed_max).
@@ -476,7 +478,9 @@ static void neighbours_at_positions(pbf_cpu_world *w, const pbf_gpu_params *P)
 
 static pbf_gpu_params stats_params(pbf_cpu_world *w)
 {
-    if (w->steps == 0) {
+    // Before the first step the colliders have not been handed to gpu[] yet; within a step
+    // (a stage hook) gpu[] holds the substep's and must not be touched.
+    if (w->steps == 0 && !w->stepping) {
         for (uint32_t b = 0; b < w->collider_count; b++) {
             w->gpu[b] = w->colliders[b];
             w->gpu[b].linear_velocity.w = 1.0f;

@@ -94,13 +94,13 @@ void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3
 }
 
 /// colliders_collide: moves a particle now at x, which started the substep at xs, out of
-/// every collider to a particle radius from its surface, sweeping its path in each
+/// every collider to PBF_CONTACT_MARGIN of a particle radius from its surface, sweeping its path in each
 /// collider's frame from the previous pose to the current one; particles that started
 /// inside (or within r/2) are moved out at PBF_PUSH_OUT_SPEED at most, with no reaction.
 pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x)
 {
     float to_force = -P->mass * P->inv_dt * P->inv_dt;
-    float r = P->radius;
+    float r = PBF_CONTACT_MARGIN * P->radius;
     for (uint32_t b = 0; b < P->collider_count; b++) {
         const pbf_gpu_collider *c = &w->gpu[b];
         pbf_vec3 p0, p1;

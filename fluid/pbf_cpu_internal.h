@@ -49,6 +49,7 @@ struct pbf_cpu_world {
     uint32_t collider_data_count;
     int32_t forces[PBF_MAX_COLLIDERS][8];
     uint64_t steps;          // steps taken (the latest report's step is steps - 1)
+    bool stepping;           // inside pbf_cpu_world_step: gpu[] holds the substep's colliders
     uint32_t report_substeps;// substeps of the latest step (forces are averaged over them)
     uint32_t last_substep;   // P.substep of the latest substep (the metrics pass sees it)
     // The time-step guard, as pbf_world.c keeps it: the fastest speed at the end of step k

@@ -7,7 +7,8 @@
 -- placed (held while the water makes room, docs/coupling.md "Placing"); the script times
 -- each from its release (the first step it moves) and fits drop = a t^2 / 2 by least
 -- squares over the first 0.05, 0.1 and 0.2 s. A script that runs this one (dofile) may set
--- the global `heavy_densities` first and reads the fits from the global `heavy_sphere`.
+-- the global `heavy_densities` first and reads the fits from the global `heavy_sphere`; it sets
+-- `heavy_sphere_keep_running` to check them itself in the same step (the tool then does not quit).
 local densities = heavy_densities or { 1050, 1500, 2000 }
 local R, cell, H, depth = 0.05, 0.3, 0.4, 0.2
 seiche.scene { capacity = 20000, container = { min = { 0, 0, 0 }, max = { cell * #densities, 0.6, cell } } }
@@ -65,6 +66,6 @@ function on_step(dt, t)
             print(string.format("sphere %d kg/m^3: potential flow %.3f m/s^2; released %.3f s after it was made; "
                 .. "a over %s", d, want, r.released or -1, table.concat(parts, ", ")))
         end
-        seiche.quit()
+        if not heavy_sphere_keep_running then seiche.quit() end
     end
 end

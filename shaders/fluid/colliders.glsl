@@ -15,9 +15,10 @@
 //
 // Collisions are swept: in the collider's frame a particle moves from where it started the
 // substep (start position, previous pose) to where it is now (current pose). If that path
-// enters the collider inflated by the particle radius, the particle is put back on the
-// side it came from (so a thin wall moving fast neither lets particles through nor
-// tunnels). A particle that was already inside at the start of the substep (fluid that
+// comes within PBF_CONTACT_MARGIN of a particle radius of the surface, the particle is put
+// back on the side it came from (so a thin wall moving fast neither lets particles through
+// nor tunnels). The boundary share, not this backstop, keeps the water at its rest
+// distance from a body. A particle that was already inside at the start of the substep (fluid that
 // started overlapping a body, or was squeezed in) is moved out at PBF_PUSH_OUT_SPEED, with no reaction
 // force and no boundary density (which would push it out at once): gentle, not explosive.
 
@@ -123,12 +124,12 @@ void colliders_delta(vec3 x, float lambda, float relax, inout vec3 dp)
     }
 }
 
-// Moves particle i at x out of every collider to a particle radius from its surface,
-// sweeping its path through the substep in each collider's frame.
+// Moves particle i at x out of every collider to PBF_CONTACT_MARGIN of a particle radius
+// from its surface, sweeping its path through the substep in each collider's frame.
 vec3 colliders_collide(uint i, vec3 x)
 {
     float to_force = -P.mass * P.inv_dt * P.inv_dt;
-    float r = P.radius;
+    float r = PBF_CONTACT_MARGIN * P.radius;
     vec3 xs = collider_start(i);
     for (uint b = 0u; b < P.collider_count; b++) {
         vec3 p0, p1;

@@ -280,7 +280,8 @@ PBF_FN bool collider_boundary_of(PBF_P_ARG PBF_DATA_ARG pbf_gpu_collider c, pbf_
         PBF_REF(gradV) = pbf_scale(-boundary_gradient(PBF_P_ d), quat_rotate(q1, ln));
     }
     // A body being placed in water grows its boundary in (pbf_world_set_collider_strength).
-    float strength = c.angular_velocity.w;
+    // PBF_BODY_SHARE: the liquid's calibration over the lattice's (pbf_shared.h).
+    float strength = PBF_BODY_SHARE * c.angular_velocity.w;
     PBF_REF(V) = strength * PBF_REF(V);
     PBF_REF(gradV) = pbf_scale(strength, PBF_REF(gradV));
     return true;

@@ -116,6 +116,19 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_FORCE_SCALE 1024.0
 // Fastest a particle found inside a collider is moved out of it, m/s.
 #define PBF_PUSH_OUT_SPEED 0.5
+// The swept collision keeps a particle's centre this fraction of its radius off a body's
+// surface: a backstop against tunnelling. The boundary share holds it at its rest distance,
+// about a radius; a hard contact at the whole radius (before 0.13.0) made a body a rigid,
+// inelastic wall that took the water's push in place of the share, and a sphere driven
+// through water felt four times its drag (docs/coupling.md, "Collisions").
+#define PBF_CONTACT_MARGIN 0.1f
+// A body's boundary share over the lattice calibration (pbf_gpu_params.boundary_scale):
+// the liquid's first layer is spread over [s/2, s] from a wall where the lattice's sits at
+// s/2, so the lattice's share lets a liquid pack closer. 1.2 makes a body held under water
+// feel its buoyancy (0.075 m box and 0.05 m ball, 2.5 cm particles: within 1-2 %; 1 gave
+// 11-12 % less), the factor that also balanced the container's wall strips when they took
+// this share (docs/validation.md, "Volume and walls").
+#define PBF_BODY_SHARE 1.2f
 // Storage of hull planes and distance grids (float[]), see PBF_COLLIDER_HULL / _GRID.
 #define PBF_B_COLLIDER_DATA 31 // (kept apart from the fluid's bindings, which count up from 0)
 
