@@ -42,6 +42,8 @@ typedef struct body_entry {
     float fall[3], gained[3];  // what gravity did to it before its first measurement: m, m/s
     float after[6];            // its position and velocity at the end of the last such step
     uint64_t full_step;        // the fluid step its boundary first had full strength (0: not yet)
+    float hold_sum[6];         // placing: force xyz, torque xyz summed over the held steps measured at full strength
+    int hold_n;                // how many
     bool in_water;             // being set down in water (placing holds it)
     bool has_force;            // let go: the measured force applies (placing is over)
 } body_entry;
@@ -749,8 +751,19 @@ static bool placing(cpl_coupling *c, body_entry *e, const pbf_collider_report *r
     float strength = fminf(e->placed / CPL_PLACE_TIME, 1.0f);
     if (strength >= 1.0f && e->full_step == 0) e->full_step = rep->step + (uint64_t)back;
     set_strength(c, e, strength);
-    bool done = e->full_step != 0 && rep->step >= e->full_step && e->placed >= CPL_PLACE_HOLD && rep->pushed_out == 0;
+    bool full = e->full_step != 0 && rep->step >= e->full_step;
+    if (full) {
+        for (int k = 0; k < 3; k++) e->hold_sum[k] += rep->force[k], e->hold_sum[3 + k] += rep->torque[k];
+        e->hold_n++;
+    }
+    bool done = full && e->placed >= CPL_PLACE_HOLD && rep->pushed_out == 0;
     if (done || e->placed >= CPL_PLACE_MAX) {
+        // Let go: the smoothing starts from the mean over the hold at full strength (water
+        // that has just made room still moves, and one measurement of it is far off).
+        for (int k = 0; k < 3 && e->hold_n > 0; k++) {
+            e->force[k] = e->hold_sum[k] / (float)e->hold_n;
+            e->torque[k] = e->hold_sum[3 + k] / (float)e->hold_n;
+        }
         set_strength(c, e, 1.0f);
         return false;
     }
@@ -830,8 +843,9 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         if (!e->two_way) continue;
         if (!e->has_force && placing(c, e, &rep, back, dt)) continue;
         // Smoothed from step to step (exponential average; the force's mean is kept),
-        // starting from the first measured force itself.
-        float keep = e->has_force ? c->def.force_smoothing : 0.0f;
+        // starting from the first measured force itself, or from the mean over its hold for
+        // a body that was placed.
+        float keep = e->has_force || e->hold_n > 0 ? c->def.force_smoothing : 0.0f;
         for (int k = 0; k < 3; k++) {
             e->force[k] = keep * e->force[k] + (1.0f - keep) * rep.force[k];
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];

@@ -2,11 +2,11 @@
 -- radius and 1500 and 2000 kg/m^3 (tools/heavy_sphere.lua: made at mid-depth of a tank 0.4 m
 -- deep at the defaults, placed, free to move only vertically) accelerate from their release
 -- within 30 % of a = (rho_b - rho_w) g / (rho_b + rho_w / 2), fitted to drop = a t^2 / 2 over
--- the first 0.1 s and 0.2 s. Measured (llvmpipe, 0.13.0): 1500 +17 % / -18 %, 2000 +10 % /
--- -14 %. Until 0.13.0 the collision held the water a whole particle radius off a body, a rigid,
+-- the first 0.1 s and 0.2 s. Measured (llvmpipe, 0.13.0): 1500 +14 % / -19 %, 2000 +9 % /
+-- -15 %. Until 0.13.0 the collision held the water a whole particle radius off a body, a rigid,
 -- inelastic wall that took four times a liquid's drag: -17 % / -57 % and -20 % / -53 % (docs/
--- coupling.md, "Collisions"). The first 0.05 s are still fast (+50 % / +33 %: the force answers
--- the release a step late) and are not checked.
+-- coupling.md, "Collisions"). The first 0.05 s are still fast (+44 % / +30 %: no added mass, the
+-- force answers the release a step late) and are not checked.
 -- frames: 130
 -- trusted: runs tools/heavy_sphere.lua (dofile)
 local here = debug.getinfo(1, "S").source:match("^@(.*)/[^/]*$") or "."
