@@ -165,7 +165,6 @@ typedef struct output {
 #define MAX_OUTPUTS 4
 #define SHARE_ROUNDING 2e-7 // m, on a particle's distance to a body (above)
 
-
 static const output stage_outputs[PBF_STAGE_COUNT][MAX_OUTPUTS] = {
     [PBF_STAGE_PREDICT] = { { PBF_B_VEL, V4, C_PREDICT_V, C_PREDICT_V }, { PBF_B_PRED, X4, C_PREDICT_X, C_PREDICT_X } },
     [PBF_STAGE_GRID_COUNT] = { { PBF_B_CELL, EXACT, C_GRID_COUNT, 0 }, { PBF_B_CELL_START, EXACT, C_GRID_COUNT, 0 } },
