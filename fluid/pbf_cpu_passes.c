@@ -41,13 +41,24 @@ static void cell_coord(const pbf_gpu_params *P, pbf_vec3 x, int c[3])
     c[2] = cell_axis(x.z, P->grid_origin.z, P->inv_cell, P->grid_dims.z);
 }
 
-/// common.glsl's row_of and bucket_of: the row of a cell, and the bucket of the hashed grid
-/// it goes to (a row's cells take consecutive buckets; 32-bit arithmetic wraps as in GLSL).
+/// common.glsl's row_of, spread_bits and bucket_of: the row of a cell, and the bucket of the
+/// grid it goes to (a row's cells take consecutive buckets, the rows along a Morton curve of
+/// (y, z); 32-bit arithmetic wraps as in GLSL).
 static uint32_t row_of(const pbf_gpu_params *P, int y, int z) { return (uint32_t)y + P->grid_dims.y * (uint32_t)z; }
+
+static uint32_t spread_bits(uint32_t v)
+{
+    v &= 0xffffu;
+    v = (v | (v << 8)) & 0x00ff00ffu;
+    v = (v | (v << 4)) & 0x0f0f0f0fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    return (v | (v << 1)) & 0x55555555u;
+}
 
 static uint32_t bucket_of(const pbf_gpu_params *P, int x, int y, int z)
 {
-    return (row_of(P, y, z) * 2654435761u + (uint32_t)x) & (P->grid_dims.w - 1u);
+    uint32_t curve = spread_bits((uint32_t)y) | (spread_bits((uint32_t)z) << 1);
+    return (curve * (P->grid_dims.x | 1u) + (uint32_t)x) & (P->grid_dims.w - 1u);
 }
 
 /// The clears pbf_world.c issues before grid_count (cell starts and fill cursors), then
@@ -192,7 +203,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 int x0 = max_int((int)floorf((xi.x - rx - P->grid_origin.x) * P->inv_cell), 0);
                 int x1 = min_int((int)floorf((xi.x + rx - P->grid_origin.x) * P->inv_cell), dims[0] - 1);
                 // Buckets b0..b1 of this row, wrapping past the last into the first; other
-                // rows hashed into them are skipped by their row number.
+                // rows that share them are skipped by their row number.
                 uint32_t row = row_of(P, y, z), b0 = bucket_of(P, x0, y, z), b1 = bucket_of(P, x1, y, z);
                 int ranges = b0 <= b1 ? 1 : 2;
                 for (int part = 0; part < ranges && n <= stop && !cut; part++) {

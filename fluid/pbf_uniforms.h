@@ -108,10 +108,10 @@ int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf
 /// 32 bits).
 #define PBF_GRID_MAX_AXIS_CELLS 65536u
 
-/// Buckets of the hashed grid for a world of `capacity` particles: a power of two, at
-/// least 4 per particle (few rows share a bucket) and at least 4096. Cell (x, y, z) goes to
-/// bucket (hash(y + dims_y z) + x) mod buckets, so a row's consecutive cells are consecutive
-/// buckets (common.glsl bucket_of).
+/// Buckets of the grid for a world of `capacity` particles: a power of two, at least 4 per
+/// particle (few rows share a bucket) and at least 4096. Cell (x, y, z) goes to bucket
+/// (morton(y, z) (dims_x | 1) + x) mod buckets, so a row's consecutive cells are
+/// consecutive buckets and rows near each other are near (common.glsl bucket_of).
 uint32_t pbf_hash_buckets(uint32_t capacity);
 
 /// The container's planes (inward normal xyz, offset w: floor, -x, +x, -z, +z walls, lid)

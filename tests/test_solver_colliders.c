@@ -17,6 +17,12 @@ typedef support_gpu fixture;
 // Densities: the dam break's bound (test_solver.c: float noise 4e-7 relative, epsilon
 // doubled 1.2e-3), which the colliders' density noise (4.9e-6, below) meets as well.
 #define DENSITY_REL 1e-4
+// Densities after a push-out switched (check_collider_result): positions may then differ
+// by up to COLLIDER_SWITCHED, and a density by about 0.04 of the position's deviation in
+// spacings (an NVIDIA H200, 2026-11-27: the hull scene switched 3 push-outs at step 1 and 6
+// at step 3; at step 6 positions 3.2e-3 spacing apart, densities 1.3e-4). 5e-4 is 3.8 times
+// that and 3.2 times below the smallest density slip (the metrics without colliders, 1.6e-3).
+#define DENSITY_SWITCHED 5e-4
 
 // ---- GPU against the CPU reference around colliders --------------------------------------
 
@@ -227,14 +233,17 @@ static void check_collider_result(const collider_scene *cs, const collider_resul
         double force_near = switched ? FORCE_SWITCHED : FORCE_TIGHT;
         assert_true(r->fdev[k] <= (tight ? force_near : FORCE_LOOSE) * r->fmax);
         assert_true(r->tdev[k] <= (tight ? TORQUE_TIGHT : TORQUE_LOOSE) * r->tmax);
-        assert_true(r->rho[k] < (tight ? DENSITY_REL : 1e-2));
+        assert_true(r->rho[k] < (tight ? (switched ? DENSITY_SWITCHED : DENSITY_REL) : 1e-2));
     }
-    // Counts over the run. Noise: contacts within 3 of 25000 to 40000 (1.2e-4), push-outs
-    // within 3 of 460 (6.5e-3). Slips: reach r instead of h -29 to -61 % contacts, boxes as
+    // Counts over the run. Noise: contacts within 7 of 24000 to 40000 (2.9e-4), push-outs
+    // within 2 of 266 and 1 of 364 on llvmpipe (7.5e-3; 3 of 460 before the contact margin). Slips: reach r instead of h -29 to -61 % contacts, boxes as
     // half-spaces -1.1 %, omega left out +0.12 %; push-out at once -72 to -88 % push-outs,
-    // from within r +44 % or more, grid normal not normalised +276 %. Bounds 1e-3 and 2e-2.
+    // from within r +44 % or more, grid normal not normalised +276 %. Bounds 1e-3 and 6e-2:
+    // on an NVIDIA H200 (2026-11-27) the hull scene, whose push-outs switched from step 1,
+    // counted 276 push-outs against the CPU's 266 (3.8 %; since the contact margin of 0.13.0
+    // the scenes push out fewer particles), 7 times below the smallest slip.
     assert_true(fabs((double)r->contacts[0] - r->contacts[1]) <= 1e-3 * r->contacts[1]);
-    assert_true(fabs((double)r->pushed[0] - r->pushed[1]) <= 2e-2 * r->pushed[1]);
+    assert_true(fabs((double)r->pushed[0] - r->pushed[1]) <= 6e-2 * r->pushed[1]);
     // The bodies took part (measured: 4.8, 8.0 and 22 spacings) and pushed back.
     assert_true(r->effect > spacing);
     assert_true(r->fmax > 1.0);

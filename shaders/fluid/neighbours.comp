@@ -5,7 +5,7 @@
 // Particles are stored in bucket order and a row of cells (fixed y, z) takes consecutive
 // buckets (common.glsl bucket_of), so the x cells the kernel sphere reaches in a row are
 // one contiguous range of slots, or two where the buckets wrap. Rows whose y-z slab lies
-// farther than h are skipped. Other rows hashed into the same buckets are skipped by their
+// farther than h are skipped. Other rows that share the same buckets are skipped by their
 // row number, so each neighbour is found once.
 // A particle with more neighbours than the list holds keeps the first max_neighbours found
 // (in cell order) and is counted in the metrics (overflow); nothing is written out of bounds.
