@@ -41,25 +41,8 @@ static void cell_coord(const pbf_gpu_params *P, pbf_vec3 x, int c[3])
     c[2] = cell_axis(x.z, P->grid_origin.z, P->inv_cell, P->grid_dims.z);
 }
 
-/// common.glsl's row_of, spread_bits and bucket_of: the row of a cell, and the bucket of the
-/// grid it goes to (a row's cells take consecutive buckets, the rows along a Morton curve of
-/// (y, z); 32-bit arithmetic wraps as in GLSL).
+/// common.glsl's row_of: the row of a cell (its bucket: pbf_grid_bucket, pbf_params.c).
 static uint32_t row_of(const pbf_gpu_params *P, int y, int z) { return (uint32_t)y + P->grid_dims.y * (uint32_t)z; }
-
-static uint32_t spread_bits(uint32_t v)
-{
-    v &= 0xffffu;
-    v = (v | (v << 8)) & 0x00ff00ffu;
-    v = (v | (v << 4)) & 0x0f0f0f0fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    return (v | (v << 1)) & 0x55555555u;
-}
-
-static uint32_t bucket_of(const pbf_gpu_params *P, int x, int y, int z)
-{
-    uint32_t curve = spread_bits((uint32_t)y) | (spread_bits((uint32_t)z) << 1);
-    return (curve * (P->grid_dims.x | 1u) + (uint32_t)x) & (P->grid_dims.w - 1u);
-}
 
 /// The clears pbf_world.c issues before grid_count (cell starts and fill cursors), then
 /// grid_count.comp: the cell of each position and the particles per cell. The CPU
@@ -71,7 +54,7 @@ void pbf_cpu_grid_count(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
     for (uint32_t i = 0; i < w->count; i++) {
         int c[3];
         cell_coord(P, pbf_xyz(x[i]), c);
-        w->cell_of[i] = bucket_of(P, c[0], c[1], c[2]);
+        w->cell_of[i] = pbf_grid_bucket(P, c[0], c[1], c[2]);
         w->cell_start[w->cell_of[i]]++;
     }
 }
@@ -204,7 +187,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                 int x1 = min_int((int)floorf((xi.x + rx - P->grid_origin.x) * P->inv_cell), dims[0] - 1);
                 // Buckets b0..b1 of this row, wrapping past the last into the first; other
                 // rows that share them are skipped by their row number.
-                uint32_t row = row_of(P, y, z), b0 = bucket_of(P, x0, y, z), b1 = bucket_of(P, x1, y, z);
+                uint32_t row = row_of(P, y, z), b0 = pbf_grid_bucket(P, x0, y, z), b1 = pbf_grid_bucket(P, x1, y, z);
                 int ranges = b0 <= b1 ? 1 : 2;
                 for (int part = 0; part < ranges && n <= stop && !cut; part++) {
                     uint32_t b = w->cell_start[part == 0 ? b0 : 0u];

@@ -110,9 +110,18 @@ int pbf_guard_compression(const pbf_params *p, pbf_guard_state *state, const pbf
 
 /// Buckets of the grid for a world of `capacity` particles: a power of two, at least 4 per
 /// particle (few rows share a bucket) and at least 4096. Cell (x, y, z) goes to bucket
-/// (morton(y, z) (dims_x | 1) + x) mod buckets, so a row's consecutive cells are
-/// consecutive buckets and rows near each other are near (common.glsl bucket_of).
+/// (morton(y, z) stride + x) mod buckets, so a row's consecutive cells are consecutive
+/// buckets and rows near each other are near (common.glsl bucket_of).
 uint32_t pbf_hash_buckets(uint32_t capacity);
+
+/// The stride of the grid's rows (pbf_gpu_params.row_stride): the odd number at least dims_x
+/// (within 2048 above it) whose (-buckets) mod stride is closest to a golden fraction of it,
+/// so that the curve's rows interleave evenly each time it wraps around the buckets.
+uint32_t pbf_row_stride(uint32_t dims_x, uint32_t buckets);
+
+/// The bucket of cell (x, y, z) under the space uniforms P (common.glsl bucket_of; the CPU
+/// reference's grid uses it).
+uint32_t pbf_grid_bucket(const pbf_gpu_params *P, int x, int y, int z);
 
 /// The container's planes (inward normal xyz, offset w: floor, -x, +x, -z, +z walls, lid)
 /// for the box [min, max], which must lie in [domain_min, domain_max]. Returns the number of

@@ -337,7 +337,8 @@ static void a_pile_in_one_cell_costs_what_a_block_costs(void **state)
 /// ten steps): each search stops after PBF_CANDIDATES_PER_ENTRY x max_neighbours candidates
 /// and counts an overflow, instead of walking the whole crowd. Rows of cells share buckets
 /// when their places on the Morton curve of (y, z) agree in the bits below the bucket count
-/// (common.glsl bucket_of): with 8192 buckets, the low 7 bits of y and the low 6 of z, so
+/// (common.glsl bucket_of; the row stride is odd, so it keeps them apart no more than they
+/// are): with 8192 buckets, the low 7 bits of y and the low 6 of z, so
 /// 2048 particles in one x cell, 128 cells apart along y and 64 along z (32 x 64 of them),
 /// all land in bucket x, and none is another's neighbour. Each would look at 2047
 /// candidates: over the 1408 allowed.
@@ -373,6 +374,62 @@ static void a_crowded_bucket_stops_the_search(void **state)
     assert_int_equal(pbf_world_read_binding(w, PBF_B_NB_COUNT, sizeof count, count), PBF_OK);
     for (int k = 0; k < K; k++) assert_int_equal(count[k], PBF_NB_CUT);
     pbf_world_destroy(w);
+}
+
+/// Water's rows of cells seldom share buckets with other rows (common.glsl bucket_of: rows on
+/// a Morton curve of (y, z), pbf_row_stride apart). A shared bucket costs the neighbour
+/// search candidates from another row, and enough of them stop it (the test above). Blocks of
+/// the benchmark's dam break (a cube of side 1 m, spacing 1 m / n^(1/3), h two spacings,
+/// cells h/2), standing or spread thin over the floor, in its tank and in one 20 times wider
+/// and deeper: the share of their cells whose bucket also holds another row's cells. Measured
+/// at most 0.060 (262k spread 3 x 1.5); an odd stride (dims_x | 1) reached 0.55 (262k, the
+/// wide tank, spread 4 x 4) and the hash of the row before 0.61 (1M, the same), both of which
+/// this bound of 0.1 fails.
+static void rows_of_water_seldom_share_buckets(void **state)
+{
+    (void)state;
+    static const struct {
+        long n;
+        float tank[3], sx, sz; // the block spread by sx along x and sz along z, thinner in y
+    } cases[] = {
+        { 12500, { 4, 3, 1.5f }, 1, 1 },     { 64000, { 80, 3, 30 }, 4, 4 },    { 262144, { 4, 3, 1.5f }, 1, 1 },
+        { 262144, { 4, 3, 1.5f }, 3, 1.5f }, { 262144, { 80, 3, 30 }, 1, 1 },   { 262144, { 80, 3, 30 }, 4, 4 },
+        { 1030301, { 4, 3, 1.5f }, 3, 1.5f }, { 1030301, { 80, 3, 30 }, 4, 4 },
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        int side = (int)lround(cbrt((double)cases[c].n));
+        float s = 1.0f / (float)side, h = 2.0f * s;
+        uint32_t capacity = (uint32_t)(cases[c].n + cases[c].n / 4 + 1024);
+        uint32_t buckets = pbf_hash_buckets(capacity);
+        float lo[3] = { 0, 0, 0 }, origin[3];
+        uint32_t dims[3];
+        pbf_grid_geometry(lo, cases[c].tank, h, PBF_GRID_CELLS_PER_KERNEL, origin, dims);
+        pbf_gpu_params g;
+        memset(&g, 0, sizeof g);
+        pbf_uniforms_space(&g, origin, dims, buckets, h / PBF_GRID_CELLS_PER_KERNEL, lo, cases[c].tank, NULL, 0, 88);
+        int nx = (int)((float)side * cases[c].sx), nz = (int)((float)side * cases[c].sz);
+        int ny = (int)((float)side / (cases[c].sx * cases[c].sz));
+        if (ny < 1) ny = 1;
+        uint32_t *owner = calloc(buckets, sizeof *owner); // row + 1 of the first cell in each bucket
+        assert_non_null(owner);
+        long shared = 0, cells = 0;
+        for (int z = 0; z < nz; z++)
+            for (int y = 0; y < ny; y++)
+                for (int x = 0; x < nx; x++, cells++) { // the lattice's cells (the grid starts h before the domain)
+                    uint32_t row = (uint32_t)(y + 2) + dims[1] * (uint32_t)(z + 2) + 1u;
+                    uint32_t b = pbf_grid_bucket(&g, x + 2, y + 2, z + 2);
+                    if (owner[b] == 0u) owner[b] = row;
+                    else if (owner[b] != row) shared++;
+                }
+        free(owner);
+        double f = (double)shared / (double)cells;
+        print_message("%ld particles spread %g x %g in a %g x %g x %g m tank: dims_x %u, stride %u, %u buckets: "
+                      "%.3f of the cells share a bucket with another row\n", cases[c].n, (double)cases[c].sx,
+                      (double)cases[c].sz, (double)cases[c].tank[0], (double)cases[c].tank[1], (double)cases[c].tank[2],
+                      dims[0], g.row_stride, buckets, f);
+        assert_true(g.row_stride >= dims[0] && g.row_stride % 2u == 1u);
+        assert_true(f <= 0.1);
+    }
 }
 
 /// More particles than the capacity: refused, naming the capacity; nothing is added.
@@ -554,6 +611,7 @@ int main(void)
         cmocka_unit_test(same_scene_gives_the_same_state_hash),
         cmocka_unit_test(a_pile_in_one_cell_costs_what_a_block_costs),
         cmocka_unit_test(a_crowded_bucket_stops_the_search),
+        cmocka_unit_test(rows_of_water_seldom_share_buckets),
         cmocka_unit_test(adding_beyond_capacity_is_refused),
         cmocka_unit_test(larger_kernel_at_run_time_grows_the_neighbour_lists),
         cmocka_unit_test(step_stats_match_the_particles_read_back),

@@ -154,7 +154,7 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT mass_density;  // kg: mass used by the density sum (calibrated to the lattice)
     PBF_FLOAT mass;          // kg: physical mass of one particle (rest_density * spacing^3)
     PBF_FLOAT epsilon;       // 1/m^2: relaxation added to sum |grad C|^2
-    PBF_FLOAT pad_relax;     // free: the relaxation factor is per iteration, uniform relax (pbf_relaxation)
+    PBF_UINT row_stride;     // buckets from one row of the grid's curve to the next (pbf_row_stride)
     PBF_FLOAT scorr_k;
     PBF_FLOAT scorr_n;
     PBF_FLOAT scorr_inv_wdq; // 1 / W(dq)
