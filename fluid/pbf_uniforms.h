@@ -37,7 +37,7 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
 
 /// The neighbour grid over [domain_min - h, domain_max + h] in cells of h / cells_per_kernel:
 /// origin (m) and cells per axis; returns the total number of cells. The grid is virtual:
-/// cells are hashed into pbf_hash_buckets buckets, so nothing is stored per cell.
+/// cells map to pbf_hash_buckets buckets (pbf_grid_bucket), so nothing is stored per cell.
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
 
