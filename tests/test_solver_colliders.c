@@ -236,8 +236,9 @@ static void check_collider_result(const collider_scene *cs, const collider_resul
         assert_true(r->rho[k] < (tight ? (switched ? DENSITY_SWITCHED : DENSITY_REL) : 1e-2));
     }
     // Counts over the run. Noise: contacts within 7 of 24000 to 40000 (2.9e-4), push-outs
-    // within 2 of 266 and 1 of 364 on llvmpipe (7.5e-3; 3 of 460 before the contact margin). Slips: reach r instead of h -29 to -61 % contacts, boxes as
-    // half-spaces -1.1 %, omega left out +0.12 %; push-out at once -72 to -88 % push-outs,
+    // within 2 of 266 and 1 of 364 on llvmpipe (7.5e-3; 3 of 460 before the contact margin).
+    // Slips: reach r instead of h -29 to -61 % contacts, boxes as half-spaces -1.1 %, omega
+    // left out +0.12 %; push-out at once -72 to -88 % push-outs,
     // from within r +44 % or more, grid normal not normalised +276 %. Bounds 1e-3 and 6e-2:
     // on an NVIDIA H200 (2026-11-27) the hull scene, whose push-outs switched from step 1,
     // counted 276 push-outs against the CPU's 266 (3.8 %; since the contact margin of 0.13.0

@@ -197,13 +197,12 @@ ivec3 cell_coord(vec3 x)
 // (fixed y, z) takes consecutive buckets, so the cells a kernel reaches in a row are one run
 // of buckets (two where it wraps) and, particles being stored in bucket order, one or two
 // contiguous ranges of slots. The rows follow each other along a Morton curve of (y, z),
-// each P.row_stride buckets after the last (at least dims_x; pbf_row_stride spreads the rows
-// evenly where the curve wraps at the bucket count): rows that are
-// near each other are near in memory, so the neighbours a work group gathers lie in a few
-// stretches instead of one per row (an NVIDIA H200, 4 iterations: 1M particles 2.13 ->
-// 1.87 ms a step, 4M 9.63 -> 7.25, against a hash of the row; docs/performance.md). Rows
-// that share buckets are told apart by row_of (pbf_uniforms.h pbf_hash_buckets;
-// fluid/pbf_cpu_passes.c mirrors this).
+// each P.row_stride buckets after the last (at least dims_x; pbf_row_stride spreads the
+// rows evenly where the curve wraps at the bucket count): rows that are near each other are
+// near in memory, so the neighbours a work group gathers lie in a few stretches instead of
+// one per row (an NVIDIA H200, 4 iterations: 1M particles 2.13 -> 1.87 ms a step, 4M 9.63 ->
+// 7.25, against a hash of the row; docs/performance.md). Rows that share buckets are told
+// apart by row_of (pbf_uniforms.h pbf_hash_buckets, pbf_grid_bucket mirrors this).
 uint row_of(ivec3 c) { return uint(c.y) + P.grid_dims.y * uint(c.z); }
 
 // The 16 bits of v spread to the even bits of the result.
