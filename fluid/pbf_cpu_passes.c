@@ -41,8 +41,14 @@ static void cell_coord(const pbf_gpu_params *P, pbf_vec3 x, int c[3])
     c[2] = cell_axis(x.z, P->grid_origin.z, P->inv_cell, P->grid_dims.z);
 }
 
-/// common.glsl's row_of: the row of a cell (its bucket: pbf_grid_bucket, pbf_params.c).
-static uint32_t row_of(const pbf_gpu_params *P, int y, int z) { return (uint32_t)y + P->grid_dims.y * (uint32_t)z; }
+/// common.glsl's row_of and bucket_of: the row of a cell and its bucket (pbf_kernels.h
+/// grid_row and grid_bucket).
+static uint32_t row_of(const pbf_gpu_params *P, int y, int z) { return grid_row(P, (uint32_t)y, (uint32_t)z); }
+
+uint32_t pbf_grid_bucket(const pbf_gpu_params *P, int x, int y, int z)
+{
+    return grid_bucket(P, (uint32_t)x, (uint32_t)y, (uint32_t)z);
+}
 
 /// The clears pbf_world.c issues before grid_count (cell starts and fill cursors), then
 /// grid_count.comp: the cell of each position and the particles per cell. The CPU

@@ -494,24 +494,6 @@ float pbf_relaxation(const pbf_params *p, int it)
     return (float)(k % 2 == 0 ? 0.5 * (sum + d) : 0.5 * (sum - d));
 }
 
-// common.glsl's spread_bits and bucket_of: the 16 bits of v spread to the even bits, and the
-// bucket of a cell (a row's cells take consecutive buckets, the rows along a Morton curve of
-// (y, z); 32-bit arithmetic wraps as in GLSL).
-static uint32_t spread_bits(uint32_t v)
-{
-    v &= 0xffffu;
-    v = (v | (v << 8)) & 0x00ff00ffu;
-    v = (v | (v << 4)) & 0x0f0f0f0fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    return (v | (v << 1)) & 0x55555555u;
-}
-
-uint32_t pbf_grid_bucket(const pbf_gpu_params *P, int x, int y, int z)
-{
-    uint32_t curve = spread_bits((uint32_t)y) | (spread_bits((uint32_t)z) << 1);
-    return (curve * P->row_stride + (uint32_t)x) & (P->grid_dims.w - 1u);
-}
-
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],
                         uint32_t cells, float cell_size, const float domain_min[3], const float domain_max[3],
                         const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours)

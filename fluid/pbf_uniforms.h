@@ -119,8 +119,8 @@ uint32_t pbf_hash_buckets(uint32_t capacity);
 /// so that the curve's rows interleave evenly each time it wraps around the buckets.
 uint32_t pbf_row_stride(uint32_t dims_x, uint32_t buckets);
 
-/// The bucket of cell (x, y, z) under the space uniforms P (common.glsl bucket_of; the CPU
-/// reference's grid uses it).
+/// The bucket of cell (x, y, z) under the space uniforms P (pbf_kernels.h grid_bucket, which
+/// the shaders' bucket_of and the CPU reference's grid use).
 uint32_t pbf_grid_bucket(const pbf_gpu_params *P, int x, int y, int z);
 
 /// The container's planes (inward normal xyz, offset w: floor, -x, +x, -z, +z walls, lid)

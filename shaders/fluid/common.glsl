@@ -202,22 +202,9 @@ ivec3 cell_coord(vec3 x)
 // near in memory, so the neighbours a work group gathers lie in a few stretches instead of
 // one per row (an NVIDIA H200, 4 iterations: 1M particles 2.13 -> 1.87 ms a step, 4M 9.63 ->
 // 7.25, against a hash of the row; docs/performance.md). Rows that share buckets are told
-// apart by row_of (pbf_uniforms.h pbf_hash_buckets, pbf_grid_bucket mirrors this).
-uint row_of(ivec3 c) { return uint(c.y) + P.grid_dims.y * uint(c.z); }
+// apart by row_of (pbf_uniforms.h pbf_hash_buckets; grid_row and grid_bucket are
+// pbf_kernels.h's, shared with the CPU reference).
+uint row_of(ivec3 c) { return grid_row(uint(c.y), uint(c.z)); }
 
-// The 16 bits of v spread to the even bits of the result.
-uint spread_bits(uint v)
-{
-    v &= 0xffffu;
-    v = (v | (v << 8)) & 0x00ff00ffu;
-    v = (v | (v << 4)) & 0x0f0f0f0fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    return (v | (v << 1)) & 0x55555555u;
-}
-
-uint bucket_of(ivec3 c)
-{
-    uint curve = spread_bits(uint(c.y)) | (spread_bits(uint(c.z)) << 1);
-    return (curve * P.row_stride + uint(c.x)) & (P.grid_dims.w - 1u);
-}
+uint bucket_of(ivec3 c) { return grid_bucket(uint(c.x), uint(c.y), uint(c.z)); }
 

@@ -534,6 +534,30 @@ PBF_FN PBF_VEC4 quat_nlerp(PBF_VEC4 a, PBF_VEC4 b, float t)
     return pbf_normalize4(pbf_mix4(a, b, t));
 }
 
+// ---- the neighbour grid (docs/solver.md, "The hashed grid") --------------------------------
+
+/// The row of cell (x, y, z): y + dims_y z, told apart from other rows in the same buckets.
+PBF_FN PBF_UINT grid_row(PBF_P_ARG PBF_UINT y, PBF_UINT z) { return y + P.grid_dims.y * z; }
+
+/// The 16 bits of v spread to the even bits of the result.
+PBF_FN PBF_UINT spread_bits(PBF_UINT v)
+{
+    v &= 0xffffu;
+    v = (v | (v << 8)) & 0x00ff00ffu;
+    v = (v | (v << 4)) & 0x0f0f0f0fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    return (v | (v << 1)) & 0x55555555u;
+}
+
+/// The bucket of cell (x, y, z): a row's cells take consecutive buckets, the rows follow a
+/// Morton curve of (y, z), P.row_stride buckets apart (pbf_row_stride), wrapping at the
+/// bucket count (32-bit arithmetic wraps alike in GLSL and C).
+PBF_FN PBF_UINT grid_bucket(PBF_P_ARG PBF_UINT x, PBF_UINT y, PBF_UINT z)
+{
+    PBF_UINT curve = spread_bits(y) | (spread_bits(z) << 1);
+    return (curve * P.row_stride + x) & (P.grid_dims.w - 1u);
+}
+
 #ifndef GL_core_profile
 #undef P
 #endif
