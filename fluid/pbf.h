@@ -56,9 +56,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 13
-#define PBF_VERSION_PATCH 1
-#define PBF_VERSION_STRING "0.13.1"
+#define PBF_VERSION_MINOR 14
+#define PBF_VERSION_PATCH 0
+#define PBF_VERSION_STRING "0.14.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -91,6 +91,7 @@ typedef enum pbf_stage {
     PBF_STAGE_VORTICITY,   ///< curl of the velocity field
     PBF_STAGE_VISCOSITY,   ///< vorticity confinement and XSPH viscosity
     PBF_STAGE_TENSION,     ///< the cohesion force (surface_tension > 0)
+    PBF_STAGE_LEVEL,       ///< the coarse level's solve (level_sweeps > 0, once per substep)
     PBF_STAGE_METRICS,     ///< density statistics reduced on the GPU (once per step)
     PBF_STAGE_COUNT
 } pbf_stage;
@@ -140,6 +141,14 @@ typedef struct pbf_params {
                             ///< from the density gradient, so a surface layer cannot crowd to
                             ///< rho0 within itself; 0 (default) off (docs/solver.md, "The
                             ///< free surface's missing share")
+    int level_sweeps;       ///< the coarse level solve: red-black sweeps per substep of a
+                            ///< pressure solve on a coarse grid over the domain that removes
+                            ///< the compression of deep water the particle iterations leave,
+                            ///< [0, 200]; 0 (default) off (docs/solver.md, "The coarse level")
+    float level_cell;       ///< the coarse level's cell, in kernel radii, [1, 16]
+    float level_tolerance;  ///< compression the coarse level leaves to the particle
+                            ///< iterations (a share of rho0), [0, 0.1]: a cell's mean
+                            ///< compression less this is what it removes
 } pbf_params;
 
 /// What looks and measures best (water at 2.5 cm particles; see docs/solver.md).
@@ -233,7 +242,7 @@ pbf_world_def pbf_default_world_def(void);
 uint32_t pbf_suggest_max_neighbours(const pbf_params *params);
 
 /// GPU memory the world of this def allocates, bytes (particle buffers, neighbour lists,
-/// the grid), for checking a capacity against what the GPU has before creating it.
+/// the grid, the coarse level), for checking a capacity against what the GPU has before creating it.
 uint64_t pbf_world_def_memory(const pbf_world_def *def);
 
 /// Creates a world in the current GL context. Returns NULL and a message on bad

@@ -125,6 +125,7 @@ void pbf_bind_all(pbf_world *w)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LAMBDA, w->lambda);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_OMEGA, w->omega);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_TENSION, w->tension);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LEVEL, w->level);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_COLLIDERS, w->colliders);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_FORCES, w->forces, 0, PBF_MAX_COLLIDERS * 8 * 4);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_REDUCE, w->reduce);
@@ -154,6 +155,7 @@ void pbf_write_params(pbf_world *w, float dt, int substep, int slot)
         ns++;
     }
     g.sink_count = ns;
+    pbf_uniforms_level(&g, p, w->level_dims, w->level_cell);
     g.capacity = w->capacity;
     g.append_count = 0;
     g.count_mode = 0;

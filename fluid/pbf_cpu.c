@@ -62,6 +62,28 @@ static pbf_result grid_layout(pbf_cpu_world *w, float h, char *err, size_t err_s
     return PBF_OK;
 }
 
+/// The coarse level's cells for these parameters (pbf_level_layout, as the GPU world), zeroed
+/// when the layout changes.
+static pbf_result level_alloc(pbf_cpu_world *w, const pbf_params *p, char *err, size_t err_size)
+{
+    uint32_t dims[4];
+    float cell[3];
+    pbf_result r = pbf_level_layout(p, w->domain_min, w->domain_max, dims, cell, err, err_size);
+    if (r != PBF_OK) return r;
+    if (w->level && memcmp(dims, w->level_dims, sizeof dims) == 0 && memcmp(cell, w->level_cell, sizeof cell) == 0)
+        return PBF_OK;
+    pbf_gpu_level_cell *level = dims[3] ? calloc(dims[3], sizeof *level) : NULL;
+    if (dims[3] && !level) {
+        snprintf(err, err_size, "pbf_cpu_world: out of memory for %u coarse level cells", dims[3]);
+        return PBF_ERR_OUT_OF_MEMORY;
+    }
+    free(w->level);
+    w->level = level;
+    memcpy(w->level_dims, dims, sizeof dims);
+    memcpy(w->level_cell, cell, sizeof cell);
+    return PBF_OK;
+}
+
 pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity, const float domain_min[3],
                                     const float domain_max[3], char *err, size_t err_size)
 {
@@ -99,7 +121,8 @@ pbf_cpu_world *pbf_cpu_world_create(const pbf_params *params, uint32_t capacity,
     w->cells_per_kernel = PBF_GRID_CELLS_PER_KERNEL;
     memcpy(w->domain_min, domain_min, sizeof w->domain_min);
     memcpy(w->domain_max, domain_max, sizeof w->domain_max);
-    if (grid_layout(w, params->kernel_radius, err, err_size) != PBF_OK) {
+    if (grid_layout(w, params->kernel_radius, err, err_size) != PBF_OK ||
+        level_alloc(w, params, err, err_size) != PBF_OK) {
         pbf_cpu_world_destroy(w);
         return NULL;
     }
@@ -134,7 +157,7 @@ void pbf_cpu_world_destroy(pbf_cpu_world *w)
     if (!w) return;
     void *blocks[] = { w->pos, w->pos_out, w->vel, w->vel_out, w->pred, w->pred_out, w->omega, w->tension,
                        w->id, w->id_out, w->lambda_rho, w->cell_of, w->cell_start, w->cell_fill,
-                       w->sorted, w->order, w->nb_list, w->nb_count, w->collider_data };
+                       w->sorted, w->order, w->nb_list, w->nb_count, w->collider_data, w->level };
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; i++) free(blocks[i]);
     free(w);
 }
@@ -154,6 +177,8 @@ pbf_result pbf_cpu_world_set_params(pbf_cpu_world *w, const pbf_params *p)
     }
     if (p->surface_tension > 0.0f && !(w->params.surface_tension > 0.0f)) // as pbf_world_set_params
         memset(w->tension, 0, (size_t)w->capacity * sizeof w->tension[0]);
+    pbf_result r = level_alloc(w, p, err, sizeof err);
+    if (r != PBF_OK) return pbf_cpu_fail(w, r, "%s", err);
     w->params = *p;
     w->k = pbf_derive_constants(p);
     return PBF_OK;
@@ -258,6 +283,7 @@ static pbf_gpu_params uniforms(const pbf_cpu_world *w, float dt)
     pbf_uniforms_space(&g, w->grid_origin, w->grid_dims, w->cells, p->kernel_radius / (float)w->cells_per_kernel,
                        w->domain_min, w->domain_max,
                        (const float(*)[4])w->planes, w->plane_count, w->max_neighbours);
+    pbf_uniforms_level(&g, p, w->level_dims, w->level_cell);
     g.count = w->count;
     g.collider_count = w->gpu_count;
     g.substep = w->last_substep;
@@ -312,14 +338,19 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
         stage_done(w, PBF_STAGE_TENSION, s, -1);
         swap4(&w->pred, &w->pred_out);
     }
+    int level_at = w->level_dims[3] > 0 ? p->iterations - 1 : -1;
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
         if (it > 0) {
             pbf_cpu_density(w, P);
             stage_done(w, PBF_STAGE_DENSITY, s, it);
         }
+        if (it == level_at) {
+            pbf_cpu_level(w, P);
+            stage_done(w, PBF_STAGE_LEVEL, s, -1);
+        }
         float relax = pbf_relaxation(p, it); // the shaders' uniform relax
-        pbf_cpu_delta(w, P, relax);
+        pbf_cpu_delta(w, P, relax, it == level_at ? 1.0f : 0.0f);
         stage_done(w, PBF_STAGE_DELTA, s, it);
         if (w->gpu_count > 0) {
             pbf_cpu_collide(w, P, relax);
@@ -420,6 +451,7 @@ void *pbf_cpu_world_binding(pbf_cpu_world *w, int binding, size_t *bytes)
     case PBF_B_LAMBDA: a = w->lambda_rho, size = n * 8; break;
     case PBF_B_OMEGA: a = w->omega, size = v4; break;
     case PBF_B_TENSION: a = w->tension, size = v4; break;
+    case PBF_B_LEVEL: a = w->level, size = (size_t)w->level_dims[3] * sizeof(pbf_gpu_level_cell); break;
     case PBF_B_NB_LIST: a = w->nb_list, size = n * w->max_neighbours * 4; break;
     case PBF_B_NB_COUNT: a = w->nb_count, size = n * 4; break;
     case PBF_B_FORCES: a = w->forces, size = (size_t)w->gpu_count * sizeof w->forces[0]; break;

@@ -68,6 +68,9 @@ struct pbf_cpu_world {
     // Grid (cells + 2 starts: the cells, the removed cell of sinks, the total) and lists.
     uint32_t *cell_of, *cell_start, *cell_fill, *sorted, *order;
     uint32_t *nb_list, *nb_count;
+    pbf_gpu_level_cell *level; // the coarse level's cells (NULL while level_sweeps is 0): PBF_B_LEVEL
+    uint32_t level_dims[4];
+    float level_cell[3];
     bool nb_valid; // the lists belong to the current slots and positions
     pbf_cpu_stage_hook_fn *hook; // called after each stage (tests); NULL: none
     void *hook_user;
@@ -99,12 +102,13 @@ void pbf_cpu_reorder(pbf_cpu_world *w);
 void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x, const uint32_t *place,
                         bool solve);
 void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P);
-void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
+void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, float level_gain);
 void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P);
+void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P);
 /// metrics.comp's density of slot i at its position (kg/m^3).
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i);
 

@@ -264,7 +264,7 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
 /// delta.comp: the correction from the fluid (lambda of each particle in pred.w) and the
 /// container, times the iteration's factor relax, then the container's collisions and the
 /// domain clamp, into pred_out.
-void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
+void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, float level_gain)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_vec3 xi = pbf_xyz(w->pred[i]);
@@ -294,7 +294,9 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax)
             }
         }
         dp = pbf_scale(P->mass_density * P->inv_rest_density, dp);
-        container_collide(w, P, i, pbf_add(xi, pbf_scale(relax, dp)));
+        pbf_vec3 x = pbf_add(xi, pbf_scale(relax, dp));
+        if (level_gain > 0.0f) x = pbf_add(x, pbf_scale(level_gain, level_correction(P, w->level, xi)));
+        container_collide(w, P, i, x);
     }
 }
 
@@ -400,6 +402,41 @@ void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P)
 }
 
 /// metrics.comp's density of slot i at its position (fluid over the list + boundaries).
+/// The coarse level's passes (level_deposit.comp, level_prepare.comp, level_sweep.comp): the
+/// deposit in the same fixed point (integer sums: any order gives the GPU's), then the sweeps,
+/// red cells then black, each colour reading only the other.
+void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P)
+{
+    pbf_gpu_level_cell *level = w->level;
+    uint32_t cells = P->level_dims.w;
+    for (uint32_t i = 0; i < w->count; i++) {
+        float e = w->lambda_rho[2 * i + 1] * P->inv_rest_density - 1.0f;
+        if (!(fabsf(e) < 1e30f)) continue;
+        e = pbf_clamp(e, -1.0f, 1.0f);
+        pbf_vec3 x = pbf_xyz(w->pred[i]);
+        for (int k = 0; k < 8; k++) {
+            uint32_t cell;
+            float wgt = level_corner(P, x, k, &cell);
+            level[cell].weight += level_fixed(wgt);
+            level[cell].excess += level_fixed(wgt * e);
+        }
+    }
+    for (uint32_t c = 0; c < cells; c++) {
+        level[c].e = level_compression(P, level[c].weight, level[c].excess);
+        level[c].p = 0.0f;
+        level[c].weight = 0;
+        level[c].excess = 0;
+    }
+    uint32_t nx = P->level_dims.x, ny = P->level_dims.y;
+    for (int sweep = 0; sweep < w->params.level_sweeps; sweep++)
+        for (uint32_t parity = 0; parity < 2; parity++)
+            for (uint32_t id = 0; id < cells; id++) {
+                int x = (int)(id % nx), y = (int)((id / nx) % ny), z = (int)(id / (nx * ny));
+                if ((uint32_t)(x + y + z) % 2u != parity) continue;
+                level[id].p = level_relaxed(P, level, x, y, z);
+            }
+}
+
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
 {
     pbf_vec3 xi = pbf_xyz(w->pos[i]);

@@ -1,11 +1,96 @@
-// Emitters (particles poured from a nozzle, generated on the CPU and appended on the GPU)
-// and sinks (boxes that remove particles, applied on the GPU in the grid pass).
+// Particles added from the CPU (blocks, point lists, and emitters, which pour them from a
+// nozzle), generated on the CPU and appended on the GPU, and sinks (boxes that remove
+// particles, applied on the GPU in the grid pass).
 #include "fluid/pbf_internal.h"
+#include "fluid/pbf_uniforms.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+
+// ---- blocks and point lists ---------------------------------------------------------------
+
+pbf_block_def pbf_default_block_def(void)
+{
+    pbf_block_def b;
+    memset(&b, 0, sizeof b);
+    b.max[0] = b.max[1] = b.max[2] = 0.1f;
+    return b;
+}
+
+pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
+{
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (w->in_step)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_particles");
+    if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
+    if (n > w->capacity - w->count)
+        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
+                    n, w->count, w->capacity);
+    char err[256];
+    if (!pbf_points_check("pbf_world_add_particles", positions, velocities, n, w->domain_min, w->domain_max, err, sizeof err))
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    float *p4 = malloc((size_t)n * 16 + 16), *v4 = malloc((size_t)n * 16 + 16);
+    if (!p4 || !v4) {
+        free(p4);
+        free(v4);
+        return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++) {
+            p4[4 * i + k] = positions[3 * i + k];
+            v4[4 * i + k] = velocities ? velocities[3 * i + k] : 0.0f;
+        }
+        p4[4 * i + 3] = pbf_colour_of(w, positions[3 * i + 1]);
+        v4[4 * i + 3] = 0.0f;
+    }
+    pbf_result r = pbf_append(w, p4, v4, n);
+    free(p4);
+    free(v4);
+    return r;
+}
+
+pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *added)
+{
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!b) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_block: block must not be NULL");
+    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_block");
+    if (added) *added = 0;
+    float s = w->k.spacing;
+    uint32_t n[3];
+    char err[256];
+    uint64_t total = pbf_block_lattice(b, s, w->domain_min, w->domain_max, n, err, sizeof err);
+    if (total == 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    if (total > w->capacity - w->count)
+        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
+                    (unsigned long long)total, w->capacity - w->count, w->capacity);
+    float *p4 = malloc((size_t)total * 16), *v4 = malloc((size_t)total * 16);
+    if (!p4 || !v4) {
+        free(p4);
+        free(v4);
+        return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_block: out of memory");
+    }
+    size_t i = 0;
+    for (uint32_t z = 0; z < n[2]; z++)
+        for (uint32_t y = 0; y < n[1]; y++)
+            for (uint32_t x = 0; x < n[0]; x++, i++) {
+                float *p = p4 + 4 * i, *v = v4 + 4 * i;
+                pbf_block_point(b, s, x, y, z, p);
+                p[3] = pbf_colour_of(w, p[1]);
+                v[0] = b->velocity[0];
+                v[1] = b->velocity[1];
+                v[2] = b->velocity[2];
+                v[3] = 0.0f;
+            }
+    pbf_result r = pbf_append(w, p4, v4, (uint32_t)total);
+    free(p4);
+    free(v4);
+    if (r == PBF_OK && added) *added = (uint32_t)total;
+    return r;
+}
+
+// ---- emitters ------------------------------------------------------------------------------
 
 pbf_emitter_def pbf_default_emitter_def(void)
 {

@@ -39,6 +39,7 @@ static GLuint binding_buffer(const pbf_world *w, int binding)
     case PBF_B_NB_COUNT: return w->nb_count;
     case PBF_B_STATE: return w->state;
     case PBF_B_COLLIDER_DATA: return w->collider_data;
+    case PBF_B_LEVEL: return w->level;
     default: return 0;
     }
 }

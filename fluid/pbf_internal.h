@@ -33,6 +33,9 @@ enum program_id {
     PROG_GRID_CLEAR,
     PROG_TENSION,
     PROG_TINT,
+    PROG_LEVEL_DEPOSIT,
+    PROG_LEVEL_PREPARE,
+    PROG_LEVEL_SWEEP,
     PROG_COUNT
 };
 
@@ -113,6 +116,10 @@ struct pbf_world {
 
     GLuint programs[PROG_COUNT];
     GLint u_scan_n[2], u_frame, u_tint[4], u_relax[2]; // u_relax: delta, collide
+    GLint u_level_gain, u_level_parity;
+    GLuint level;              // pbf_gpu_level_cell[level_dims[3]] (one cell while the level is off)
+    uint32_t level_dims[4];    // xyz, w = all (0 while level_sweeps is 0)
+    float level_cell[3];       // m
     GLuint pos[2], vel[2], pred[2], ids[2];
     int cur_pos, cur_vel, cur_pred, cur_ids;
     GLuint cell_of, cell_start, cell_fill, sorted, lambda, omega, tension, scan, colliders, forces,

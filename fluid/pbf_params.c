@@ -32,6 +32,9 @@ pbf_params pbf_default_params(void)
     p.max_substeps = 32;
     p.guard_compression = 0.0f; // off: a change of substeps moves the water (docs/solver.md)
     p.surface_fill = 0.0f;  // off: measured, not yet the default (docs/solver.md)
+    p.level_sweeps = 0;     // off: measured, not yet the default (docs/solver.md)
+    p.level_cell = 1.0f;
+    p.level_tolerance = 0.005f;
     p.wall_friction = 0.02f; // a rough wall: the dam-break front on Martin & Moyce's (docs/solver.md)
     return p;
 }
@@ -165,6 +168,11 @@ pbf_result pbf_params_validate(const pbf_params *p, char *err, size_t err_size)
           (double)p->wall_friction, "in [0, 1] (0: frictionless walls)");
     CHECK(isfinite(p->surface_fill) && p->surface_fill >= 0.0f && p->surface_fill <= 1.0f, "surface_fill", "%g",
           (double)p->surface_fill, "in [0, 1] (0: off)");
+    CHECK(p->level_sweeps >= 0 && p->level_sweeps <= 200, "level_sweeps", "%d", p->level_sweeps, "in [0, 200] (0: off)");
+    CHECK(isfinite(p->level_cell) && p->level_cell >= 1.0f && p->level_cell <= 16.0f, "level_cell", "%g",
+          (double)p->level_cell, "in [1, 16] kernel radii");
+    CHECK(isfinite(p->level_tolerance) && p->level_tolerance >= 0.0f && p->level_tolerance <= 0.1f, "level_tolerance",
+          "%g", (double)p->level_tolerance, "in [0, 0.1] (a share of rest_density)");
     if (err && err_size) err[0] = 0;
     return PBF_OK;
 }
@@ -192,6 +200,9 @@ static const pbf_param_info param_table[] = {
     F(guard_compression, "", 0.0, 1.0, "time-step guard: worst compression (mean: a tenth) a step aims under (0 off)"),
     F(wall_friction, "", 0.0, 1.0, "skin-friction coefficient of the container's walls and floor; 0 frictionless"),
     F(surface_fill, "", 0.0, 1.0, "share of a free-surface particle's missing neighbourhood its constraint counts (0 off)"),
+    I(level_sweeps, "", 0, 200, "sweeps per substep of the coarse level's pressure solve (deep water's compression; 0 off)"),
+    F(level_cell, "", 1.0, 16.0, "the coarse level's cell, in kernel radii"),
+    F(level_tolerance, "", 0.0, 0.1, "compression the coarse level leaves to the particle iterations (share of rho0)"),
 };
 #undef F
 #undef I
@@ -648,3 +659,42 @@ bool pbf_points_check(const char *fn, const float *positions, const float *veloc
 }
 
 const char *pbf_version(void) { return PBF_VERSION_STRING; }
+
+pbf_result pbf_level_layout(const pbf_params *p, const float domain_min[3], const float domain_max[3], uint32_t dims[4],
+                            float cell[3], char *err, size_t err_size)
+{
+    dims[0] = dims[1] = dims[2] = dims[3] = 0;
+    cell[0] = cell[1] = cell[2] = 0.0f;
+    if (p->level_sweeps == 0) return PBF_OK;
+    double want = (double)p->level_cell * p->kernel_radius, total = 1.0;
+    uint32_t n[3];
+    for (int k = 0; k < 3; k++) {
+        double len = (double)domain_max[k] - domain_min[k];
+        double m = floor(len / want + 0.5);
+        if (m < 1.0) m = 1.0;
+        total *= m;
+        n[k] = m > PBF_LEVEL_MAX_CELLS ? PBF_LEVEL_MAX_CELLS : (uint32_t)m;
+    }
+    if (total > PBF_LEVEL_MAX_CELLS) {
+        snprintf(err, err_size,
+                 "pbf_params.level_sweeps %d needs a coarse grid over the domain (%g x %g x %g m) in cells of level_cell x "
+                 "kernel_radius = %g m: %.0f cells, at most %u (raise level_cell, shrink the domain, or set level_sweeps 0)",
+                 p->level_sweeps, (double)(domain_max[0] - domain_min[0]), (double)(domain_max[1] - domain_min[1]),
+                 (double)(domain_max[2] - domain_min[2]), want, total, PBF_LEVEL_MAX_CELLS);
+        return PBF_ERR_INVALID_ARG;
+    }
+    for (int k = 0; k < 3; k++) {
+        dims[k] = n[k];
+        cell[k] = (float)(((double)domain_max[k] - domain_min[k]) / n[k]);
+    }
+    dims[3] = n[0] * n[1] * n[2];
+    return PBF_OK;
+}
+
+void pbf_uniforms_level(pbf_gpu_params *g, const pbf_params *p, const uint32_t dims[4], const float cell[3])
+{
+    g->level_dims = (pbf_uint4){ dims[0], dims[1], dims[2], dims[3] };
+    float s = 2.0f * p->particle_radius;
+    g->level_cell = (pbf_float4){ cell[0], cell[1], cell[2], dims[3] ? s * s * s / (cell[0] * cell[1] * cell[2]) : 0.0f };
+    g->level_solve = (pbf_float4){ p->level_tolerance, PBF_LEVEL_OMEGA, 0.0f, 0.0f };
+}

@@ -38,6 +38,15 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
 /// The neighbour grid over [domain_min - h, domain_max + h] in cells of h / cells_per_kernel:
 /// origin (m) and cells per axis; returns the total number of cells. The grid is virtual:
 /// cells map to pbf_hash_buckets buckets (pbf_grid_bucket), so nothing is stored per cell.
+/// The coarse level's grid (docs/solver.md, "The coarse level"): cells of about level_cell
+/// kernel radii that divide the domain exactly along each axis, so its walls are cell faces;
+/// dims[3] the cell count, all zero while level_sweeps is 0. More than PBF_LEVEL_MAX_CELLS
+/// is an error that names the fields.
+#define PBF_LEVEL_MAX_CELLS (1u << 22)
+pbf_result pbf_level_layout(const pbf_params *p, const float domain_min[3], const float domain_max[3], uint32_t dims[4],
+                            float cell[3], char *err, size_t err_size);
+/// The level's fields of the parameter block.
+void pbf_uniforms_level(pbf_gpu_params *g, const pbf_params *p, const uint32_t dims[4], const float cell[3]);
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
 

@@ -23,7 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-_Static_assert(sizeof(pbf_gpu_params) == 576, "pbf_gpu_params must match the std140 block");
+_Static_assert(sizeof(pbf_gpu_params) == 624, "pbf_gpu_params must match the std140 block");
 _Static_assert(sizeof(pbf_gpu_params) % 16 == 0, "std140 block size");
 _Static_assert(sizeof(pbf_gpu_collider) == 144, "pbf_gpu_collider std430 layout");
 _Static_assert(sizeof(pbf_gpu_reduce) == 64, "pbf_gpu_reduce std430 layout");
@@ -38,11 +38,12 @@ static const char *const program_files[PROG_COUNT] = {
     "fluid/velocity.comp",  "fluid/vorticity.comp",  "fluid/viscosity.comp",
     "fluid/metrics.comp",   "fluid/metrics_final.comp", "fluid/count.comp", "fluid/append.comp",
     "fluid/grid_clear.comp", "fluid/tension.comp", "fluid/tint.comp",
+    "fluid/level_deposit.comp", "fluid/level_prepare.comp", "fluid/level_sweep.comp",
 };
 
 static const char *const stage_names[PBF_STAGE_COUNT] = {
     "predict", "grid_count", "grid_scan", "grid_scatter", "grid_sort", "reorder", "neighbours",
-    "density", "delta", "collide", "velocity", "vorticity", "viscosity", "tension", "metrics",
+    "density", "delta", "collide", "velocity", "vorticity", "viscosity", "tension", "level", "metrics",
 };
 
 const char *pbf_stage_name(pbf_stage stage)
@@ -121,6 +122,13 @@ static pbf_result grid_layout(pbf_world *w, char *err, size_t err_size)
     return PBF_OK;
 }
 
+static void alloc_level(pbf_world *w)
+{
+    if (w->level) glDeleteBuffers(1, &w->level);
+    uint32_t n = w->level_dims[3] ? w->level_dims[3] : 1u;
+    w->level = pbf_gpu_buffer((GLsizeiptr)n * (GLsizeiptr)sizeof(pbf_gpu_level_cell), "pbf.level");
+}
+
 // ---- GL resources ---------------------------------------------------------------------
 
 static GLintptr align_up(GLintptr x, GLint a) { return (x + a - 1) / a * a; }
@@ -173,6 +181,8 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
     w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
     w->u_relax[0] = glGetUniformLocation(w->programs[PROG_DELTA], "relax");
     w->u_relax[1] = glGetUniformLocation(w->programs[PROG_COLLIDE], "relax");
+    w->u_level_gain = glGetUniformLocation(w->programs[PROG_DELTA], "level_gain");
+    w->u_level_parity = glGetUniformLocation(w->programs[PROG_LEVEL_SWEEP], "parity");
     pbf_tint_locate(w);
     return PBF_OK;
 }
@@ -180,7 +190,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
 static void stats_alloc(pbf_world *w)
 {
     const pbf_params *p = &w->params;
-    int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3 + 2; // + 2: tension
+    int per_substep = 7 + 2 * MAX_SCAN_LEVELS + 2 + 3 * p->iterations + 3 + 2 + 1; // + 2: tension, + 1: level
     // Room for the most substeps a step may take: the tension's floor and the compression
     // guard raise them with cfl off too (sized by cfl alone, their later substeps' timestamps
     // were dropped: 35.8 ms a step read for 63.2 at 200 N/m).
@@ -208,6 +218,11 @@ uint64_t pbf_world_def_memory(const pbf_world_def *def)
     uint64_t bytes = cap * per_particle + (cap / PBF_WG + 1) * sizeof(pbf_gpu_reduce);
     uint64_t cells = pbf_hash_buckets(def->capacity);
     bytes += (2 * cells + 3) * 4 + cells / PBF_SCAN_BLOCK * 4 + 4096; // bucket starts, fills, scan
+    uint32_t level_dims[4];
+    float level_cell[3];
+    char err[8];
+    if (pbf_level_layout(&def->params, def->domain_min, def->domain_max, level_dims, level_cell, err, sizeof err) == PBF_OK)
+        bytes += (uint64_t)level_dims[3] * sizeof(pbf_gpu_level_cell); // the coarse level
     return bytes;
 }
 
@@ -305,7 +320,9 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     derive(w);
     glGetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &w->ssbo_align);
     if (w->ssbo_align < 4) w->ssbo_align = 4;
-    if (grid_layout(w, err, err_size) != PBF_OK || build_programs(w, err, err_size) != PBF_OK) {
+    if (grid_layout(w, err, err_size) != PBF_OK ||
+        pbf_level_layout(&w->params, w->domain_min, w->domain_max, w->level_dims, w->level_cell, err, err_size) != PBF_OK ||
+        build_programs(w, err, err_size) != PBF_OK) {
         pbf_world_destroy(w);
         return NULL;
     }
@@ -322,6 +339,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->lambda = pbf_gpu_buffer(cap * 8, "pbf.lambda");
     w->omega = pbf_gpu_buffer(cap * 16, "pbf.omega");
     w->tension = pbf_gpu_buffer(cap * 16, "pbf.tension");
+    alloc_level(w);
     w->nb_list = pbf_gpu_buffer(cap * (GLsizeiptr)w->max_neighbours * 4, "pbf.nb_list");
     w->nb_count = pbf_gpu_buffer(cap * 4, "pbf.nb_count");
     w->colliders = pbf_cpu_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider), NULL, "pbf.colliders");
@@ -362,7 +380,7 @@ void pbf_world_destroy(pbf_world *w)
                       w->ids[0], w->ids[1], w->cell_of, w->sorted, w->lambda, w->omega, w->tension,
                       w->colliders, w->forces, w->reduce, w->metrics, w->draw, w->params_ubo,
                       w->nb_list, w->nb_count, w->state, w->stage_pos, w->stage_vel, w->stage_id, w->order,
-                      w->forces_ring, w->readback };
+                      w->forces_ring, w->readback, w->level };
     glDeleteBuffers((GLsizei)(sizeof bufs / sizeof bufs[0]), bufs);
     free_grid(w);
     pbf_emitters_free(w);
@@ -389,6 +407,10 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     char err[256];
     if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     bool regrid = p->kernel_radius != w->params.kernel_radius;
+    uint32_t level_dims[4];
+    float level_cell[3];
+    if (pbf_level_layout(p, w->domain_min, w->domain_max, level_dims, level_cell, err, sizeof err) != PBF_OK)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     pbf_params old = w->params;
     w->params = *p;
     if (p->surface_tension > 0.0f && !(old.surface_tension > 0.0f)) {
@@ -416,95 +438,19 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
         w->nb_list = pbf_gpu_buffer((GLsizeiptr)w->capacity * (GLsizeiptr)need * 4, "pbf.nb_list");
         w->max_neighbours = need;
     }
+    if (memcmp(level_dims, w->level_dims, sizeof level_dims) != 0 ||
+        memcmp(level_cell, w->level_cell, sizeof level_cell) != 0) {
+        memcpy(w->level_dims, level_dims, sizeof level_dims);
+        memcpy(w->level_cell, level_cell, sizeof level_cell);
+        alloc_level(w);
+    }
     derive(w);
     stats_alloc(w);
     if (!w->in_step) w->step_substeps = p->substeps;
     return PBF_OK;
 }
 
-// ---- particles --------------------------------------------------------------------------
-
-pbf_block_def pbf_default_block_def(void)
-{
-    pbf_block_def b;
-    memset(&b, 0, sizeof b);
-    b.max[0] = b.max[1] = b.max[2] = 0.1f;
-    return b;
-}
-
-
-
-
-pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
-{
-    if (!w) return PBF_ERR_INVALID_ARG;
-    if (w->in_step)
-        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_particles");
-    if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
-    if (n > w->capacity - w->count)
-        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
-                    n, w->count, w->capacity);
-    char err[256];
-    if (!pbf_points_check("pbf_world_add_particles", positions, velocities, n, w->domain_min, w->domain_max, err, sizeof err))
-        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
-    float *p4 = malloc((size_t)n * 16 + 16), *v4 = malloc((size_t)n * 16 + 16);
-    if (!p4 || !v4) {
-        free(p4);
-        free(v4);
-        return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_particles: out of memory");
-    }
-    for (uint32_t i = 0; i < n; i++) {
-        for (int k = 0; k < 3; k++) {
-            p4[4 * i + k] = positions[3 * i + k];
-            v4[4 * i + k] = velocities ? velocities[3 * i + k] : 0.0f;
-        }
-        p4[4 * i + 3] = pbf_colour_of(w, positions[3 * i + 1]);
-        v4[4 * i + 3] = 0.0f;
-    }
-    pbf_result r = pbf_append(w, p4, v4, n);
-    free(p4);
-    free(v4);
-    return r;
-}
-
-pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *added)
-{
-    if (!w) return PBF_ERR_INVALID_ARG;
-    if (!b) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_block: block must not be NULL");
-    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_block");
-    if (added) *added = 0;
-    float s = w->k.spacing;
-    uint32_t n[3];
-    char err[256];
-    uint64_t total = pbf_block_lattice(b, s, w->domain_min, w->domain_max, n, err, sizeof err);
-    if (total == 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
-    if (total > w->capacity - w->count)
-        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
-                    (unsigned long long)total, w->capacity - w->count, w->capacity);
-    float *p4 = malloc((size_t)total * 16), *v4 = malloc((size_t)total * 16);
-    if (!p4 || !v4) {
-        free(p4);
-        free(v4);
-        return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_add_block: out of memory");
-    }
-    size_t i = 0;
-    for (uint32_t z = 0; z < n[2]; z++)
-        for (uint32_t y = 0; y < n[1]; y++)
-            for (uint32_t x = 0; x < n[0]; x++, i++) {
-                float *p = p4 + 4 * i, *v = v4 + 4 * i;
-                pbf_block_point(b, s, x, y, z, p);
-                p[3] = pbf_colour_of(w, p[1]);
-                v[0] = b->velocity[0];
-                v[1] = b->velocity[1];
-                v[2] = b->velocity[2];
-                v[3] = 0.0f;
-            }
-    pbf_result r = pbf_append(w, p4, v4, (uint32_t)total);
-    free(p4);
-    free(v4);
-    if (r == PBF_OK && added) *added = (uint32_t)total;
-    return r;
-}
+// ---- particles (blocks and point lists: pbf_emitters.c) --------------------------------
 
 void pbf_world_clear(pbf_world *w)
 {
@@ -632,6 +578,32 @@ static void run_scan(step_ctx *s)
     mark(s, PBF_STAGE_GRID_SCAN);
 }
 
+// The coarse level (docs/solver.md, "The coarse level"), in the substep's last iteration:
+// the particles' compression at that iteration's density onto the coarse cells, then
+// red-black sweeps of its pressure solve; that iteration's delta pass applies the correction.
+
+static void level_solve(step_ctx *s)
+{
+    pbf_world *w = s->w;
+    glUseProgram(w->programs[PROG_LEVEL_DEPOSIT]);
+    glDispatchComputeIndirect(offsetof(pbf_gpu_state, groups_x));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    uint32_t groups = groups_for(w->level_dims[3], PBF_WG);
+    if (groups > w->max_groups) groups = w->max_groups; // the cell passes stride
+    glUseProgram(w->programs[PROG_LEVEL_PREPARE]);
+    glDispatchCompute(groups, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(w->programs[PROG_LEVEL_SWEEP]);
+    for (int k = 0; k < w->params.level_sweeps; k++)
+        for (unsigned parity = 0; parity < 2; parity++) {
+            glProgramUniform1ui(w->programs[PROG_LEVEL_SWEEP], w->u_level_parity, parity);
+            glDispatchCompute(groups, 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+    mark(s, PBF_STAGE_LEVEL);
+    stage_done(s, PBF_STAGE_LEVEL, -1);
+}
+
 static void substep(step_ctx *s, float dt, int sub, int slot)
 {
     pbf_world *w = s->w;
@@ -677,14 +649,19 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         pbf_bind_particles(w);
     }
 
+    // The coarse level goes last, after the iterations before it have taken out the short
+    // modes (a floor layer's compression, which its cells cannot represent).
+    int level_at = w->level_dims[3] > 0 ? p->iterations - 1 : -1;
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
         if (it > 0) {
             dispatch_particles(s, PROG_DENSITY, PBF_STAGE_DENSITY);
             stage_done(s, PBF_STAGE_DENSITY, it);
         }
+        if (it == level_at) level_solve(s);
         float relax = pbf_relaxation(p, it);
         glProgramUniform1f(w->programs[PROG_DELTA], w->u_relax[0], relax);
+        glProgramUniform1f(w->programs[PROG_DELTA], w->u_level_gain, it == level_at ? 1.0f : 0.0f);
         glProgramUniform1f(w->programs[PROG_COLLIDE], w->u_relax[1], relax);
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
         stage_done(s, PBF_STAGE_DELTA, it);

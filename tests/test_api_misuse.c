@@ -179,6 +179,41 @@ static void collider_strength_is_checked(void **state)
     assert_int_equal(pbf_world_set_collider_strength(f->world, id, 1.0f), PBF_ERR_STALE_ID);
 }
 
+// The coarse level on a domain too large for its grid is refused naming level_sweeps and
+// the domain, at creation and as a change of parameters (which then leaves the world as it
+// was); larger cells make it fit. A level_sweeps outside [0, 200] names the field and value.
+static void coarse_level_beyond_its_grid_is_refused(void **state)
+{
+    fixture *f = *state;
+    pbf_params p = *pbf_world_params(f->world);
+    p.level_sweeps = 201;
+    assert_int_equal(pbf_world_set_params(f->world, &p), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(f->world), "pbf_params.level_sweeps must be in [0, 200]"));
+    assert_non_null(strstr(pbf_world_last_error(f->world), "(got 201)"));
+
+    pbf_world_def d = pbf_default_world_def();
+    d.params = *pbf_world_params(f->world); // h = 0.08 m
+    d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
+    d.capacity = 64;
+    for (int k = 0; k < 3; k++) d.domain_min[k] = -20.0f, d.domain_max[k] = 20.0f; // 500^3 cells of h
+    d.params.level_sweeps = 20;
+    char err[512];
+    assert_null(pbf_world_create(&d, err, sizeof err));
+    assert_non_null(strstr(err, "level_sweeps 20 needs a coarse grid over the domain (40 x 40 x 40 m)"));
+    d.params.level_sweeps = 0;
+    pbf_world *w = pbf_world_create(&d, err, sizeof err);
+    assert_non_null(w);
+    p = d.params;
+    p.level_sweeps = 20;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "at most 4194304"));
+    assert_int_equal(pbf_world_params(w)->level_sweeps, 0);
+    p.level_cell = 16.0f; // 31^3 cells of 1.28 m
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    assert_int_equal(pbf_world_step(w, 0.01f), PBF_OK);
+    pbf_world_destroy(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -186,6 +221,7 @@ int main(void)
         cmocka_unit_test(null_pointers_are_refused_naming_the_argument),
         cmocka_unit_test(step_from_inside_a_step_is_refused),
         cmocka_unit_test(collider_strength_is_checked),
+        cmocka_unit_test(coarse_level_beyond_its_grid_is_refused),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -15,7 +15,8 @@
 // The test prints a table of every check (worst deviation, tolerance, where) and fails
 // naming each stage over its tolerance. Two scenes: a dam break of 2,240 particles well into
 // its collapse, and a slab falling onto a sphere and a moving, turning box standing in a
-// pool (colliders, push-out, artificial pressure, over-relaxation, damping, 3 iterations).
+// pool (colliders, push-out, artificial pressure, over-relaxation, damping, the coarse
+// level, 3 iterations).
 #include "tests/support.h"
 
 #include <math.h>
@@ -68,7 +69,8 @@ enum {
     C_PREDICT_X, C_PREDICT_V, C_GRID_COUNT, C_GRID_SCAN, C_GRID_SCATTER, C_GRID_SORT, C_REORDER,
     C_NEIGHBOURS, C_NEIGHBOURS_CUTOFF, C_NEIGHBOURS_RHO, C_NEIGHBOURS_LAMBDA, C_DENSITY_RHO, C_DENSITY_LAMBDA, C_DELTA_X,
     C_COLLIDE_X, C_COLLIDE_BAND, C_COLLIDE_F, C_COLLIDE_T, C_COLLIDE_COUNTS, C_VELOCITY_V,
-    C_VELOCITY_VOLUME, C_VELOCITY_X, C_VORTICITY, C_VISCOSITY_V, C_TENSION_A, C_TENSION_X, C_METRICS, C_HANDOVER, C_COUNT
+    C_VELOCITY_VOLUME, C_VELOCITY_X, C_VORTICITY, C_VISCOSITY_V, C_TENSION_A, C_TENSION_X, C_LEVEL_E, C_LEVEL_P,
+    C_METRICS, C_HANDOVER, C_COUNT
 };
 
 typedef struct check {
@@ -113,6 +115,8 @@ static const check checks[C_COUNT] = {
     [C_VISCOSITY_V] = { "viscosity: v (m/s)", 1e-6 },
     [C_TENSION_A] = { "tension: acceleration (m/s^2)", 1e-4 },
     [C_TENSION_X] = { "tension: x* moved by the pull (spacings)", 1e-5 },
+    [C_LEVEL_E] = { "level: each coarse cell's E, sums zeroed (of the largest |E|)", 1e-5 },
+    [C_LEVEL_P] = { "level: each coarse cell's p after the sweeps (of the largest)", 1e-4 },
     [C_METRICS] = { "metrics: density average and maximum (relative)", 1e-5 },
     [C_HANDOVER] = { "end of step: x, v, id by slot, body reports (mismatches)", 0 },
 };
@@ -125,6 +129,7 @@ typedef struct tally {
     int calls[C_COUNT]; ///< comparisons made
     uint32_t particles;
     uint32_t contacts, pushed_out; ///< over the bodies and the compared steps
+    double level_p_max;            ///< m^2: the coarse level's largest p (GPU)
 } tally;
 
 static void note(tally *t, int c, double dev, int step, int sub, int it, uint32_t particle)
@@ -154,6 +159,7 @@ typedef enum how {
     LAMBDA_RHO,  ///< (lambda, rho)
     OMEGA,       ///< omega xyz and |omega|
     FORCES,      ///< fixed-point accumulators: force, torque in N and N m; counts exact
+    LEVEL,       ///< the coarse level's cells: E and p (of the largest), the sums exactly 0
 } how;
 
 typedef struct output {
@@ -188,6 +194,7 @@ static const output stage_outputs[PBF_STAGE_COUNT][MAX_OUTPUTS] = {
     [PBF_STAGE_VORTICITY] = { { PBF_B_OMEGA, OMEGA, C_VORTICITY, 0 } },
     [PBF_STAGE_VISCOSITY] = { { PBF_B_VEL_OUT, V4, C_VISCOSITY_V, C_VISCOSITY_V } },
     [PBF_STAGE_TENSION] = { { PBF_B_TENSION, V4, C_TENSION_A, C_TENSION_A }, { PBF_B_PRED_OUT, X4, C_TENSION_X, C_TENSION_X } },
+    [PBF_STAGE_LEVEL] = { { PBF_B_LEVEL, LEVEL, C_LEVEL_E, C_LEVEL_P } },
 };
 
 static int output_count(pbf_stage stage)
@@ -436,6 +443,29 @@ static void compare(mirror *m, const snapshot *s, const output *o, const void *g
         }
         break;
     }
+    case LEVEL: {
+        // E (a cell's excess volume over the tolerance: a sum of fixed-point integers, so a
+        // rounding of the particles' densities only) and p after the sweeps, each of its
+        // largest; air must be air on both sides and the deposit's sums zeroed.
+        const pbf_gpu_level_cell *gl = gpu, *cl = cpu;
+        size_t cells = bytes / sizeof *gl;
+        double e_max = 0.0, p_max = 0.0;
+        for (size_t i = 0; i < cells; i++) {
+            if (gl[i].e > PBF_LEVEL_AIR) e_max = fmax(e_max, fabs((double)gl[i].e));
+            p_max = fmax(p_max, fabs((double)gl[i].p));
+        }
+        t->level_p_max = fmax(t->level_p_max, p_max);
+        for (size_t i = 0; i < cells; i++) {
+            bool air_g = gl[i].e <= PBF_LEVEL_AIR, air_c = cl[i].e <= PBF_LEVEL_AIR;
+            double d = air_g != air_c || gl[i].weight != 0 || cl[i].weight != 0 || gl[i].excess != 0 || cl[i].excess != 0
+                           ? INFINITY
+                           : air_g ? 0.0 : fabs((double)gl[i].e - cl[i].e) / (e_max > 0.0 ? e_max : 1.0);
+            if (!(d <= worst)) worst = d, at = (uint32_t)i;
+            double dp = fabs((double)gl[i].p - cl[i].p) / (p_max > 0.0 ? p_max : 1.0);
+            if (!(dp <= worst2)) worst2 = dp, at2 = (uint32_t)i;
+        }
+        break;
+    }
     case FORCES: {
         // Per body: force xyz, contacts, torque xyz, push-outs (int32 in the body's own
         // fixed-point scale, units per N); the counts go to their own check.
@@ -577,7 +607,7 @@ static void bodies_pose(int body, double t, float position[3], float rotation[4]
 /// 1 m/s onto a sphere sunk in the pool, whose particles inside it are still being pushed
 /// out, and a box paddle moving through the pool (both two-way): artificial pressure (s_corr
 /// k = 0.1), over-relaxation 1.2, damping 0.5 1/s, surface tension 0.5 N/m, the free
-/// surface's missing share (surface_fill 1), 3 iterations, 3 substeps, XSPH and vorticity
+/// surface's missing share (surface_fill 1), the coarse level (20 sweeps, cells of h, no tolerance), 3 iterations, 3 substeps, XSPH and vorticity
 /// off (so the metrics pass sums the density itself: with XSPH on it reads the XSPH pass's
 /// sum, which the dam break compares); compared over 3 steps after 4 (the slab hits the
 /// bodies).
@@ -592,6 +622,9 @@ static mirror_scene slab_on_bodies(void)
     s.s.params.damping = 0.5f;
     s.s.params.surface_tension = 0.5f;
     s.s.params.surface_fill = 1.0f;
+    s.s.params.level_sweeps = 20;
+    s.s.params.level_cell = 1.0f;
+    s.s.params.level_tolerance = 0.0f;
     s.s.params.iterations = 3;
     s.s.params.substeps = 3;
     s.s.params.viscosity = 0.0f;
@@ -765,9 +798,10 @@ static void every_stage_matches_the_cpu_reference_in_a_dam_break(void **state)
     run_scene(*state, &s, &t);
     judge(&s, &t);
     // Every stage the scene runs was compared (collide only runs with bodies, tension only
-    // with surface_tension > 0).
+    // with surface_tension > 0, the level only with level_sweeps > 0).
     for (int c = 0; c < C_COUNT; c++)
-        if ((c < C_COLLIDE_X || c > C_COLLIDE_COUNTS) && c != C_TENSION_A && c != C_TENSION_X)
+        if ((c < C_COLLIDE_X || c > C_COLLIDE_COUNTS) && c != C_TENSION_A && c != C_TENSION_X && c != C_LEVEL_E &&
+            c != C_LEVEL_P)
             assert_true(t.calls[c] > 0);
 }
 
@@ -780,6 +814,9 @@ static void every_stage_matches_the_cpu_reference_around_moving_colliders(void *
     // Every stage but vorticity and XSPH (off here: the dam break compares them).
     for (int c = 0; c < C_COUNT; c++)
         if (c != C_VORTICITY && c != C_VISCOSITY_V) assert_true(t.calls[c] > 0);
+    // The slab's impact compresses the pool: the coarse level had something to solve.
+    print_message("  the coarse level's largest p: %.3g m^2\n", t.level_p_max);
+    assert_true(t.level_p_max > 0.0);
 }
 
 int main(void)

@@ -129,6 +129,13 @@ layout(std430, binding = PBF_B_TENSION) buffer Tension { vec4 tension[]; };
 layout(std430, binding = PBF_B_TENSION) readonly buffer Tension { vec4 tension[]; };
 #endif
 #endif
+#ifdef USE_LEVEL
+#ifdef WRITE_LEVEL
+layout(std430, binding = PBF_B_LEVEL) buffer Level { pbf_gpu_level_cell level[]; };
+#else
+layout(std430, binding = PBF_B_LEVEL) readonly buffer Level { pbf_gpu_level_cell level[]; };
+#endif
+#endif
 #ifdef USE_COLLIDERS
 #ifdef WRITE_COLLIDERS
 layout(std430, binding = PBF_B_COLLIDERS) buffer Colliders { pbf_gpu_collider colliders[]; };

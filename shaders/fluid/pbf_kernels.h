@@ -70,6 +70,9 @@
 #define pbf_mix4 mix
 #define pbf_normalize4 normalize
 #define pbf_quat_conj(q) vec4(-(q).xyz, (q).w)
+#define pbf_comp(v, k) ((v)[k])
+#define PBF_LEVEL_ARG
+#define PBF_LEVEL_
 #else
 #include <math.h>
 #include <stdbool.h>
@@ -82,6 +85,8 @@
 #define PBF_P_ pbf_p,
 #define PBF_DATA_ARG const float *collider_data,
 #define PBF_DATA_ collider_data,
+#define PBF_LEVEL_ARG const pbf_gpu_level_cell *level,
+#define PBF_LEVEL_ level,
 #define PBF_OUT(type) type *
 #define PBF_INOUT(type) type *
 #define PBF_REF(name) (*(name))
@@ -138,6 +143,11 @@ PBF_FN pbf_float4 pbf_normalize4(pbf_float4 a)
     return (pbf_float4){ a.x / len, a.y / len, a.z / len, a.w / len };
 }
 PBF_FN pbf_float4 pbf_quat_conj(pbf_float4 q) { return (pbf_float4){ -q.x, -q.y, -q.z, q.w }; }
+PBF_FN float pbf_comp3(pbf_vec3 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; }
+PBF_FN float pbf_comp4(pbf_float4 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; }
+PBF_FN uint32_t pbf_comp4u(pbf_uint4 v, int k) { return k == 0 ? v.x : k == 1 ? v.y : k == 2 ? v.z : v.w; }
+/// Component k of a vector, as GLSL's v[k].
+#define pbf_comp(v, k) _Generic((v), pbf_vec3: pbf_comp3, pbf_float4: pbf_comp4, pbf_uint4: pbf_comp4u)(v, k)
 #endif
 
 // ---- kernels (h = P.h) -----------------------------------------------------------------
@@ -557,6 +567,145 @@ PBF_FN PBF_UINT grid_bucket(PBF_P_ARG PBF_UINT x, PBF_UINT y, PBF_UINT z)
     PBF_UINT curve = spread_bits(y) | (spread_bits(z) << 1);
     return (curve * P.row_stride + x) & (P.grid_dims.w - 1u);
 }
+
+// ---- the coarse level (docs/solver.md, "The coarse level") ---------------------------------
+// A grid of P.level_dims.xyz cells of P.level_cell.xyz metres over the domain (its walls are
+// cell faces). The particles' compression is gathered onto it (level_corner), each cell's
+// share of excess volume E is taken (level_compression), and -lap p = E with p >= 0 is
+// relaxed in red-black sweeps (level_relaxed): p is a pressure-like potential (m^2), zero in
+// air, with no flow through the walls. Its gradient on the cells' faces, interpolated to a
+// particle (level_correction), moves the water out of the compressed cells. `level[i]` is the
+// storage block in GLSL (passes with USE_LEVEL) and a parameter in C (PBF_LEVEL_ARG).
+
+/// Index of cell (x, y, z), each within the grid.
+PBF_FN PBF_UINT level_index(PBF_P_ARG int x, int y, int z)
+{
+    return PBF_UINT_OF(x) + P.level_dims.x * (PBF_UINT_OF(y) + P.level_dims.y * PBF_UINT_OF(z));
+}
+
+/// x's coordinate along axis a in cells, cell centres at integers.
+PBF_FN float level_coord(PBF_P_ARG pbf_vec3 x, int a)
+{
+    return (pbf_comp(x, a) - pbf_comp(P.domain_min, a)) / pbf_comp(P.level_cell, a) - 0.5f;
+}
+
+/// A weight in the deposit's fixed point (rounded half up on both sides: GLSL's round may
+/// go either way at a half).
+PBF_FN int level_fixed(float v) { return PBF_FLOOR_INT(v * PBF_LEVEL_FIXED + 0.5f); }
+
+/// Corner k (0-7, a bit per axis) of the trilinear deposit of a particle at x: its cell and
+/// weight. A corner beyond a wall is the cell inside it (the wall's mirror image of it).
+PBF_FN float level_corner(PBF_P_ARG pbf_vec3 x, int k, PBF_OUT(PBF_UINT) cell)
+{
+    float wgt = 1.0f;
+    int c[3];
+    for (int a = 0; a < 3; a++) {
+        int n = PBF_INT_OF(pbf_comp(P.level_dims, a));
+        float g = pbf_clamp(level_coord(PBF_P_ x, a), -0.5f, PBF_FLOAT_OF(n) - 0.5f);
+        int c0 = PBF_FLOOR_INT(g);
+        float t = g - PBF_FLOAT_OF(c0);
+        int o = (k >> a) & 1;
+        wgt *= o != 0 ? t : 1.0f - t;
+        c[a] = pbf_clampi(c0 + o, 0, n - 1);
+    }
+    PBF_REF(cell) = level_index(PBF_P_ c[0], c[1], c[2]);
+    return wgt;
+}
+
+/// A cell's E from its deposit sums: the excess volume of its water (sum w (rho / rho0 - 1)
+/// s^3) over the cell's volume, less the tolerance the particle iterations are left
+/// (P.level_solve.x, either sign); PBF_LEVEL_AIR where the weights fill less than half the
+/// cell (a full cell's weights sum to V / s^3 = 1 / P.level_cell.w).
+PBF_FN float level_compression(PBF_P_ARG int weight, int excess)
+{
+    if (PBF_FLOAT_OF(weight) / PBF_LEVEL_FIXED * P.level_cell.w < 0.5f) return PBF_LEVEL_AIR;
+    float e = PBF_FLOAT_OF(excess) / PBF_LEVEL_FIXED * P.level_cell.w;
+    return pbf_sign(e) * pbf_max(pbf_abs(e) - P.level_solve.x, 0.0f);
+}
+
+#if !defined(GL_core_profile) || defined(USE_LEVEL)
+/// p of cell (x, y, z) after one projected over-relaxation step of -lap p = E, p >= 0, from
+/// its neighbours' p (a wall's side drops out of the stencil: no flow through it; air reads
+/// p = 0). Air stays at 0.
+PBF_FN float level_relaxed(PBF_P_ARG PBF_LEVEL_ARG int x, int y, int z)
+{
+    PBF_UINT id = level_index(PBF_P_ x, y, z);
+    float e = level[id].e;
+    float p = level[id].p;
+    if (e <= PBF_LEVEL_AIR) return p;
+    int c[3];
+    c[0] = x;
+    c[1] = y;
+    c[2] = z;
+    float sum = e, diag = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        float inv_c2 = 1.0f / (pbf_comp(P.level_cell, a) * pbf_comp(P.level_cell, a));
+        for (int d = -1; d <= 1; d += 2) {
+            int nb[3];
+            nb[0] = c[0];
+            nb[1] = c[1];
+            nb[2] = c[2];
+            nb[a] += d;
+            if (nb[a] < 0 || nb[a] >= PBF_INT_OF(pbf_comp(P.level_dims, a))) continue;
+            sum += inv_c2 * level[level_index(PBF_P_ nb[0], nb[1], nb[2])].p;
+            diag += inv_c2;
+        }
+    }
+    if (diag <= 0.0f) return p;
+    return pbf_max(0.0f, p + P.level_solve.y * (sum / diag - p));
+}
+
+/// p of cell (x, y, z) clamped into the grid.
+PBF_FN float level_p(PBF_P_ARG PBF_LEVEL_ARG int x, int y, int z)
+{
+    x = pbf_clampi(x, 0, PBF_INT_OF(P.level_dims.x) - 1);
+    y = pbf_clampi(y, 0, PBF_INT_OF(P.level_dims.y) - 1);
+    z = pbf_clampi(z, 0, PBF_INT_OF(P.level_dims.z) - 1);
+    return level[level_index(PBF_P_ x, y, z)].p;
+}
+
+/// The correction at x (m): -grad p on the cells' faces (the Laplacian's own gradient, zero
+/// on the walls), interpolated along each axis a from the faces of a (at half-integer
+/// coordinates along a, the cell centres along the other two).
+PBF_FN pbf_vec3 level_correction(PBF_P_ARG PBF_LEVEL_ARG pbf_vec3 x)
+{
+    float g[3], u[3];
+    int n[3];
+    for (int a = 0; a < 3; a++) {
+        g[a] = level_coord(PBF_P_ x, a);
+        n[a] = PBF_INT_OF(pbf_comp(P.level_dims, a));
+    }
+    for (int a = 0; a < 3; a++) {
+        int b = (a + 1) % 3, c = (a + 2) % 3;
+        float fa = pbf_clamp(g[a] + 0.5f, 0.0f, PBF_FLOAT_OF(n[a]));
+        int ia = pbf_clampi(PBF_FLOOR_INT(fa), 0, n[a] - 1);
+        float ta = fa - PBF_FLOAT_OF(ia);
+        float gb = pbf_clamp(g[b], 0.0f, PBF_FLOAT_OF(n[b] - 1));
+        float gc = pbf_clamp(g[c], 0.0f, PBF_FLOAT_OF(n[c] - 1));
+        int ib = pbf_clampi(PBF_FLOOR_INT(gb), 0, n[b] - 1 > 0 ? n[b] - 2 : 0);
+        int ic = pbf_clampi(PBF_FLOOR_INT(gc), 0, n[c] - 1 > 0 ? n[c] - 2 : 0);
+        float tb = gb - PBF_FLOAT_OF(ib), tc = gc - PBF_FLOAT_OF(ic);
+        float sum = 0.0f;
+        for (int k = 0; k < 8; k++) {
+            int f[3];
+            f[a] = ia + (k & 1);
+            f[b] = ib + ((k >> 1) & 1);
+            f[c] = ic + ((k >> 2) & 1);
+            if (f[a] == 0 || f[a] == n[a] || f[b] >= n[b] || f[c] >= n[c]) continue; // a wall, or a one-cell axis
+            float wgt = ((k & 1) != 0 ? ta : 1.0f - ta) * (((k >> 1) & 1) != 0 ? tb : 1.0f - tb) *
+                        (((k >> 2) & 1) != 0 ? tc : 1.0f - tc);
+            int lo[3];
+            lo[0] = f[0];
+            lo[1] = f[1];
+            lo[2] = f[2];
+            lo[a] -= 1;
+            sum += wgt * (level_p(PBF_P_ PBF_LEVEL_ lo[0], lo[1], lo[2]) - level_p(PBF_P_ PBF_LEVEL_ f[0], f[1], f[2]));
+        }
+        u[a] = sum / pbf_comp(P.level_cell, a);
+    }
+    return pbf_v3(u[0], u[1], u[2]);
+}
+#endif
 
 #ifndef GL_core_profile
 #undef P

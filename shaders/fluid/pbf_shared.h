@@ -87,6 +87,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_STAGE_ID 27  // uint[]
 #define PBF_B_ORDER 28     // uint[cap]: new slot -> old slot, in deterministic order
 #define PBF_B_TENSION 29   // vec4[cap]: surface tension acceleration (m/s^2) of the tension pass, added by the next predict
+#define PBF_B_LEVEL 30     // pbf_gpu_level_cell[level cells]: the coarse level (level_sweeps > 0)
 
 // Uniform block binding of pbf_gpu_params.
 #define PBF_U_PARAMS 0
@@ -181,6 +182,9 @@ PBF_STRUCT(pbf_gpu_params) {
     PBF_FLOAT cohesion_norm; // k, 1/(m^5 s^2): a pair's pull is k S(r) (pbf_cohesion_factor, from sigma)
     PBF_FLOAT wall_friction; // skin-friction coefficient C_f of the container's planes
     PBF_FLOAT surface_fill;  // share of the free surface's missing neighbourhood counted in C (0 off)
+    PBF_UVEC4 level_dims;    // the coarse level's cells along xyz, w = all of them (0: off)
+    PBF_VEC4 level_cell;     // xyz its cell's size (m), w = spacing^3 / the cell's volume
+    PBF_VEC4 level_solve;    // x = level_tolerance, y = the sweeps' over-relaxation, zw unused
 } PBF_END(pbf_gpu_params);
 
 // A collider on the GPU: a shape in a rigid frame at two poses (previous and current
@@ -198,6 +202,20 @@ PBF_STRUCT(pbf_gpu_collider) {
     PBF_UVEC4 info;          // x = type, y = flags (PBF_COLLIDER_TWO_WAY), z = data offset
                              // (floats), w = hull plane count or packed grid dims
 } PBF_END(pbf_gpu_collider);
+
+// A cell of the coarse level (docs/solver.md, "The coarse level"): the particles' trilinear
+// weights and their weighted compression, summed in fixed point (PBF_LEVEL_FIXED), then the
+// cell's compression E (a share of its volume) and the pressure-like potential p (m^2)
+// whose gradient is the correction.
+PBF_STRUCT(pbf_gpu_level_cell) {
+    PBF_INT weight;          // sum w, fixed point
+    PBF_INT excess;          // sum w (rho / rho0 - 1), fixed point
+    PBF_FLOAT e;             // sum w (rho / rho0 - 1) s^3 / V_cell; -1e30 for an empty cell (air)
+    PBF_FLOAT p;             // m^2
+} PBF_END(pbf_gpu_level_cell);
+#define PBF_LEVEL_FIXED 65536.0f
+#define PBF_LEVEL_AIR (-1e30f) // E of a cell the water fills less than half of
+#define PBF_LEVEL_OMEGA 1.8f   // the sweeps' over-relaxation (docs/solver.md, "The coarse level")
 
 // The live particle count and the indirect dispatch size of the particle passes, kept on
 // the GPU so that sinks can remove particles without a read-back.

@@ -1,0 +1,20 @@
+#version 430
+// Stage level, a sweep: the cells of one colour of a red-black ordering take their relaxed
+// p (pbf_kernels.h level_relaxed), so none reads a cell this pass writes; the threads
+// stride over the cells.
+#define USE_LEVEL
+#define WRITE_LEVEL
+#include "common.glsl"
+layout(local_size_x = PBF_WG) in;
+uniform uint parity; // this pass's cells: those whose x + y + z has this parity
+
+void main()
+{
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint nx = P.level_dims.x, ny = P.level_dims.y;
+    for (uint id = gl_GlobalInvocationID.x; id < P.level_dims.w; id += stride) {
+        int x = int(id % nx), y = int((id / nx) % ny), z = int(id / (nx * ny));
+        if (uint(x + y + z) % 2u != parity) continue;
+        level[id].p = level_relaxed(x, y, z);
+    }
+}
