@@ -417,8 +417,9 @@ void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P)
         for (int k = 0; k < 8; k++) {
             uint32_t cell;
             float wgt = level_corner(P, x, k, &cell);
-            level[cell].weight += level_fixed(wgt);
-            level[cell].excess += level_fixed(wgt * e);
+            // As the GPU's integer atomics: wrapping (a pile of 32 768 particles in a cell).
+            level[cell].weight = (int32_t)((uint32_t)level[cell].weight + (uint32_t)level_fixed(wgt));
+            level[cell].excess = (int32_t)((uint32_t)level[cell].excess + (uint32_t)level_fixed(wgt * e));
         }
     }
     for (uint32_t c = 0; c < cells; c++) {
