@@ -338,7 +338,7 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
         stage_done(w, PBF_STAGE_TENSION, s, -1);
         swap4(&w->pred, &w->pred_out);
     }
-    int level_at = w->level_dims[3] > 0 ? p->iterations - 1 : -1;
+    int level_at = pbf_level_iteration(p);
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
         if (it > 0) {
@@ -350,7 +350,7 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
             stage_done(w, PBF_STAGE_LEVEL, s, -1);
         }
         float relax = pbf_relaxation(p, it); // the shaders' uniform relax
-        pbf_cpu_delta(w, P, relax, it == level_at ? 1.0f : 0.0f);
+        pbf_cpu_delta(w, P, relax, it == level_at);
         stage_done(w, PBF_STAGE_DELTA, s, it);
         if (w->gpu_count > 0) {
             pbf_cpu_collide(w, P, relax);

@@ -102,7 +102,7 @@ void pbf_cpu_reorder(pbf_cpu_world *w);
 void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_float4 *x, const uint32_t *place,
                         bool solve);
 void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P);
-void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, float level_gain);
+void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, bool apply_level);
 void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P);

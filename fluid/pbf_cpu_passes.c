@@ -264,7 +264,7 @@ static void container_collide(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_
 /// delta.comp: the correction from the fluid (lambda of each particle in pred.w) and the
 /// container, times the iteration's factor relax, then the container's collisions and the
 /// domain clamp, into pred_out.
-void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, float level_gain)
+void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, bool apply_level)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_vec3 xi = pbf_xyz(w->pred[i]);
@@ -295,7 +295,7 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, float
         }
         dp = pbf_scale(P->mass_density * P->inv_rest_density, dp);
         pbf_vec3 x = pbf_add(xi, pbf_scale(relax, dp));
-        if (level_gain > 0.0f) x = pbf_add(x, pbf_scale(level_gain, level_correction(P, w->level, xi)));
+        if (apply_level) x = pbf_add(x, level_correction(P, w->level, xi));
         container_collide(w, P, i, x);
     }
 }
@@ -401,7 +401,6 @@ void pbf_cpu_tension(pbf_cpu_world *w, const pbf_gpu_params *P)
     }
 }
 
-/// metrics.comp's density of slot i at its position (fluid over the list + boundaries).
 /// The coarse level's passes (level_deposit.comp, level_prepare.comp, level_sweep.comp): the
 /// deposit in the same fixed point (integer sums: any order gives the GPU's), then the sweeps,
 /// red cells then black, each colour reading only the other.
@@ -410,9 +409,8 @@ void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P)
     pbf_gpu_level_cell *level = w->level;
     uint32_t cells = P->level_dims.w;
     for (uint32_t i = 0; i < w->count; i++) {
-        float e = w->lambda_rho[2 * i + 1] * P->inv_rest_density - 1.0f;
-        if (!(fabsf(e) < 1e30f)) continue;
-        e = pbf_clamp(e, -1.0f, 1.0f);
+        float e;
+        if (!level_excess(P, w->lambda_rho[2 * i + 1], &e)) continue;
         pbf_vec3 x = pbf_xyz(w->pred[i]);
         for (int k = 0; k < 8; k++) {
             uint32_t cell;
@@ -428,15 +426,13 @@ void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P)
         level[c].weight = 0;
         level[c].excess = 0;
     }
-    uint32_t nx = P->level_dims.x, ny = P->level_dims.y;
     for (int sweep = 0; sweep < w->params.level_sweeps; sweep++)
         for (uint32_t parity = 0; parity < 2; parity++)
-            for (uint32_t id = 0; id < cells; id++) {
-                int x = (int)(id % nx), y = (int)((id / nx) % ny), z = (int)(id / (nx * ny));
-                if ((uint32_t)(x + y + z) % 2u != parity) continue;
-                level[id].p = level_relaxed(P, level, x, y, z);
-            }
+            for (uint32_t id = 0; id < cells; id++)
+                if (level_parity(P, id) == parity) level[id].p = level_relaxed(P, level, id);
 }
+
+/// metrics.comp's density of slot i at its position (fluid over the list + boundaries).
 
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
 {

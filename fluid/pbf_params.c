@@ -691,6 +691,8 @@ pbf_result pbf_level_layout(const pbf_params *p, const float domain_min[3], cons
     return PBF_OK;
 }
 
+int pbf_level_iteration(const pbf_params *p) { return p->level_sweeps > 0 ? p->iterations - 1 : -1; }
+
 void pbf_uniforms_level(pbf_gpu_params *g, const pbf_params *p, const uint32_t dims[4], const float cell[3])
 {
     g->level_dims = (pbf_uint4){ dims[0], dims[1], dims[2], dims[3] };

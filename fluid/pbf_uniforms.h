@@ -35,9 +35,6 @@ void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uin
                         uint32_t cells, float cell_size, const float domain_min[3], const float domain_max[3],
                         const float (*planes)[4], uint32_t plane_count, uint32_t max_neighbours);
 
-/// The neighbour grid over [domain_min - h, domain_max + h] in cells of h / cells_per_kernel:
-/// origin (m) and cells per axis; returns the total number of cells. The grid is virtual:
-/// cells map to pbf_hash_buckets buckets (pbf_grid_bucket), so nothing is stored per cell.
 /// The coarse level's grid (docs/solver.md, "The coarse level"): cells of about level_cell
 /// kernel radii that divide the domain exactly along each axis, so its walls are cell faces;
 /// dims[3] the cell count, all zero while level_sweeps is 0. More than PBF_LEVEL_MAX_CELLS
@@ -47,6 +44,14 @@ pbf_result pbf_level_layout(const pbf_params *p, const float domain_min[3], cons
                             float cell[3], char *err, size_t err_size);
 /// The level's fields of the parameter block.
 void pbf_uniforms_level(pbf_gpu_params *g, const pbf_params *p, const uint32_t dims[4], const float cell[3]);
+/// The iteration of a substep in whose delta pass the coarse level acts (the last: the ones
+/// before have taken out the short modes, which its cells cannot represent), or -1 while
+/// level_sweeps is 0. Both worlds run the level's passes just before that delta.
+int pbf_level_iteration(const pbf_params *p);
+
+/// The neighbour grid over [domain_min - h, domain_max + h] in cells of h / cells_per_kernel:
+/// origin (m) and cells per axis; returns the total number of cells. The grid is virtual:
+/// cells map to pbf_hash_buckets buckets (pbf_grid_bucket), so nothing is stored per cell.
 uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3], float h,
                            uint32_t cells_per_kernel, float origin[3], uint32_t dims[3]);
 

@@ -181,7 +181,7 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
     w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
     w->u_relax[0] = glGetUniformLocation(w->programs[PROG_DELTA], "relax");
     w->u_relax[1] = glGetUniformLocation(w->programs[PROG_COLLIDE], "relax");
-    w->u_level_gain = glGetUniformLocation(w->programs[PROG_DELTA], "level_gain");
+    w->u_apply_level = glGetUniformLocation(w->programs[PROG_DELTA], "apply_level");
     w->u_level_parity = glGetUniformLocation(w->programs[PROG_LEVEL_SWEEP], "parity");
     pbf_tint_locate(w);
     return PBF_OK;
@@ -649,9 +649,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         pbf_bind_particles(w);
     }
 
-    // The coarse level goes last, after the iterations before it have taken out the short
-    // modes (a floor layer's compression, which its cells cannot represent).
-    int level_at = w->level_dims[3] > 0 ? p->iterations - 1 : -1;
+    int level_at = pbf_level_iteration(p);
     for (int it = 0; it < p->iterations; it++) {
         // The first iteration's density came with the neighbour lists.
         if (it > 0) {
@@ -661,7 +659,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         if (it == level_at) level_solve(s);
         float relax = pbf_relaxation(p, it);
         glProgramUniform1f(w->programs[PROG_DELTA], w->u_relax[0], relax);
-        glProgramUniform1f(w->programs[PROG_DELTA], w->u_level_gain, it == level_at ? 1.0f : 0.0f);
+        glProgramUniform1i(w->programs[PROG_DELTA], w->u_apply_level, it == level_at);
         glProgramUniform1f(w->programs[PROG_COLLIDE], w->u_relax[1], relax);
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
         stage_done(s, PBF_STAGE_DELTA, it);

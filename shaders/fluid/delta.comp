@@ -12,7 +12,7 @@
 #include "common.glsl"
 layout(local_size_x = PBF_WG) in;
 uniform float relax; // this iteration's relaxation factor (pbf_relaxation)
-uniform float level_gain; // 1 in the iteration after the coarse level's solve (level_sweeps > 0), else 0
+uniform bool apply_level; // in the iteration after the coarse level's solve (pbf_level_iteration)
 
 void main()
 {
@@ -62,7 +62,7 @@ void main()
     }
     dp *= P.mass_density * P.inv_rest_density;
     vec3 x = xi + relax * dp;
-    if (level_gain > 0.0) x += level_gain * level_correction(xi);
+    if (apply_level) x += level_correction(xi);
     // Collisions: keep a particle radius away from every boundary.
     for (uint p = 0u; p < P.plane_count; p++) {
         vec3 n;

@@ -15,9 +15,8 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= particle_count()) return;
     vec3 x = pred[i].xyz;
-    float e = lambda_rho[i].y * P.inv_rest_density - 1.0;
-    if (!(abs(e) < 1e30)) return; // not finite: the metrics report it
-    e = clamp(e, -1.0, 1.0);
+    float e;
+    if (!level_excess(lambda_rho[i].y, e)) return; // not finite: the metrics report it
     for (int k = 0; k < 8; k++) {
         uint cell;
         float wgt = level_corner(x, k, cell);

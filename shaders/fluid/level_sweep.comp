@@ -11,10 +11,6 @@ uniform uint parity; // this pass's cells: those whose x + y + z has this parity
 void main()
 {
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    uint nx = P.level_dims.x, ny = P.level_dims.y;
-    for (uint id = gl_GlobalInvocationID.x; id < P.level_dims.w; id += stride) {
-        int x = int(id % nx), y = int((id / nx) % ny), z = int(id / (nx * ny));
-        if (uint(x + y + z) % 2u != parity) continue;
-        level[id].p = level_relaxed(x, y, z);
-    }
+    for (uint id = gl_GlobalInvocationID.x; id < P.level_dims.w; id += stride)
+        if (level_parity(id) == parity) level[id].p = level_relaxed(id);
 }

@@ -589,6 +589,32 @@ PBF_FN float level_coord(PBF_P_ARG pbf_vec3 x, int a)
     return (pbf_comp(x, a) - pbf_comp(P.domain_min, a)) / pbf_comp(P.level_cell, a) - 0.5f;
 }
 
+/// Cell `id`'s coordinates.
+PBF_FN void level_cell_of(PBF_P_ARG PBF_UINT id, PBF_OUT(int) x, PBF_OUT(int) y, PBF_OUT(int) z)
+{
+    PBF_REF(x) = PBF_INT_OF(id % P.level_dims.x);
+    PBF_REF(y) = PBF_INT_OF((id / P.level_dims.x) % P.level_dims.y);
+    PBF_REF(z) = PBF_INT_OF(id / (P.level_dims.x * P.level_dims.y));
+}
+
+/// Cell `id`'s colour in the sweeps' red-black order: the parity of x + y + z.
+PBF_FN PBF_UINT level_parity(PBF_P_ARG PBF_UINT id)
+{
+    int x, y, z;
+    level_cell_of(PBF_P_ id, PBF_ADDR(x), PBF_ADDR(y), PBF_ADDR(z));
+    return PBF_UINT_OF(x + y + z) % 2u;
+}
+
+/// A particle's compression rho / rho0 - 1 for the deposit, clamped to [-1, 1]; false when
+/// its density is not finite (it then adds nothing; the metrics report it).
+PBF_FN bool level_excess(PBF_P_ARG float rho, PBF_OUT(float) e)
+{
+    float c = rho * P.inv_rest_density - 1.0f;
+    if (!(pbf_abs(c) < 1e30f)) return false;
+    PBF_REF(e) = pbf_clamp(c, -1.0f, 1.0f);
+    return true;
+}
+
 /// A weight in the deposit's fixed point (rounded half up on both sides: GLSL's round may
 /// go either way at a half).
 PBF_FN int level_fixed(float v) { return PBF_FLOOR_INT(v * PBF_LEVEL_FIXED + 0.5f); }
@@ -624,19 +650,16 @@ PBF_FN float level_compression(PBF_P_ARG int weight, int excess)
 }
 
 #if !defined(GL_core_profile) || defined(USE_LEVEL)
-/// p of cell (x, y, z) after one projected over-relaxation step of -lap p = E, p >= 0, from
-/// its neighbours' p (a wall's side drops out of the stencil: no flow through it; air reads
+/// p of cell `id` after one projected over-relaxation step of -lap p = E, p >= 0, from its
+/// neighbours' p (a wall's side drops out of the stencil: no flow through it; air reads
 /// p = 0). Air stays at 0.
-PBF_FN float level_relaxed(PBF_P_ARG PBF_LEVEL_ARG int x, int y, int z)
+PBF_FN float level_relaxed(PBF_P_ARG PBF_LEVEL_ARG PBF_UINT id)
 {
-    PBF_UINT id = level_index(PBF_P_ x, y, z);
     float e = level[id].e;
     float p = level[id].p;
     if (e <= PBF_LEVEL_AIR) return p;
     int c[3];
-    c[0] = x;
-    c[1] = y;
-    c[2] = z;
+    level_cell_of(PBF_P_ id, PBF_ADDR(c[0]), PBF_ADDR(c[1]), PBF_ADDR(c[2]));
     float sum = e, diag = 0.0f;
     for (int a = 0; a < 3; a++) {
         float inv_c2 = 1.0f / (pbf_comp(P.level_cell, a) * pbf_comp(P.level_cell, a));
