@@ -161,6 +161,7 @@ struct pbf_world {
     float added_speed[PBF_GUARD_HISTORY];   // fastest particle appended before step k, same index
     bool guard_capped;          // the guard wanted more than max_substeps (warned once)
     bool tension_warned;        // the cohesion needed more than max_substeps (warned once)
+    bool level_warned;          // the coarse level ran beside two-way bodies (warned once)
     bool warned_hang;           // a step's fence did not signal in PBF_STEP_WAIT_NS (said once)
     pbf_guard_seen seen_of[PBF_GUARD_HISTORY]; // step k's compression and substeps, same index as speed_of
     pbf_guard_state compression; // the compression guard's level and quiet count (pbf_guard_compression)

@@ -851,6 +851,24 @@ static void warn_tension(pbf_world *w, float dt)
     w->tension_warned = short_of;
 }
 
+// The coarse level's push has no reaction yet (docs/solver.md, "The coarse level"): the forces
+// on two-way bodies (and on static ones that measure theirs) miss the share of the water's
+// weight it carries. Say so once while the level is on and such a body is there.
+static void warn_level(pbf_world *w)
+{
+    bool two_way = false;
+    for (int i = 0; i < PBF_MAX_COLLIDERS && w->params.level_sweeps > 0 && !two_way; i++)
+        two_way = w->slots[i].used && (w->slots[i].gpu.info.y & PBF_COLLIDER_TWO_WAY) != 0u;
+    if (two_way && !w->level_warned && w->log) {
+        char msg[512];
+        snprintf(msg, sizeof msg, "level_sweeps = %d with two-way bodies: the coarse level's push has no reaction yet, "
+                 "so the forces on bodies miss the share of the water's weight it carries (a static floor measured "
+                 "12 %% light; docs/solver.md, \"The coarse level\")", w->params.level_sweeps);
+        w->log(w->log_user, 2, msg);
+    }
+    w->level_warned = two_way;
+}
+
 // The time-step guard (params.cfl, pbf_guard_substeps; params.guard_compression,
 // pbf_guard_compression): the substeps this step takes, with a warning (once while it
 // lasts) when max_substeps is not enough. They read the records of steps now - 2 (and, for
@@ -912,6 +930,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     int substeps = guard_substeps(w, dt);
     w->step_substeps = substeps;
     warn_tension(w, dt);
+    warn_level(w);
     slot->nq = 0;
     slot->step = w->step_index;
     slot->appended_total = w->appended_total;

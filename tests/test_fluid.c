@@ -601,10 +601,63 @@ static void time_step_guard_takes_substeps_for_fast_particles(void **state)
     assert_non_null(strstr(log.last, "max_substeps = 6"));
 }
 
+/// The steps of a small pool with the coarse level on (or off) beside a box (two-way or not):
+/// the warnings the world gave, the last in *log.
+static int level_warnings(int level_sweeps, bool two_way, bool remove_after, support_warnings *log)
+{
+    pbf_world_def d = pbf_default_world_def();
+    d.params.level_sweeps = level_sweeps;
+    d.capacity = 2048;
+    const float lo[3] = { 0, 0, 0 }, hi[3] = { 0.3f, 0.3f, 0.3f };
+    memcpy(d.domain_min, lo, sizeof lo);
+    memcpy(d.domain_max, hi, sizeof hi);
+    d.log = support_capture_warning;
+    d.log_user = log;
+    char err[512];
+    pbf_world *w = pbf_world_create(&d, err, sizeof err);
+    assert_non_null(w);
+    pbf_block_def b = pbf_default_block_def();
+    const float bmax[3] = { 0.3f, 0.15f, 0.3f };
+    memcpy(b.max, bmax, sizeof bmax);
+    assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_OK);
+    pbf_collider_def box = pbf_default_collider_def();
+    box.type = PBF_SHAPE_BOX;
+    box.size[0] = box.size[1] = box.size[2] = 0.05f;
+    box.position[0] = box.position[1] = box.position[2] = 0.15f;
+    box.two_way = two_way;
+    pbf_collider_id id;
+    assert_int_equal(pbf_world_add_collider(w, &box, &id), PBF_OK);
+    for (int k = 0; k < 3; k++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    if (remove_after) {
+        assert_int_equal(pbf_world_remove_collider(w, id), PBF_OK);
+        assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+        assert_int_equal(pbf_world_add_collider(w, &box, &id), PBF_OK);
+        assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    }
+    pbf_world_destroy(w);
+    return log->warnings;
+}
+
+/// The coarse level's push has no reaction on bodies yet (docs/solver.md, "The coarse
+/// level"): a world with it on and a two-way body says so, once while both are there, naming
+/// level_sweeps; with the level off, or beside a one-way body, it says nothing. Taken away and
+/// brought back, the body is warned about again.
+static void coarse_level_beside_a_two_way_body_warns(void **state)
+{
+    (void)state;
+    support_warnings off = { 0, "" }, one_way = { 0, "" }, on = { 0, "" }, again = { 0, "" };
+    assert_int_equal(level_warnings(0, true, false, &off), 0);
+    assert_int_equal(level_warnings(4, false, false, &one_way), 0);
+    assert_int_equal(level_warnings(4, true, false, &on), 1);
+    support_assert_mentions(on.last, (const char *const[]){ "level_sweeps = 4", "two-way bodies", "no reaction", NULL });
+    assert_int_equal(level_warnings(4, true, true, &again), 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(settled_tank_walls_do_not_stack_particles),
+        cmocka_unit_test(coarse_level_beside_a_two_way_body_warns),
         cmocka_unit_test(rest_lattice_in_a_closed_box_is_in_balance),
         cmocka_unit_test(emitter_pours_its_rate),
         cmocka_unit_test(sink_removes_particles_that_enter_it),
