@@ -22,6 +22,9 @@
 // The fluid's collider limit: at most this many bodies, and at most this many colliders
 // in all (a compound takes one per part).
 #define CPL_MAX_BODIES PBF_MAX_COLLIDERS
+// Steps of each body's acceleration kept for the added mass (more than the largest
+// force_latency, 7).
+#define CPL_ACCEL_RING 8
 
 typedef struct body_entry {
     bool used;
@@ -36,6 +39,11 @@ typedef struct body_entry {
     cpl_body_stats stats;
     float force[3], torque[3]; // applied in each substep of the current step (smoothed)
     float damping[3];          // N: the lag damping applied with it this step (not smoothed)
+    float accel[3];            // m/s^2: its acceleration in the steps the force was measured in (smoothed as the force)
+    float lagged[3];           // m/s^2: that acceleration as the added mass takes it (at most g)
+    float added;               // kg: the added mass the force is applied with (cpl_def.added_mass), 0 none
+    float step_accel[CPL_ACCEL_RING][3]; // m/s^2: its acceleration in coupling step k, at k % CPL_ACCEL_RING
+    float v_before[3];         // m/s: its velocity at the start of the current step
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
     float placed;              // s: held while being set down in water (placing)
     float v0[3];               // velocity it was made with, m/s
@@ -594,9 +602,19 @@ cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 posit
 
 // ---- the step ------------------------------------------------------------------------------
 
+// The force and torque of the step, on a body integrated with its added mass m_a (added_mass):
+// (m + m_a) a = m g + F + m_a a_lag, that is the force m (F + m_a (a_lag - g)) / (m + m_a)
+// on the body of mass m that Bullet integrates under m g.
 static void apply_fluid(cpl_coupling *c, body_entry *e)
 {
     phys_vec3 f = { e->force[0] + e->damping[0], e->force[1] + e->damping[1], e->force[2] + e->damping[2] };
+    if (e->added > 0.0f && e->mass > 0.0f) {
+        phys_vec3 g = phys_world_get_gravity(c->def.phys);
+        float k = e->mass / (e->mass + e->added);
+        f.x = k * (f.x + e->added * (e->lagged[0] - g.x));
+        f.y = k * (f.y + e->added * (e->lagged[1] - g.y));
+        f.z = k * (f.z + e->added * (e->lagged[2] - g.z));
+    }
     phys_body_apply_force(c->def.phys, e->body, f, true);
     phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
@@ -666,6 +684,31 @@ static void lag_damping(cpl_coupling *c, body_entry *e, const float measured[3],
     e->damping[0] = -damp * along * g.x / gmag;
     e->damping[1] = -damp * along * g.y / gmag;
     e->damping[2] = -damp * along * g.z / gmag;
+}
+
+// The added mass (cpl_def.added_mass, docs/coupling.md "Added mass"): the body's acceleration
+// in the step its force was measured in, `back` steps ago, smoothed with the force's `keep`,
+// and m_a = C_a rho V times the share of full submersion's lift in the smoothed force.
+static void added_mass(cpl_coupling *c, body_entry *e, int back, float keep)
+{
+    e->added = 0.0f;
+    if (c->def.added_mass <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
+    const float zero[3] = { 0.0f, 0.0f, 0.0f };
+    const float *a = c->steps >= (uint64_t)back ? e->step_accel[(c->steps - (uint64_t)back) % CPL_ACCEL_RING] : zero;
+    for (int k = 0; k < 3; k++) e->accel[k] = keep * e->accel[k] + (1.0f - keep) * a[k];
+    phys_vec3 g = phys_world_get_gravity(c->def.phys);
+    float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
+    if (!(gmag > 0.0f)) return;
+    // At most g: the correction is for what gravity and buoyancy start (a release); an impact's
+    // or a contact's jolt, which the water answers with a slam rather than its inertia alone,
+    // would come back a step later as a kick.
+    float amag = sqrtf(e->accel[0] * e->accel[0] + e->accel[1] * e->accel[1] + e->accel[2] * e->accel[2]);
+    float clamp = amag > gmag ? gmag / amag : 1.0f;
+    float rho = pbf_world_params(c->def.fluid)->rest_density;
+    float up = -(e->force[0] * g.x + e->force[1] * g.y + e->force[2] * g.z) / gmag;
+    float share = fminf(fmaxf(up / (rho * gmag * e->volume), 0.0f), 1.0f);
+    e->added = c->def.added_mass * rho * e->volume * share;
+    for (int k = 0; k < 3; k++) e->lagged[k] = clamp * e->accel[k];
 }
 
 // A body's force is measured force_latency steps late, and water within a spacing of a new
@@ -852,6 +895,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         }
         limit_impulse(c, e, dt);
         lag_damping(c, e, rep.force, dt);
+        added_mass(c, e, back, keep);
         e->has_force = true;
     }
     // Bodies not yet measured: what gravity does to them in this step (placing undoes it
@@ -861,9 +905,28 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         body_entry *e = &c->bodies[i];
         if (e->used && e->two_way && !e->has_force && !e->in_water) unmeasured_state(c, e, &before_p[i], NULL, &before_v[i]);
     }
+    // Each dynamic body's velocity before the step, for its acceleration in it (the added mass).
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        phys_vec3 v;
+        if (!e->used || !e->two_way || e->type != PHYS_BODY_DYNAMIC) continue;
+        if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) v = (phys_vec3){ 0.0f, 0.0f, 0.0f };
+        e->v_before[0] = v.x, e->v_before[1] = v.y, e->v_before[2] = v.z;
+    }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);
     if (c->hook_error != CPL_OK) return c->hook_error;
+    for (int i = 0; i < CPL_MAX_BODIES; i++) {
+        body_entry *e = &c->bodies[i];
+        phys_vec3 v;
+        if (!e->used || !e->two_way || e->type != PHYS_BODY_DYNAMIC) continue;
+        float *a = e->step_accel[c->steps % CPL_ACCEL_RING];
+        if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK || !e->has_force) {
+            a[0] = a[1] = a[2] = 0.0f; // not yet let go: held, or falling before its first measurement
+            continue;
+        }
+        a[0] = (v.x - e->v_before[0]) / dt, a[1] = (v.y - e->v_before[1]) / dt, a[2] = (v.z - e->v_before[2]) / dt;
+    }
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
         if (!e->used || !e->two_way || e->has_force || e->in_water) continue;

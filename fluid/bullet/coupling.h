@@ -85,6 +85,18 @@ typedef struct cpl_def {
     /// steps, only while the body floats (the measured lift between none and full
     /// submersion's), at most what stops the body in a step (docs/coupling.md).
     float lag_damping;
+    /// Added-mass coefficient C_a of the lag's correction, [0, 2]; default 0.5 (a sphere's
+    /// in potential flow); 0 off. The water's answer to a body's acceleration (the inertia of
+    /// the water it must move, C_a rho V_submerged) is in the measured force, but tau late: a
+    /// heavy body let go in water fell at (1 - rho / rho_body) g until it came. The coupling
+    /// integrates a dynamic body as one of mass m + m_a, m_a = C_a rho V (the submerged share
+    /// from the measured lift), under gravity, the applied force and m_a a_lag, the body's
+    /// own acceleration in the step the force was measured in (smoothed as the force is, at
+    /// most g: an impact's jolt is answered by a slam, not by the water's inertia alone):
+    /// where the acceleration holds still that is exactly the force, and from a release it is
+    /// potential flow's (rho_body - rho) g / (rho_body + C_a rho) until the measured answer
+    /// arrives (docs/coupling.md, "Added mass"). Linear motion only.
+    float added_mass;
     /// Sample spacing of the distance grid baked for triangle meshes, m, (0, 1].
     /// Default 0: not allowed; cpl_default_def() sets 0.02 m. Grids hold at most 128
     /// samples per axis; a finer spacing is coarsened to fit (and logged).
@@ -94,11 +106,12 @@ typedef struct cpl_def {
 } cpl_def;
 
 /// Defaults: no worlds, force_latency 1, force_smoothing 0.5, impulse_limit 1, lag_damping 1.5,
-/// mesh_cell 0.02 m, no log.
+/// added_mass 0.5, mesh_cell 0.02 m, no log.
 cpl_def cpl_default_def(void);
 
 /// The numeric settings of cpl_def by name, for scripts and command lines (seiche.coupling,
-/// --set coupling.NAME): force_latency, force_smoothing, impulse_limit, lag_damping, mesh_cell.
+/// --set coupling.NAME): force_latency, force_smoothing, impulse_limit, lag_damping, added_mass,
+/// mesh_cell.
 typedef struct cpl_setting_info {
     const char *name;
     double min, max;    ///< allowed range, inclusive except min where open_min

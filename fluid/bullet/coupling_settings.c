@@ -15,17 +15,19 @@ cpl_def cpl_default_def(void)
     d.force_smoothing = 0.5f;
     d.impulse_limit = 1.0f;
     d.lag_damping = 1.5f;
+    d.added_mass = 0.5f;
     d.mesh_cell = 0.02f;
     return d;
 }
 
-enum { SET_LATENCY, SET_SMOOTHING, SET_IMPULSE, SET_LAG_DAMPING, SET_MESH_CELL, SET_COUNT };
+enum { SET_LATENCY, SET_SMOOTHING, SET_IMPULSE, SET_LAG_DAMPING, SET_ADDED_MASS, SET_MESH_CELL, SET_COUNT };
 
 static const cpl_setting_info settings[SET_COUNT] = {
     [SET_LATENCY] = { "force_latency", 1, 7, false, true, "steps" },
     [SET_SMOOTHING] = { "force_smoothing", 0, 0.95, false, false, "" },
     [SET_IMPULSE] = { "impulse_limit", 0, 100, false, false, "(x the acceleration of full submersion)" },
     [SET_LAG_DAMPING] = { "lag_damping", 0, 4, false, false, "(x the force lag's negative damping)" },
+    [SET_ADDED_MASS] = { "added_mass", 0, 2, false, false, "(x the mass of the water the body displaces)" },
     [SET_MESH_CELL] = { "mesh_cell", 0, 1, true, false, "m" },
 };
 
@@ -50,6 +52,7 @@ double cpl_def_get(const cpl_def *def, const cpl_setting_info *info)
     case SET_SMOOTHING: return def->force_smoothing;
     case SET_IMPULSE: return def->impulse_limit;
     case SET_LAG_DAMPING: return def->lag_damping;
+    case SET_ADDED_MASS: return def->added_mass;
     case SET_MESH_CELL: return def->mesh_cell;
     default: return 0.0;
     }
@@ -116,6 +119,7 @@ cpl_result cpl_def_set(cpl_def *def, const char *name, double value, char *err, 
     case SET_SMOOTHING: def->force_smoothing = (float)value; break;
     case SET_IMPULSE: def->impulse_limit = (float)value; break;
     case SET_LAG_DAMPING: def->lag_damping = (float)value; break;
+    case SET_ADDED_MASS: def->added_mass = (float)value; break;
     default: def->mesh_cell = (float)value; break;
     }
     return CPL_OK;
