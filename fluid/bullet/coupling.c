@@ -42,6 +42,7 @@ typedef struct body_entry {
     float accel[3];            // m/s^2: its acceleration in the steps the force was measured in (smoothed as the force)
     float lagged[3];           // m/s^2: that acceleration as the added mass takes it (at most g)
     float added;               // kg: the added mass the force is applied with (cpl_def.added_mass), 0 none
+    float share;               // the share of full submersion's lift it is taken for (slowly followed)
     float step_accel[CPL_ACCEL_RING][3]; // m/s^2: its acceleration in coupling step k, at k % CPL_ACCEL_RING
     float v_before[3];         // m/s: its velocity at the start of the current step
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
@@ -689,7 +690,9 @@ static void lag_damping(cpl_coupling *c, body_entry *e, const float measured[3],
 // The added mass (cpl_def.added_mass, docs/coupling.md "Added mass"): the body's acceleration
 // in the step its force was measured in, `back` steps ago, smoothed with the force's `keep`,
 // and m_a = C_a rho V times the share of full submersion's lift in the smoothed force.
-static void added_mass(cpl_coupling *c, body_entry *e, int back, float keep)
+#define CPL_ADDED_MASS_TIME 0.5f // s
+
+static void added_mass(cpl_coupling *c, body_entry *e, int back, float keep, float dt)
 {
     e->added = 0.0f;
     if (c->def.added_mass <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
@@ -707,7 +710,13 @@ static void added_mass(cpl_coupling *c, body_entry *e, int back, float keep)
     float rho = pbf_world_params(c->def.fluid)->rest_density;
     float up = -(e->force[0] * g.x + e->force[1] * g.y + e->force[2] * g.z) / gmag;
     float share = fminf(fmaxf(up / (rho * gmag * e->volume), 0.0f), 1.0f);
-    e->added = c->def.added_mass * rho * e->volume * share;
+    // The share changes with the body's heave, in step with its acceleration: taken as it is,
+    // m_a a_lag would not average out over a bob and lifted floating bodies (a sphere of half
+    // the water's density rode 0.026 of its height higher). So it follows the share over
+    // CPL_ADDED_MASS_TIME, from its first measurement.
+    float follow = e->has_force ? fminf(dt / CPL_ADDED_MASS_TIME, 1.0f) : 1.0f;
+    e->share += follow * (share - e->share);
+    e->added = c->def.added_mass * rho * e->volume * e->share;
     for (int k = 0; k < 3; k++) e->lagged[k] = clamp * e->accel[k];
 }
 
@@ -895,7 +904,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         }
         limit_impulse(c, e, dt);
         lag_damping(c, e, rep.force, dt);
-        added_mass(c, e, back, keep);
+        added_mass(c, e, back, keep, dt);
         e->has_force = true;
     }
     // Bodies not yet measured: what gravity does to them in this step (placing undoes it
