@@ -546,6 +546,20 @@ static void step_stats_match_the_particles_read_back(void **state)
     pbf_world_destroy(w);
 }
 
+/// A world of `d` over the domain [0, hi] whose warnings go to `log` (support_capture_warning).
+static pbf_world *logging_world(pbf_world_def *d, const float hi[3], support_warnings *log)
+{
+    const float lo[3] = { 0, 0, 0 };
+    memcpy(d->domain_min, lo, sizeof lo);
+    memcpy(d->domain_max, hi, 3 * sizeof *hi);
+    d->log = support_capture_warning;
+    d->log_user = log;
+    char err[512];
+    pbf_world *w = pbf_world_create(d, err, sizeof err);
+    assert_non_null(w);
+    return w;
+}
+
 /// The substeps of one step of a block thrown at `speed` m/s in zero gravity (the most
 /// any of 4 steps took); *hash (may be NULL) receives the state hash after them.
 static int substeps_at(float speed, float cfl, int max_substeps, support_warnings *log, uint64_t *hash)
@@ -558,14 +572,8 @@ static int substeps_at(float speed, float cfl, int max_substeps, support_warning
     d.params.max_substeps = max_substeps;
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
     d.capacity = 1024;
-    const float lo[3] = { 0, 0, 0 }, hi[3] = { 4, 1, 1 };
-    memcpy(d.domain_min, lo, sizeof lo);
-    memcpy(d.domain_max, hi, sizeof hi);
-    d.log = support_capture_warning;
-    d.log_user = log;
-    char err[512];
-    pbf_world *w = pbf_world_create(&d, err, sizeof err);
-    assert_non_null(w);
+    const float hi[3] = { 4, 1, 1 };
+    pbf_world *w = logging_world(&d, hi, log);
     pbf_block_def b = pbf_default_block_def();
     const float bmin[3] = { 0.2f, 0.4f, 0.4f }, bmax[3] = { 0.3f, 0.5f, 0.5f };
     memcpy(b.min, bmin, sizeof bmin);
@@ -608,14 +616,8 @@ static int level_warnings(int level_sweeps, bool two_way, bool remove_after, sup
     pbf_world_def d = pbf_default_world_def();
     d.params.level_sweeps = level_sweeps;
     d.capacity = 2048;
-    const float lo[3] = { 0, 0, 0 }, hi[3] = { 0.3f, 0.3f, 0.3f };
-    memcpy(d.domain_min, lo, sizeof lo);
-    memcpy(d.domain_max, hi, sizeof hi);
-    d.log = support_capture_warning;
-    d.log_user = log;
-    char err[512];
-    pbf_world *w = pbf_world_create(&d, err, sizeof err);
-    assert_non_null(w);
+    const float hi[3] = { 0.3f, 0.3f, 0.3f };
+    pbf_world *w = logging_world(&d, hi, log);
     pbf_block_def b = pbf_default_block_def();
     const float bmax[3] = { 0.3f, 0.15f, 0.3f };
     memcpy(b.max, bmax, sizeof bmax);
