@@ -433,7 +433,6 @@ void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P)
 }
 
 /// metrics.comp's density of slot i at its position (fluid over the list + boundaries).
-
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i)
 {
     pbf_vec3 xi = pbf_xyz(w->pos[i]);

@@ -60,11 +60,9 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
     float s = w->k.spacing;
     uint32_t n[3];
     char err[256];
-    uint64_t total = pbf_block_lattice(b, s, w->domain_min, w->domain_max, n, err, sizeof err);
-    if (total == 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
-    if (total > w->capacity - w->count)
-        return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
-                    (unsigned long long)total, w->capacity - w->count, w->capacity);
+    uint64_t total;
+    pbf_result fit = pbf_block_lattice(b, s, w->domain_min, w->domain_max, w->count, w->capacity, n, &total, err, sizeof err);
+    if (fit != PBF_OK) return pbf_fail(w, fit, "%s", err);
     float *p4 = malloc((size_t)total * 16), *v4 = malloc((size_t)total * 16);
     if (!p4 || !v4) {
         free(p4);

@@ -600,33 +600,39 @@ float pbf_collider_bounding_radius(const pbf_collider_def *d)
     return 1e30f;
 }
 
-uint64_t pbf_block_lattice(const pbf_block_def *b, float spacing, const float domain_min[3],
-                           const float domain_max[3], uint32_t n[3], char *err, size_t err_size)
+pbf_result pbf_block_lattice(const pbf_block_def *b, float spacing, const float domain_min[3],
+                             const float domain_max[3], uint32_t in_use, uint32_t capacity, uint32_t n[3],
+                             uint64_t *total, char *err, size_t err_size)
 {
     static const char *const axis = "xyz";
     for (int k = 0; k < 3; k++) {
         if (!isfinite(b->min[k]) || !isfinite(b->max[k]) || !(b->max[k] > b->min[k])) {
             snprintf(err, err_size, "pbf_block_def.max.%c must be finite and greater than min.%c (got min %g, max %g)",
                      axis[k], axis[k], (double)b->min[k], (double)b->max[k]);
-            return 0;
+            return PBF_ERR_INVALID_ARG;
         }
         if (b->min[k] < domain_min[k] || b->max[k] > domain_max[k]) {
             snprintf(err, err_size, "pbf_block_def.%c range [%g, %g] must lie inside the domain [%g, %g]", axis[k],
                      (double)b->min[k], (double)b->max[k], (double)domain_min[k], (double)domain_max[k]);
-            return 0;
+            return PBF_ERR_INVALID_ARG;
         }
         if (!isfinite(b->velocity[k])) {
             snprintf(err, err_size, "pbf_block_def.velocity.%c must be finite (got %g)", axis[k], (double)b->velocity[k]);
-            return 0;
+            return PBF_ERR_INVALID_ARG;
         }
     }
-    uint64_t total = 1;
+    *total = 1;
     for (int k = 0; k < 3; k++) {
         double c = floor((double)(b->max[k] - b->min[k]) / spacing + 1e-4);
         n[k] = c < 1.0 ? 1u : (uint32_t)c;
-        total *= n[k];
+        *total *= n[k];
     }
-    return total;
+    if (*total > capacity - in_use) {
+        snprintf(err, err_size, "pbf_block_def: the block holds %llu particles but only %u of capacity %u are free",
+                 (unsigned long long)*total, capacity - in_use, capacity);
+        return PBF_ERR_CAPACITY;
+    }
+    return PBF_OK;
 }
 
 void pbf_block_point(const pbf_block_def *b, float spacing, uint32_t x, uint32_t y, uint32_t z, float out[3])

@@ -144,10 +144,12 @@ int pbf_container_planes(const float min[3], const float max[3], bool closed_top
                          const float domain_max[3], float planes[PBF_MAX_PLANES][4], char *err, size_t err_size);
 
 /// Checks a block against the domain and lays out its lattice: particles at the centres of
-/// cells of `spacing` from min, x fastest; n receives the particles per axis. Returns the
-/// number of particles, or 0 with a message in err naming the field.
-uint64_t pbf_block_lattice(const pbf_block_def *b, float spacing, const float domain_min[3],
-                           const float domain_max[3], uint32_t n[3], char *err, size_t err_size);
+/// cells of `spacing` from min, x fastest; n receives the particles per axis and *total all
+/// of them. PBF_ERR_INVALID_ARG with a message in err naming the field, or PBF_ERR_CAPACITY
+/// when they do not fit in a world with `in_use` of `capacity` particles taken.
+pbf_result pbf_block_lattice(const pbf_block_def *b, float spacing, const float domain_min[3],
+                             const float domain_max[3], uint32_t in_use, uint32_t capacity, uint32_t n[3],
+                             uint64_t *total, char *err, size_t err_size);
 /// Position of lattice point (x, y, z) of the block, m.
 void pbf_block_point(const pbf_block_def *b, float spacing, uint32_t x, uint32_t y, uint32_t z, float out[3]);
 

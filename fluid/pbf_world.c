@@ -857,8 +857,9 @@ static void warn_tension(pbf_world *w, float dt)
 static void warn_level(pbf_world *w)
 {
     bool two_way = false;
-    for (int i = 0; i < PBF_MAX_COLLIDERS && w->params.level_sweeps > 0 && !two_way; i++)
-        two_way = w->slots[i].used && (w->slots[i].gpu.info.y & PBF_COLLIDER_TWO_WAY) != 0u;
+    if (w->params.level_sweeps > 0)
+        for (int i = 0; i < PBF_MAX_COLLIDERS && !two_way; i++)
+            two_way = w->slots[i].used && (w->slots[i].gpu.info.y & PBF_COLLIDER_TWO_WAY) != 0u;
     if (two_way && !w->level_warned && w->log) {
         char msg[512];
         snprintf(msg, sizeof msg, "level_sweeps = %d with two-way bodies: the coarse level's push has no reaction yet, "
