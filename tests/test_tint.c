@@ -1,6 +1,7 @@
 // Tints (seiche.colour): a particle's colour lives on the GPU in the w of its position and
 // stays with the particle however the solver sorts it; emitters pour tinted water; the
-// renderer draws the tint in both modes. Headless on llvmpipe, small scenes.
+// renderer draws the tint in both modes (the surface with its particle passes drawn either
+// way). Headless on llvmpipe, small scenes.
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -214,11 +215,14 @@ static void both_modes_draw_the_tints(void **state)
     cd.target[0] = 0.0f, cd.target[1] = 0.25f, cd.target[2] = 0.0f;
     char err[2048];
     assert_true(eng_camera_init(&cam, &cd, err, sizeof err));
-    for (int mode = 0; mode < 2; mode++) {
+    // spheres; the surface; the surface with its particle passes as compute splats
+    static const char *const names[3] = { "spheres", "surface", "surface, compute splats" };
+    for (int mode = 0; mode < 3; mode++) {
         eng_renderer_def rd = eng_default_renderer_def();
         char dir[1024];
         rd.shader_dir = support_source_path("shaders", dir, sizeof dir);
         rd.fluid.mode = mode == 0 ? ENG_FLUID_SPHERES : ENG_FLUID_SURFACE;
+        rd.fluid.splat = mode == 2 ? ENG_FLUID_SPLAT_COMPUTE : ENG_FLUID_SPLAT_RASTER;
         eng_renderer *r = eng_renderer_create(&rd, err, sizeof err);
         if (!r) fail_msg("renderer: %s", err);
         eng_renderer_begin(r, ctx, &cam);
@@ -235,8 +239,8 @@ static void both_modes_draw_the_tints(void **state)
                 long *s = x < W / 2 ? left : right;
                 for (int k = 0; k < 3; k++) s[k] += c[k];
             }
-        print_message("%s: left %ld %ld %ld, right %ld %ld %ld\n", mode == 0 ? "spheres" : "surface", left[0], left[1],
-                      left[2], right[0], right[1], right[2]);
+        print_message("%s: left %ld %ld %ld, right %ld %ld %ld\n", names[mode], left[0], left[1], left[2], right[0],
+                      right[1], right[2]);
         assert_true(left[0] > left[2] * 5 / 4);
         assert_true(right[2] > right[0] * 5 / 4);
         eng_renderer_destroy(r);

@@ -6,9 +6,12 @@
 // the frame. No simulation: the particles are uploaded once, so only drawing is timed. For
 // each fluid mode asked (--mode) it draws warm-up frames, then measured frames, each
 // waited for, and prints the median milliseconds of every pass (the renderer's GPU timer
-// sections), with the size, the particle count and the GL renderer.
+// sections), with the size, the particle count and the GL renderer. The modes run once for
+// each way of drawing the water's particle passes (the look's `splat`) that --splat names,
+// one after the other in the same process (default raster,compute).
 //
 //   build/bin/seiche-render-bench --size 1920x1080 --particles 1000000 --frames 20
+//   build/bin/seiche-render-bench --particles 1000000 --mode surface --splat raster,compute
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -44,7 +47,8 @@ static int usage(void)
 {
     fprintf(stderr, "usage: seiche-render-bench [--size WxH] [--particles N] [--frames N] [--warmup N]\n"
                     "                           [--mode surface,spheres,density,speed] [--resolution 0.25..1]\n"
-                    "                           [--shaders DIR] [--screenshot FILE.png (the last frame)]\n");
+                    "                           [--splat raster,compute] [--shaders DIR]\n"
+                    "                           [--screenshot FILE.png (the last frame)]\n");
     return 2;
 }
 
@@ -53,7 +57,7 @@ int main(int argc, char **argv)
     int w = 1280, h = 720, frames = 10, warmup = 3;
     long n = 100000;
     float resolution = -1.0f;
-    const char *modes = "surface,spheres", *shader_dir = NULL, *shot = NULL;
+    const char *modes = "surface,spheres", *splats = "raster,compute", *shader_dir = NULL, *shot = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!v) return usage();
@@ -75,6 +79,8 @@ int main(int argc, char **argv)
             if (*end || errno || !(resolution >= 0.25f && resolution <= 1.0f)) return usage();
         } else if (strcmp(a, "--mode") == 0) {
             modes = v;
+        } else if (strcmp(a, "--splat") == 0) {
+            splats = v;
         } else if (strcmp(a, "--shaders") == 0) {
             shader_dir = v;
         } else if (strcmp(a, "--screenshot") == 0) {
@@ -165,9 +171,19 @@ int main(int argc, char **argv)
     printf("seiche-render-bench: %dx%d, %ld particles (radius %.2f mm), surface textures at %.2f, %s\n", w, h, n,
            1000.0 * 0.5 * s, (double)eng_renderer_fluid_look(r).resolution, eng_context_renderer(ctx));
     eng_gpu_timer *t = eng_renderer_gpu_timer(r);
-    char list[256];
+    char splat_list[256], list[256];
+    snprintf(splat_list, sizeof splat_list, "%s", splats);
+    char *splat_save = NULL;
+    for (char *sp = strtok_r(splat_list, ",", &splat_save); sp; sp = strtok_r(NULL, ",", &splat_save)) {
+    eng_fluid_look look = eng_renderer_fluid_look(r);
+    if (!eng_fluid_splat_parse(sp, &look.splat)) {
+        fprintf(stderr, "seiche-render-bench: --splat: each must be raster or compute (got '%s')\n", sp);
+        return 2;
+    }
+    eng_renderer_set_fluid_look(r, &look);
     snprintf(list, sizeof list, "%s", modes);
-    for (char *m = strtok(list, ","); m; m = strtok(NULL, ",")) {
+    char *mode_save = NULL;
+    for (char *m = strtok_r(list, ",", &mode_save); m; m = strtok_r(NULL, ",", &mode_save)) {
         eng_fluid_mode mode;
         if (!eng_fluid_mode_parse(m, &mode)) {
             fprintf(stderr, "seiche-render-bench: --mode: each must be one of %s (got '%s')\n", eng_fluid_mode_names(), m);
@@ -198,12 +214,13 @@ int main(int argc, char **argv)
                 seen[i] = samples;
             }
         }
-        printf("%s:\n", m);
+        printf("%s (splat %s):\n", m, sp);
         for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++) {
             qsort(ms[i], (size_t)got[i], sizeof(double), cmp_double);
             if (got[i] > 0) printf("  %-18s %9.3f ms\n", eng_gpu_timer_section(t, i, NULL), ms[i][got[i] / 2]);
         }
         for (int i = 0; i < MAX_SECTIONS; i++) free(ms[i]);
+    }
     }
     if (shot && !eng_screenshot_write_png(ctx, shot, err, sizeof err)) fprintf(stderr, "seiche-render-bench: %s\n", err);
     glDeleteBuffers(3, buf);

@@ -45,6 +45,7 @@ eng_fluid_look eng_default_fluid_look(void)
         .speed_max = 2.0f,
         .shadows = true,
         .view = ENG_FLUID_VIEW_SHADED,
+        .splat = ENG_FLUID_SPLAT_COMPUTE,
     };
     return k;
 }
@@ -181,6 +182,9 @@ bool eng_render_check_look(const eng_logger *log, char *err, size_t err_size, co
         return fail(log, err, err_size, "%s must be in (0, 1000] m/s (got %g)", FIELD("speed_max"), (double)k->speed_max);
     if ((int)k->view < 0 || k->view >= ENG_FLUID_VIEW_COUNT)
         return fail(log, err, err_size, "%s must be an eng_fluid_view, 0..3 (got %g)", FIELD("view"), (double)k->view);
+    if ((int)k->splat < 0 || k->splat >= ENG_FLUID_SPLAT_COUNT)
+        return fail(log, err, err_size, "%s must be an eng_fluid_splat, 0 (raster) or 1 (compute) (got %g)",
+                    FIELD("splat"), (double)k->splat);
 #undef FIELD
     return true;
 }
@@ -257,6 +261,23 @@ bool eng_fluid_view_parse(const char *name, eng_fluid_view *view)
     for (int i = 0; name && i < ENG_FLUID_VIEW_COUNT; i++)
         if (strcmp(name, view_names[i]) == 0) {
             *view = (eng_fluid_view)i;
+            return true;
+        }
+    return false;
+}
+
+static const char *const splat_names[ENG_FLUID_SPLAT_COUNT] = { "raster", "compute" };
+
+const char *eng_fluid_splat_name(eng_fluid_splat splat)
+{
+    return (unsigned)splat < ENG_FLUID_SPLAT_COUNT ? splat_names[splat] : NULL;
+}
+
+bool eng_fluid_splat_parse(const char *name, eng_fluid_splat *splat)
+{
+    for (int i = 0; name && i < ENG_FLUID_SPLAT_COUNT; i++)
+        if (strcmp(name, splat_names[i]) == 0) {
+            *splat = (eng_fluid_splat)i;
             return true;
         }
     return false;

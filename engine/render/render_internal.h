@@ -1,4 +1,4 @@
-// Inside the renderer: the state renderer.c, shadow.c and surface.c share. Not for use
+// Inside the renderer: the state renderer.c, shadow.c, surface.c and splat.c share. Not for use
 // outside engine/render/.
 //
 //   render_def.c  defaults and the checks of defs, looks and styles
@@ -7,6 +7,8 @@
 //   shadow.c    the light's view and the shadow map (opaque casters, the water's front and
 //               thickness)
 //   surface.c   the screen-space water: targets, thickness, depth, smoothing, composite
+//   splat.c     the water's particle passes (surface thickness and depth, the shadow's
+//               water) by compute shaders, when the look's splat is compute
 #ifndef ENG_RENDER_INTERNAL_H
 #define ENG_RENDER_INTERNAL_H
 
@@ -48,6 +50,13 @@ typedef struct particle_prog {
     GLint spray, spray_speed, spray_density;
 } particle_prog;
 
+// One compute program of the splats (splat.comp, splat_resolve.comp); -1 where it has no
+// such uniform.
+typedef struct splat_prog {
+    GLuint prog;
+    GLint radius, count, fill, size, view, proj, light_near, store;
+} splat_prog;
+
 typedef struct queued_mesh {
     const eng_mesh_store *meshes;
     eng_mesh_id mesh;
@@ -73,6 +82,7 @@ typedef struct shadow_map {
     float lo[3], hi[3];
     mat4 view, proj, viewproj;
     float near_plane, range; // m
+    GLuint bits;             // compute splats: R32UI, 2 layers (front code, thickness)
 } shadow_map;
 
 typedef struct surface_targets {
@@ -84,6 +94,8 @@ typedef struct surface_targets {
     GLuint thick_fbo, thick;   // thickness (R16F) + fluid_ds (tested only)
     GLuint tint;               // the tinted share (RGBA16F), thick_fbo's second target
     GLuint smooth_fbo[2], smooth[2], smooth_thick[2]; // [0] along y, [1] then along x
+    GLuint depth_bits;   // compute splats: R32UI, the nearest eye depth's bits
+    GLuint thick_bits;   // compute splats: R32UI, 5 layers (thickness, tinted rgb and a)
     bool drawn;          // the latest frame drew the surface
 } surface_targets;
 
@@ -91,6 +103,7 @@ struct eng_renderer {
     eng_renderer_def def;
     mesh_prog mesh, mesh_shadow;
     particle_prog spheres, fluid_depth, fluid_thick, fluid_shadow, fluid_spray;
+    splat_prog splat_depth, splat_thick, splat_light, resolve_surface, resolve_light;
     GLuint smooth_prog, composite_prog;
     GLint smooth_step, smooth_world_radius, smooth_px_per_m, smooth_max_px, smooth_range;
     GLint comp_fluid_size, comp_layer, comp_absorption, comp_scatter, comp_refraction, comp_reflection,
@@ -163,5 +176,18 @@ bool eng_surface_targets(eng_renderer *r, int w, int h);
 /// The water passes after the opaque scene was drawn into surf.scene_fbo; ends with the
 /// composite into the context's framebuffer.
 void eng_surface_render(eng_renderer *r);
+
+// splat.c: the particle passes of the surface and the shadow map by compute shaders
+// (eng_fluid_look.splat = ENG_FLUID_SPLAT_COMPUTE)
+bool eng_splat_create(eng_renderer *r, char *err, size_t err_size);
+void eng_splat_destroy(eng_renderer *r);
+/// An R32UI 2D array texture of `layers` layers (no sampling: for image atomics).
+GLuint eng_render_uint_layers(int w, int h, int layers, const char *label);
+/// The surface's thickness, tint and depth (surf.thick, surf.tint, surf.depth), as the
+/// raster passes would write them; false (logged) if its images could not be made.
+bool eng_splat_surface(eng_renderer *r);
+/// The water's front and thickness into the shadow map (after the casters were drawn,
+/// with no framebuffer bound); false (logged) if its images could not be made.
+bool eng_splat_shadow(eng_renderer *r);
 
 #endif

@@ -172,7 +172,7 @@ eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t
     const char *renderer = (const char *)glGetString(GL_RENDERER);
     r->flush_timestamps = renderer && strstr(renderer, "llvmpipe");
 
-    if (!build_programs(r, err, err_size) || !eng_shadow_create(r, err, err_size) ||
+    if (!build_programs(r, err, err_size) || !eng_splat_create(r, err, err_size) || !eng_shadow_create(r, err, err_size) ||
         !eng_surface_create(r, err, err_size)) {
         eng_renderer_destroy(r);
         return NULL;
@@ -214,6 +214,7 @@ void eng_renderer_destroy(eng_renderer *r)
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++)
         if (progs[i]) glDeleteProgram(progs[i]);
     eng_surface_destroy(r);
+    eng_splat_destroy(r);
     eng_shadow_destroy(r);
     if (r->empty_vao) glDeleteVertexArrays(1, &r->empty_vao);
     if (r->frame_ubo) glDeleteBuffers(1, &r->frame_ubo);

@@ -81,6 +81,18 @@ typedef enum eng_fluid_view {
     ENG_FLUID_VIEW_COUNT
 } eng_fluid_view;
 
+/// How the water's particle passes (the surface's depth and thickness, the water in the
+/// shadow map) are drawn: through the raster pipeline (sphere impostors), or by a compute
+/// shader that walks each sphere's texels and merges with atomics (the same images to
+/// rounding; for GPUs with little raster hardware). The spheres modes and the spray always
+/// use the raster pipeline. Compute is the default: on llvmpipe it drew a 200k-particle
+/// surface frame in 0.6 of the time (docs/performance.md).
+typedef enum eng_fluid_splat {
+    ENG_FLUID_SPLAT_RASTER = 0, ///< sphere impostors, depth test and blending
+    ENG_FLUID_SPLAT_COMPUTE,    ///< splat.comp and splat_resolve.comp
+    ENG_FLUID_SPLAT_COUNT
+} eng_fluid_splat;
+
 /// How the fluid looks, and the shadows: the settings `seiche.render{...}` changes (its Lua
 /// binding reads eng_renderer_fluid_look, sets the fields the table names, and applies
 /// the whole with eng_renderer_set_fluid_look, which checks every field).
@@ -102,10 +114,12 @@ typedef struct eng_fluid_look {
     float speed_max;        ///< speed mode: m/s at the red end, (0, 1000]
     bool shadows;           ///< the light's shadow map (bodies, walls, ground and water)
     eng_fluid_view view;    ///< surface: a debug view instead of the shaded water
+    eng_fluid_splat splat;  ///< surface and shadows: how the particle passes are drawn
 } eng_fluid_look;
 
 /// Surface mode, water absorbing (3, 1, 0.45)/m, half-resolution surface textures,
-/// smoothing over 6 particle radii, spray from 1.5 m/s at 0.6 opacity, density map 0.9..1.1 rho0, speed map 0..2 m/s, shadows.
+/// smoothing over 6 particle radii, spray from 1.5 m/s at 0.6 opacity, density map 0.9..1.1 rho0, speed map 0..2 m/s, shadows,
+/// compute splats.
 eng_fluid_look eng_default_fluid_look(void);
 
 typedef struct eng_renderer_def {
@@ -211,6 +225,10 @@ bool eng_fluid_look_check(const eng_fluid_look *look, const char *field, char *e
 const char *eng_fluid_view_name(eng_fluid_view view);
 /// The view of that name; false (and `view` unchanged) for any other text.
 bool eng_fluid_view_parse(const char *name, eng_fluid_view *view);
+/// "raster", "compute"; NULL for a value out of range.
+const char *eng_fluid_splat_name(eng_fluid_splat splat);
+/// The splat of that name; false (and `splat` unchanged) for any other text.
+bool eng_fluid_splat_parse(const char *name, eng_fluid_splat *splat);
 /// The current look (as set, or the def's).
 eng_fluid_look eng_renderer_fluid_look(const eng_renderer *r);
 /// Only the mode (the runner's --render and its `v` key); false for a value out of range.

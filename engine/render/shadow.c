@@ -21,7 +21,7 @@
 
 #include "shaders/render/render_shared.glsl"
 
-static const float far_away = 1e30f; // the front's clear value: no water on that ray
+static const float far_away = (float)ENG_RENDER_SPLAT_FAR; // the front's clear value: no water on that ray
 
 bool eng_shadow_create(eng_renderer *r, char *err, size_t err_size)
 {
@@ -64,8 +64,8 @@ void eng_shadow_destroy(eng_renderer *r)
 {
     shadow_map *s = &r->shadow;
     if (s->fbo) glDeleteFramebuffers(1, &s->fbo);
-    GLuint tex[3] = { s->depth, s->front, s->thick };
-    for (int i = 0; i < 3; i++)
+    GLuint tex[4] = { s->depth, s->front, s->thick, s->bits };
+    for (int i = 0; i < 4; i++)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
 }
 
@@ -131,8 +131,16 @@ void eng_shadow_render(eng_renderer *r)
     eng_render_draw_queued_meshes(r, &r->mesh_shadow);
     glDisable(GL_POLYGON_OFFSET_FILL);
 
-    // The water: nearest distance (MIN) and thickness (ADD), behind no caster.
-    if (r->fluid_count > 0) {
+    // The water: nearest distance (MIN) and thickness (ADD), behind no caster; by compute
+    // splats where the look asks for them (the raster draw below if their images could not
+    // be made, logged).
+    bool splatted = false;
+    if (r->fluid_count > 0 && r->def.fluid.splat == ENG_FLUID_SPLAT_COMPUTE) {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0); // the casters' depth is sampled: attached to nothing bound
+        splatted = eng_splat_shadow(r);
+        if (!splatted) glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
+    }
+    if (r->fluid_count > 0 && !splatted) {
         glDrawBuffers(2, both);
         glDepthMask(GL_FALSE);
         glEnablei(GL_BLEND, 0);

@@ -15,6 +15,7 @@
 //      there is no water in front, else the shaded water and its depth.
 //   5. spray: fast particles with few neighbours, soft white discs blended over it (the
 //      fluid's velocity buffer gives speed and density; nothing without it).
+// With the look's splat = compute, passes 1 and 2 are splat.c's instead (the same textures).
 // Passes 1, 2 and 5 draw the particles from the fluid's buffers (eng_render_bind_fluid).
 // Every pass writes framebuffer attachments that a later pass samples once that
 // framebuffer is no longer bound: GL orders framebuffer writes before later texture
@@ -60,7 +61,8 @@ static void free_targets(surface_targets *s)
 {
     GLuint fbos[] = { s->scene_fbo, s->depth_fbo, s->thick_fbo, s->smooth_fbo[0], s->smooth_fbo[1] };
     GLuint tex[] = { s->scene_color, s->scene_depth, s->fluid_ds,        s->depth,          s->thick,
-                     s->smooth[0],   s->smooth[1],   s->smooth_thick[0], s->smooth_thick[1], s->tint };
+                     s->smooth[0],   s->smooth[1],   s->smooth_thick[0], s->smooth_thick[1], s->tint,
+                     s->depth_bits,  s->thick_bits };
     for (size_t i = 0; i < sizeof fbos / sizeof fbos[0]; i++)
         if (fbos[i]) glDeleteFramebuffers(1, &fbos[i]);
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; i++)
@@ -280,8 +282,12 @@ void eng_surface_render(eng_renderer *r)
 {
     // One radius sizes the filter: the first fluid's (fluids of other sizes still draw).
     float radius = r->fluids[0].d.radius;
-    pass_thickness(r);
-    pass_depth(r);
+    // Compute splats where the look asks for them; the raster passes where it does not, or
+    // (logged as an error) where their images could not be made.
+    if (r->def.fluid.splat != ENG_FLUID_SPLAT_COMPUTE || !eng_splat_surface(r)) {
+        pass_thickness(r);
+        pass_depth(r);
+    }
     GLuint smoothed[2];
     pass_smooth(r, radius, smoothed);
     pass_composite(r, smoothed, radius);

@@ -7,15 +7,16 @@
 
 #define RENDER_FIELDS \
     "mode, absorption, scatter, refraction, reflection, specular, shininess, smoothing, spray, spray_speed, " \
-    "resolution, density_range, speed_max, shadows, view"
+    "resolution, density_range, speed_max, shadows, view, splat"
 
 static const char *const known_fields[] = { "mode", "absorption", "scatter", "refraction", "reflection",
                                             "specular", "shininess", "smoothing", "spray", "spray_speed",
-                                            "resolution", "density_range", "speed_max", "shadows", "view", NULL };
+                                            "resolution", "density_range", "speed_max", "shadows", "view", "splat",
+                                            NULL };
 
 static void push_look(lua_State *L, const eng_fluid_look *k)
 {
-    lua_createtable(L, 0, 15);
+    lua_createtable(L, 0, 16);
     lua_pushstring(L, eng_fluid_mode_name(k->mode));
     lua_setfield(L, -2, "mode");
     scr_push_vec3(L, k->absorption[0], k->absorption[1], k->absorption[2]);
@@ -41,6 +42,8 @@ static void push_look(lua_State *L, const eng_fluid_look *k)
     lua_setfield(L, -2, "shadows");
     lua_pushstring(L, eng_fluid_view_name(k->view));
     lua_setfield(L, -2, "view");
+    lua_pushstring(L, eng_fluid_splat_name(k->splat));
+    lua_setfield(L, -2, "splat");
 }
 
 static void opt_float(lua_State *L, const char *field, double lo, double hi, int flags, const char *unit, float *out)
@@ -64,13 +67,16 @@ static int l_render(lua_State *L)
     const char *fn = "seiche.render";
     scr_check_table_arg(L, 1, fn, RENDER_FIELDS);
     scr_check_fields(L, 1, fn, known_fields);
-    const char *modes[ENG_FLUID_MODE_COUNT], *views[ENG_FLUID_VIEW_COUNT];
+    const char *modes[ENG_FLUID_MODE_COUNT], *views[ENG_FLUID_VIEW_COUNT], *splats[ENG_FLUID_SPLAT_COUNT];
     for (int i = 0; i < ENG_FLUID_MODE_COUNT; i++) modes[i] = eng_fluid_mode_name((eng_fluid_mode)i);
     for (int i = 0; i < ENG_FLUID_VIEW_COUNT; i++) views[i] = eng_fluid_view_name((eng_fluid_view)i);
     int mode = scr_opt_enum(L, 1, fn, "mode", modes, ENG_FLUID_MODE_COUNT);
     if (mode >= 0) k.mode = (eng_fluid_mode)mode;
     int view = scr_opt_enum(L, 1, fn, "view", views, ENG_FLUID_VIEW_COUNT);
     if (view >= 0) k.view = (eng_fluid_view)view;
+    for (int i = 0; i < ENG_FLUID_SPLAT_COUNT; i++) splats[i] = eng_fluid_splat_name((eng_fluid_splat)i);
+    int splat = scr_opt_enum(L, 1, fn, "splat", splats, ENG_FLUID_SPLAT_COUNT);
+    if (splat >= 0) k.splat = (eng_fluid_splat)splat;
     scr_opt_vec(L, 1, fn, "absorption", 3, 0.0, 100.0, 0, "1/m", k.absorption);
     scr_opt_vec(L, 1, fn, "scatter", 3, 0.0, 1.0, 0, "", k.scatter);
     opt_float(L, "refraction", 0.0, 4.0, 0, "", &k.refraction);

@@ -9,6 +9,9 @@
 // w colour parameter) and velocities (vec4: xyz m/s, w the particle's volume m^3).
 #define ENG_RENDER_PARTICLE_SSBO_BINDING 0
 #define ENG_RENDER_VELOCITY_SSBO_BINDING 1
+// The compute splats (splat.comp) also read the fluid's indirect draw command, whose
+// instanceCount is the particle count now.
+#define ENG_RENDER_DRAW_SSBO_BINDING 2
 
 // Vertex attribute locations of eng_mesh_gpu meshes.
 #define ENG_RENDER_ATTRIB_POSITION 0
@@ -25,6 +28,20 @@
 #define ENG_RENDER_TEX_FLUID_THICK 6   // water thickness along the view ray, m (R16F)
 #define ENG_RENDER_TEX_FLUID_TINT 7    // RGBA16F: tinted particles' colour times thickness
                                        // (rgb) and their thickness (a), m: unsmoothed
+#define ENG_RENDER_TEX_SPLAT_TEST 8    // the compute splats' depth test (window depth 0..1)
+
+// Image units of the compute splats (splat.comp, splat_resolve.comp): the integer images
+// they merge into, and the float textures the resolve writes.
+#define ENG_RENDER_IMG_SPLAT 0
+#define ENG_RENDER_IMG_SPLAT_LAYERS 1
+#define ENG_RENDER_IMG_OUT0 2
+#define ENG_RENDER_IMG_OUT1 3
+#define ENG_RENDER_IMG_OUT2 4
+// Fixed point of the splats' sums: units per metre of thickness (2^20: a texel holds up to
+// 4096 m, to a micrometre).
+#define ENG_RENDER_SPLAT_SCALE 1048576.0
+// The shadow map's front where no water is: m past the light's near plane.
+#define ENG_RENDER_SPLAT_FAR 1e30
 
 // Colour modes of the sphere impostors (eng_fluid_mode's sphere modes).
 #define ENG_RENDER_COLOR_HEIGHT 0  // the w of each position (initial height, or a tint: w <= -1)

@@ -147,6 +147,7 @@ static const char *const WORDS[] = {
     "tests/fixtures", "tests/fixtures/", "tests/fixtures/tiny_scene", "tests//fixtures/./cube.obj",
     "../../../../etc/passwd", "/dev/zero", "/proc/self/mem", "", "\\0", "\\255\\254",
     "%", "%b()", "(.-)*", "%f[%w]", "[^", "%1", "level", "mean", "top", "x", "y", "z", "xyz", "nan", "inf",
+    "raster", "compute",
 };
 static const char *const FIELDS[] = {
     "min", "max", "position", "velocity", "size", "radius", "height", "shape", "kind", "density", "mass",
@@ -159,7 +160,7 @@ static const char *const FIELDS[] = {
     "linear_damping", "angular_damping", "center",
     "normal", "clearance", "absorption", "scatter", "smoothing", "spray", "shadows", "view", "iterations",
     "substeps", "viscosity", "particle_radius", "kernel_radius", "fields", "period", "delay", "count", "max_force",
-    "max_torque", "x", "y", "z", "w", "resolution", "level", "from", "to", "threshold",
+    "max_torque", "x", "y", "z", "w", "resolution", "level", "from", "to", "threshold", "splat",
 };
 static const char *const CALLBACKS[] = { "on_start", "on_step", "on_key", "on_mouse", "on_mouse_move", "on_scroll",
                                          "on_reload", "on_contact", "on_splash" };

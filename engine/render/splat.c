@@ -1,0 +1,233 @@
+// The water's particle passes by compute shaders (eng_fluid_look.splat = compute). See
+// render_internal.h, shaders/render/splat.comp and docs/architecture.md, "Rendering".
+//
+// Per pass: splat.comp, one invocation per particle, merges every texel its sphere covers
+// into R32UI images with atomics (min of the depth's bits, fixed-point sums of the
+// thickness); then splat_resolve.comp turns those into the float textures the raster
+// passes write (surf.depth, surf.thick, surf.tint; the shadow map's front and thick) and
+// resets the images for the next frame. The images are reset once when they are made.
+// Synchronisation: the particle buffers' barrier is eng_renderer_end's (storage and
+// command: the splats read the indirect command as a storage block); the scene's depth
+// the splats test against was written as a framebuffer attachment by an earlier command,
+// which GL orders before later texture fetches; between the splat and the resolve, and
+// after the resolve (image atomics of the next frame, texture fetches of the smoothing,
+// composite and lit passes, and the raster path's framebuffer clears should the look
+// switch back), glMemoryBarrier with the bits for each.
+#include "engine/render/render_internal.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "fluid/pbf_glsl.h"
+#include "shaders/render/render_shared.glsl"
+
+pbf_glsl_source eng_render_sources(void);
+
+static bool build(eng_renderer *r, splat_prog *sp, const char *file, const char *defines, const char *label,
+                  char *err, size_t err_size)
+{
+    const eng_renderer_def *d = &r->def;
+    pbf_glsl_stage stage = { GL_COMPUTE_SHADER, file };
+    char msg[4096];
+    pbf_glsl_source src = eng_render_sources();
+    if (d->shader_dir) src.dir = d->shader_dir;
+    GLuint p = sp->prog = pbf_glsl_build_from(&src, &stage, 1, defines, msg, sizeof msg);
+    if (!p) {
+        eng_log(&d->logger, ENG_LOG_ERROR, "renderer: %s", msg);
+        if (err && err_size > 0) snprintf(err, err_size, "%s", msg);
+        return false;
+    }
+    eng_render_label(GL_PROGRAM, p, label);
+    sp->radius = glGetUniformLocation(p, "u_radius");
+    sp->count = glGetUniformLocation(p, "u_count");
+    sp->fill = glGetUniformLocation(p, "u_fill");
+    sp->size = glGetUniformLocation(p, "u_size");
+    sp->view = glGetUniformLocation(p, "u_view");
+    sp->proj = glGetUniformLocation(p, "u_proj");
+    sp->light_near = glGetUniformLocation(p, "u_light_near");
+    sp->store = glGetUniformLocation(p, "u_store");
+    return true;
+}
+
+bool eng_splat_create(eng_renderer *r, char *err, size_t err_size)
+{
+    return build(r, &r->splat_depth, "render/splat.comp", "#define SPLAT_DEPTH 1\n", "render/splat_depth", err,
+                 err_size) &&
+           build(r, &r->splat_thick, "render/splat.comp", "#define SPLAT_THICK 1\n", "render/splat_thickness", err,
+                 err_size) &&
+           build(r, &r->splat_light, "render/splat.comp", "#define SPLAT_LIGHT 1\n", "render/splat_shadow", err,
+                 err_size) &&
+           build(r, &r->resolve_surface, "render/splat_resolve.comp", "#define RESOLVE_SURFACE 1\n",
+                 "render/splat_resolve_surface", err, err_size) &&
+           build(r, &r->resolve_light, "render/splat_resolve.comp", "#define RESOLVE_LIGHT 1\n",
+                 "render/splat_resolve_shadow", err, err_size);
+}
+
+void eng_splat_destroy(eng_renderer *r)
+{
+    splat_prog *all[] = { &r->splat_depth, &r->splat_thick, &r->splat_light, &r->resolve_surface, &r->resolve_light };
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (all[i]->prog) glDeleteProgram(all[i]->prog);
+}
+
+GLuint eng_render_uint_layers(int w, int h, int layers, const char *label)
+{
+    GLuint t = 0;
+    GLint prev = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &prev);
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, t);
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, GL_R32UI, w, h, layers);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, (GLuint)prev);
+    eng_render_label(GL_TEXTURE, t, label);
+    return t;
+}
+
+static void dispatch_2d(int w, int h)
+{
+    glDispatchCompute((GLuint)(w + 7) / 8, (GLuint)(h + 7) / 8, 1);
+}
+
+// Every queued fluid through splat program `sp` (its images and test texture bound).
+static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *view, const float *proj, int w, int h)
+{
+    glUseProgram(sp->prog);
+    glUniformMatrix4fv(sp->view, 1, GL_FALSE, view);
+    glUniformMatrix4fv(sp->proj, 1, GL_FALSE, proj);
+    glUniform2i(sp->size, w, h);
+    glUniform1f(sp->fill, 6.0f / 3.14159265f); // as eng_render_bind_fluid
+    for (int i = 0; i < r->fluid_count; i++) {
+        const queued_fluid *f = &r->fluids[i];
+        glUniform1f(sp->radius, f->d.radius);
+        glUniform1i(sp->count, f->count);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, f->d.positions);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_DRAW_SSBO_BINDING, f->d.draw_indirect);
+        GLuint groups = ((GLuint)(f->count > 0 ? f->count : 1) + 63u) / 64u; // a grid-stride loop covers the rest
+        glDispatchCompute(groups < 65535u ? groups : 65535u, 1, 1);
+    }
+}
+
+static void bind_test(GLuint tex)
+{
+    glActiveTexture(GL_TEXTURE0 + ENG_RENDER_TEX_SPLAT_TEST);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glActiveTexture(GL_TEXTURE0);
+}
+
+static void unbind_images(void)
+{
+    for (GLuint u = ENG_RENDER_IMG_SPLAT; u <= ENG_RENDER_IMG_OUT2; u++)
+        glBindImageTexture(u, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+}
+
+static void bind_surface_resolve(const surface_targets *s)
+{
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, s->depth_bits, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT_LAYERS, s->thick_bits, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(ENG_RENDER_IMG_OUT0, s->depth, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(ENG_RENDER_IMG_OUT1, s->thick, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+    glBindImageTexture(ENG_RENDER_IMG_OUT2, s->tint, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+}
+
+bool eng_splat_surface(eng_renderer *r)
+{
+    surface_targets *s = &r->surf;
+    if (!s->depth_bits) {
+        s->depth_bits = eng_render_texture(GL_R32UI, s->fw, s->fh, GL_NEAREST, "eng.surface.splat_depth_bits");
+        s->thick_bits = eng_render_uint_layers(s->fw, s->fh, 5, "eng.surface.splat_thickness_bits");
+        if (!s->depth_bits || !s->thick_bits) {
+            eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the compute splats' images (%dx%d) could not be made",
+                    s->fw, s->fh);
+            return false;
+        }
+        // Their first reset (the resolve resets them after every use from then on).
+        glUseProgram(r->resolve_surface.prog);
+        glUniform2i(r->resolve_surface.size, s->fw, s->fh);
+        glUniform1i(r->resolve_surface.store, 0);
+        bind_surface_resolve(s);
+        dispatch_2d(s->fw, s->fh);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    mat4 view, proj;
+    eng_camera_view(&r->cam, view);
+    eng_camera_projection(&r->cam, r->aspect, proj);
+
+    // The scene's depth at the water's size (as the raster passes' depth test has it).
+    int t = eng_render_timer_begin(r, "surface_thickness");
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, s->scene_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s->thick_fbo);
+    glBlitFramebuffer(0, 0, s->width, s->height, 0, 0, s->fw, s->fh, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0); // fluid_ds is sampled below: attached to nothing bound
+    bind_test(s->fluid_ds);
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, s->thick_bits, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    splat_fluids(r, &r->splat_thick, (const float *)view, (const float *)proj, s->fw, s->fh);
+    eng_render_timer_end(r, t);
+
+    t = eng_render_timer_begin(r, "surface_depth");
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, s->depth_bits, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    splat_fluids(r, &r->splat_depth, (const float *)view, (const float *)proj, s->fw, s->fh);
+    eng_render_timer_end(r, t);
+
+    t = eng_render_timer_begin(r, "surface_resolve");
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glUseProgram(r->resolve_surface.prog);
+    glUniform2i(r->resolve_surface.size, s->fw, s->fh);
+    glUniform1i(r->resolve_surface.store, 1);
+    bind_surface_resolve(s);
+    dispatch_2d(s->fw, s->fh);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    unbind_images();
+    bind_test(0);
+    eng_render_timer_end(r, t);
+    return true;
+}
+
+static void bind_light_resolve(const shadow_map *s)
+{
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, s->bits, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(ENG_RENDER_IMG_OUT0, s->front, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(ENG_RENDER_IMG_OUT1, s->thick, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R16F);
+}
+
+bool eng_splat_shadow(eng_renderer *r)
+{
+    shadow_map *s = &r->shadow;
+    if (!s->bits) {
+        s->bits = eng_render_uint_layers(s->size, s->size, 2, "eng.shadow.splat_bits");
+        if (!s->bits) {
+            eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the compute splats' shadow images (%dx%d) could not be made",
+                    s->size, s->size);
+            return false;
+        }
+        glUseProgram(r->resolve_light.prog);
+        glUniform2i(r->resolve_light.size, s->size, s->size);
+        glUniform1i(r->resolve_light.store, 0);
+        bind_light_resolve(s);
+        dispatch_2d(s->size, s->size);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    // The casters' depth is read as a value here, not compared.
+    glBindTexture(GL_TEXTURE_2D, s->depth);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    bind_test(s->depth);
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, s->bits, 0, GL_TRUE, 0, GL_READ_WRITE, GL_R32UI);
+    glUseProgram(r->splat_light.prog);
+    glUniform1f(r->splat_light.light_near, s->near_plane);
+    splat_fluids(r, &r->splat_light, (const float *)s->view, (const float *)s->proj, s->size, s->size);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glUseProgram(r->resolve_light.prog);
+    glUniform2i(r->resolve_light.size, s->size, s->size);
+    glUniform1i(r->resolve_light.store, 1);
+    bind_light_resolve(s);
+    dispatch_2d(s->size, s->size);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    unbind_images();
+    bind_test(0);
+    glBindTexture(GL_TEXTURE_2D, s->depth);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return true;
+}
