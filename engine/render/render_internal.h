@@ -8,7 +8,8 @@
 //               thickness)
 //   surface.c   the screen-space water: targets, thickness, depth, smoothing, composite
 //   splat.c     the water's particle passes (surface thickness and depth, the shadow's
-//               water) by compute shaders, when the look's splat is compute
+//               water) by compute shaders, when the look's splat is compute; the spray's
+//               cull
 #ifndef ENG_RENDER_INTERNAL_H
 #define ENG_RENDER_INTERNAL_H
 
@@ -55,6 +56,7 @@ typedef struct particle_prog {
 typedef struct splat_prog {
     GLuint prog;
     GLint radius, count, fill, size, view, proj, light_near, store;
+    GLint groups, spray_speed, spray_density, particle_mass, inv_rest_density; // spray_cull.comp
 } splat_prog;
 
 typedef struct queued_mesh {
@@ -104,6 +106,9 @@ struct eng_renderer {
     mesh_prog mesh, mesh_shadow;
     particle_prog spheres, fluid_depth, fluid_thick, fluid_shadow, fluid_spray;
     splat_prog splat_depth, splat_thick, splat_light, resolve_surface, resolve_light;
+    splat_prog spray_count, spray_scan, spray_write;
+    GLuint spray_list, spray_cmd, spray_groups; // the spray pass's draw (spray_cull.comp)
+    GLint spray_capacity;                       // drops spray_list holds
     GLuint smooth_prog, composite_prog;
     GLint smooth_step, smooth_world_radius, smooth_px_per_m, smooth_max_px, smooth_range;
     GLint comp_fluid_size, comp_layer, comp_absorption, comp_scatter, comp_refraction, comp_reflection,
@@ -186,6 +191,10 @@ GLuint eng_render_uint_layers(int w, int h, int layers, const char *label);
 /// The surface's thickness, tint and depth (surf.thick, surf.tint, surf.depth), as the
 /// raster passes would write them; false (logged) if its images could not be made.
 bool eng_splat_surface(eng_renderer *r);
+/// Lists the spray of fluid `f` (spray_cull.comp) into r->spray_list and its indirect
+/// command r->spray_cmd, with the barriers for the draw that reads them; false (logged)
+/// if the buffers could not be made.
+bool eng_spray_cull(eng_renderer *r, const queued_fluid *f);
 /// The water's front and thickness into the shadow map (after the casters were drawn,
 /// with no framebuffer bound); false (logged) if its images could not be made.
 bool eng_splat_shadow(eng_renderer *r);

@@ -46,6 +46,11 @@ static bool build(eng_renderer *r, splat_prog *sp, const char *file, const char 
     sp->proj = glGetUniformLocation(p, "u_proj");
     sp->light_near = glGetUniformLocation(p, "u_light_near");
     sp->store = glGetUniformLocation(p, "u_store");
+    sp->groups = glGetUniformLocation(p, "u_groups");
+    sp->spray_speed = glGetUniformLocation(p, "u_spray_speed");
+    sp->spray_density = glGetUniformLocation(p, "u_spray_density");
+    sp->particle_mass = glGetUniformLocation(p, "u_particle_mass");
+    sp->inv_rest_density = glGetUniformLocation(p, "u_inv_rest_density");
     return true;
 }
 
@@ -60,14 +65,83 @@ bool eng_splat_create(eng_renderer *r, char *err, size_t err_size)
            build(r, &r->resolve_surface, "render/splat_resolve.comp", "#define RESOLVE_SURFACE 1\n",
                  "render/splat_resolve_surface", err, err_size) &&
            build(r, &r->resolve_light, "render/splat_resolve.comp", "#define RESOLVE_LIGHT 1\n",
-                 "render/splat_resolve_shadow", err, err_size);
+                 "render/splat_resolve_shadow", err, err_size) &&
+           build(r, &r->spray_count, "render/spray_cull.comp", "#define CULL_COUNT 1\n", "render/spray_count", err,
+                 err_size) &&
+           build(r, &r->spray_scan, "render/spray_cull.comp", "#define CULL_SCAN 1\n", "render/spray_scan", err,
+                 err_size) &&
+           build(r, &r->spray_write, "render/spray_cull.comp", "#define CULL_WRITE 1\n", "render/spray_write", err,
+                 err_size);
 }
 
 void eng_splat_destroy(eng_renderer *r)
 {
-    splat_prog *all[] = { &r->splat_depth, &r->splat_thick, &r->splat_light, &r->resolve_surface, &r->resolve_light };
+    splat_prog *all[] = { &r->splat_depth,     &r->splat_thick,   &r->splat_light, &r->resolve_surface,
+                          &r->resolve_light,   &r->spray_count,   &r->spray_scan,  &r->spray_write };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (all[i]->prog) glDeleteProgram(all[i]->prog);
+    GLuint bufs[3] = { r->spray_list, r->spray_cmd, r->spray_groups };
+    for (int i = 0; i < 3; i++)
+        if (bufs[i]) glDeleteBuffers(1, &bufs[i]);
+}
+
+// A GL-only storage buffer of `size` bytes (no CPU access).
+static GLuint gpu_buffer(GLsizeiptr size, const char *label)
+{
+    GLuint b = 0;
+    glGenBuffers(1, &b);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, size, NULL, GL_DYNAMIC_COPY);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    eng_render_label(GL_BUFFER, b, label);
+    return b;
+}
+
+// Work groups of 64 the spray cull and the splats use: enough for every particle the
+// buffers hold, at most 65535 (a grid-stride loop covers the rest).
+static GLuint particle_groups(GLint count)
+{
+    GLuint groups = ((GLuint)(count > 0 ? count : 1) + 63u) / 64u;
+    return groups < 65535u ? groups : 65535u;
+}
+
+bool eng_spray_cull(eng_renderer *r, const queued_fluid *f)
+{
+    if (!r->spray_cmd) {
+        r->spray_cmd = gpu_buffer(4 * sizeof(GLuint), "eng.spray.command");
+        r->spray_groups = gpu_buffer(65535 * sizeof(GLuint), "eng.spray.groups");
+    }
+    if (f->count > r->spray_capacity) {
+        if (r->spray_list) glDeleteBuffers(1, &r->spray_list);
+        r->spray_list = gpu_buffer((GLsizeiptr)f->count * 2 * (GLsizeiptr)sizeof(GLuint), "eng.spray.list");
+        r->spray_capacity = f->count;
+    }
+    if (!r->spray_cmd || !r->spray_groups || !r->spray_list) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the spray's buffers (%d drops) could not be made", f->count);
+        return false;
+    }
+    const eng_fluid_look *k = &r->def.fluid;
+    GLuint groups = particle_groups(f->count);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_VELOCITY_SSBO_BINDING, f->d.velocities);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_DRAW_SSBO_BINDING, f->d.draw_indirect);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPRAY_GROUPS_BINDING, r->spray_groups);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPRAY_CMD_BINDING, r->spray_cmd);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPRAY_LIST_BINDING, r->spray_list);
+    const splat_prog *passes[3] = { &r->spray_count, &r->spray_scan, &r->spray_write };
+    for (int i = 0; i < 3; i++) {
+        const splat_prog *p = passes[i];
+        glUseProgram(p->prog);
+        glUniform1ui(p->groups, groups);
+        glUniform1i(p->count, f->count);
+        glUniform1f(p->spray_speed, k->spray_speed);
+        glUniform1f(p->spray_density, 0.7f);
+        glUniform1f(p->particle_mass, f->d.particle_mass);
+        glUniform1f(p->inv_rest_density, 1.0f / f->d.rest_density);
+        glDispatchCompute(i == 1 ? 1u : groups, 1, 1);
+        // counts -> the scan -> offsets -> the list; the last for the draw (storage + command)
+        glMemoryBarrier(i < 2 ? GL_SHADER_STORAGE_BARRIER_BIT : GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    }
+    return true;
 }
 
 GLuint eng_render_uint_layers(int w, int h, int layers, const char *label)
@@ -104,8 +178,7 @@ static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *vie
         glUniform1i(sp->count, f->count);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, f->d.positions);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_DRAW_SSBO_BINDING, f->d.draw_indirect);
-        GLuint groups = ((GLuint)(f->count > 0 ? f->count : 1) + 63u) / 64u; // a grid-stride loop covers the rest
-        glDispatchCompute(groups < 65535u ? groups : 65535u, 1, 1);
+        glDispatchCompute(particle_groups(f->count), 1, 1);
     }
 }
 

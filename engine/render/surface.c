@@ -14,7 +14,8 @@
 //   4. composite, full size, into the context's framebuffer: scene colour and depth where
 //      there is no water in front, else the shaded water and its depth.
 //   5. spray: fast particles with few neighbours, soft white discs blended over it (the
-//      fluid's velocity buffer gives speed and density; nothing without it).
+//      fluid's velocity buffer gives speed and density; nothing without it). A compute
+//      pass lists them first (spray_cull.comp, splat.c) and only those are drawn.
 // With the look's splat = compute, passes 1 and 2 are splat.c's instead (the same textures).
 // Passes 1, 2 and 5 draw the particles from the fluid's buffers (eng_render_bind_fluid).
 // Every pass writes framebuffer attachments that a later pass samples once that
@@ -259,18 +260,17 @@ static void pass_spray(eng_renderer *r)
     glBlendEquation(GL_FUNC_ADD);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     const particle_prog *p = &r->fluid_spray;
-    glUseProgram(p->prog);
-    glUniform1f(p->spray, k->spray);
-    glUniform1f(p->spray_speed, k->spray_speed);
-    glUniform1f(p->spray_density, 0.7f);
     glBindVertexArray(r->empty_vao);
     for (int i = 0; i < r->fluid_count; i++) {
         const queued_fluid *f = &r->fluids[i];
-        if (!f->d.velocities) continue;
+        if (!f->d.velocities || !eng_spray_cull(r, f)) continue;
+        // Only the drops the cull listed: instance k draws spray_list[k].
+        glUseProgram(p->prog);
+        glUniform1f(p->spray, k->spray);
         eng_render_bind_fluid(p, f);
-        glUniform1f(p->particle_mass, f->d.particle_mass);
-        glUniform1f(p->inv_rest_density, 1.0f / f->d.rest_density);
-        eng_render_draw_fluid_instances(f);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPRAY_LIST_BINDING, r->spray_list);
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, r->spray_cmd);
+        glDrawArraysIndirect(GL_TRIANGLE_STRIP, (const void *)0);
     }
     glBindVertexArray(0);
     glDisable(GL_BLEND);

@@ -11,9 +11,10 @@
 //   COLOR_MODES  also the colour of the sphere modes: initial height, density or speed
 //   TINT         also each particle's tint (v_tint: rgb, 1; zero when untinted), for
 //                the surface's thickness pass
-//   SPRAY        only spray: particles faster than u_spray_speed whose density is below
-//                u_spray_density rho0 (few neighbours: drops in the air); v_alpha rises
-//                with the speed. The others are dropped here.
+//   SPRAY        only spray: particles faster than the look's spray_speed whose density
+//                is below 0.7 rho0 (few neighbours: drops in the air), which
+//                spray_cull.comp listed (instance k draws the k-th); v_alpha rises with
+//                the speed.
 // The fragment shader ray-casts the sphere inside the quad.
 #include "frame.glsl"
 
@@ -43,9 +44,6 @@ uniform mat4 u_light_proj; // the light's view -> clip (orthographic)
 #ifdef COLOR_MODES
 #define READ_VELOCITIES 1
 #endif
-#ifdef SPRAY
-#define READ_VELOCITIES 1
-#endif
 #ifdef READ_VELOCITIES
 layout(std430, binding = ENG_RENDER_VELOCITY_SSBO_BINDING) readonly buffer Velocities {
     vec4 velocities[]; // xyz: m/s, w: the particle's volume m^3 (mass / density)
@@ -54,8 +52,10 @@ uniform float u_particle_mass;    // kg: density = mass / volume
 uniform float u_inv_rest_density; // 1 / rho0, m^3/kg
 #endif
 #ifdef SPRAY
-uniform float u_spray_speed;   // m/s
-uniform float u_spray_density; // rho / rho0 below which a particle counts as isolated
+// The spray found by spray_cull.comp, drawn as instances: the particle's index and v_alpha.
+layout(std430, binding = ENG_RENDER_SPRAY_LIST_BINDING) readonly buffer SprayList {
+    uvec2 spray_list[];
+};
 flat out float v_alpha;
 #endif
 #ifdef COLOR_MODES
@@ -129,16 +129,12 @@ void main()
         skip();
         return;
     }
-    vec4 p = particles[gl_InstanceID];
 #ifdef SPRAY
-    vec4 vel = velocities[gl_InstanceID];
-    float speed = length(vel.xyz);
-    float ratio = vel.w > 0.0 ? u_particle_mass / vel.w * u_inv_rest_density : 1.0;
-    if (speed < u_spray_speed || ratio > u_spray_density) {
-        skip();
-        return;
-    }
-    v_alpha = clamp((speed - u_spray_speed) / u_spray_speed, 0.0, 1.0);
+    uvec2 drop = spray_list[gl_InstanceID];
+    vec4 p = particles[drop.x];
+    v_alpha = uintBitsToFloat(drop.y);
+#else
+    vec4 p = particles[gl_InstanceID];
 #endif
     vec2 corner = vec2((gl_VertexID & 1) != 0 ? 1.0 : -1.0, (gl_VertexID & 2) != 0 ? 1.0 : -1.0);
     float r2 = u_radius * u_radius;

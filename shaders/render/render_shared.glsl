@@ -12,6 +12,11 @@
 // The compute splats (splat.comp) also read the fluid's indirect draw command, whose
 // instanceCount is the particle count now.
 #define ENG_RENDER_DRAW_SSBO_BINDING 2
+// The spray pass's own draw (spray_cull.comp): the list of drops, their indirect command,
+// and the per-work-group counts and offsets of the cull.
+#define ENG_RENDER_SPRAY_LIST_BINDING 3
+#define ENG_RENDER_SPRAY_CMD_BINDING 4
+#define ENG_RENDER_SPRAY_GROUPS_BINDING 5
 
 // Vertex attribute locations of eng_mesh_gpu meshes.
 #define ENG_RENDER_ATTRIB_POSITION 0
