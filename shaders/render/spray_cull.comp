@@ -96,6 +96,9 @@ void main()
 #endif
 
 #ifdef CULL_WRITE
+layout(std430, binding = ENG_RENDER_SPRAY_CMD_BINDING) readonly buffer SprayDraw {
+    uint spray_command[4];
+};
 layout(std430, binding = ENG_RENDER_SPRAY_LIST_BINDING) writeonly buffer SprayList {
     uvec2 spray_list[]; // particle index, floatBitsToUint(v_alpha)
 };
@@ -104,7 +107,9 @@ void main()
 {
     uint lane = gl_LocalInvocationID.x;
     uint n = min(draw_command[1], uint(max(u_count, 0))), stride = u_groups * 64u;
-    uint next = group_count[gl_WorkGroupID.x];
+    uint g = gl_WorkGroupID.x, next = group_count[g];
+    // A group without spray (most of them) has nothing to write.
+    if ((g + 1u < u_groups ? group_count[g + 1u] : spray_command[1]) == next) return;
     // Every lane takes the same number of trips, so the barriers are uniform.
     for (uint base = gl_WorkGroupID.x * 64u; base < n; base += stride) {
         uint i = base + lane;
