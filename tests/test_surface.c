@@ -271,6 +271,24 @@ static void print_rgb(const char *what, int x, int y, const double c[3])
     print_message("%-30s (%3d,%3d) = %5.1f %5.1f %5.1f\n", what, x, y, c[0], c[1], c[2]);
 }
 
+// The mean difference of two W x H RGBA frames in levels per channel, and how many pixels
+// differ by more than `far_levels` in some channel.
+static double frame_difference(const unsigned char *a, const unsigned char *b, int far_levels, long *far)
+{
+    double sum = 0.0;
+    *far = 0;
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+        int worst = 0;
+        for (int k = 0; k < 3; k++) {
+            int d = abs((int)a[i * 4 + (size_t)k] - (int)b[i * 4 + (size_t)k]);
+            sum += d;
+            worst = d > worst ? d : worst;
+        }
+        *far += worst > far_levels;
+    }
+    return sum / (3.0 * W * H);
+}
+
 // Compares with tests/fixtures/<name> (or rewrites it under SEICHE_UPDATE_REFERENCES=1):
 // a mean difference of at most 0.5 levels per channel and at most 0.25 % of pixels (120)
 // differing by more than 24 in some channel. llvmpipe renders these bit for bit alike
@@ -292,19 +310,9 @@ static void compare_reference(fixture *f, const char *name, const unsigned char 
     if (!ref) fail_msg("cannot read the reference %s (SEICHE_UPDATE_REFERENCES=1 makes it)", path);
     assert_int_equal(w, W);
     assert_int_equal(h, H);
-    double sum = 0.0;
-    long far = 0;
-    for (size_t i = 0; i < (size_t)W * H; i++) {
-        int worst = 0;
-        for (int k = 0; k < 3; k++) {
-            int d = abs((int)rgba[i * 4 + (size_t)k] - (int)ref[i * 4 + (size_t)k]);
-            sum += d;
-            if (d > worst) worst = d;
-        }
-        if (worst > 24) far++;
-    }
+    long far;
+    double mean = frame_difference(rgba, ref, 24, &far), frac = (double)far / (double)(W * H);
     stbi_image_free(ref);
-    double mean = sum / (3.0 * W * H), frac = (double)far / (double)(W * H);
     print_message("%s: mean difference %.3f levels, %.3f %% of pixels off by more than 24\n", name, mean, 100.0 * frac);
     if (mean > 0.5 || frac > 0.0025) {
         char out[1200];
@@ -688,19 +696,10 @@ static void compute_splats_draw_what_the_raster_passes_draw(void **state)
     assert_true(differ <= water / 100);
     assert_true(worst_thick < 2e-3 * 8.0); // R16F's step at the thickest texels (< 8 m)
     free(depth_r), free(thick_r), free(depth_c), free(thick_c);
-    double sum = 0.0;
-    long far = 0;
-    for (size_t i = 0; i < (size_t)W * H; i++) {
-        int worst = 0;
-        for (int k = 0; k < 3; k++) {
-            int d = abs((int)raster[i * 4 + (size_t)k] - (int)compute[i * 4 + (size_t)k]);
-            sum += d;
-            worst = d > worst ? d : worst;
-        }
-        far += worst > 8;
-    }
-    print_message("frames: mean difference %.4f levels, %ld pixels off by more than 8\n", sum / (3.0 * W * H), far);
-    assert_true(sum / (3.0 * W * H) < 0.1 && far <= W * H / 1000);
+    long far;
+    double mean = frame_difference(raster, compute, 8, &far);
+    print_message("frames: mean difference %.4f levels, %ld pixels off by more than 8\n", mean, far);
+    assert_true(mean < 0.1 && far <= W * H / 1000);
     // The shipped look (compute splats) and the raster passes against the same reference.
     look = eng_default_fluid_look();
     assert_int_equal(look.splat, ENG_FLUID_SPLAT_COMPUTE);

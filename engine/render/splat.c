@@ -159,10 +159,20 @@ GLuint eng_render_uint_layers(int w, int h, int layers, const char *label)
     return t;
 }
 
-static void dispatch_2d(int w, int h)
+// A resolve program over w x h texels (its images bound): stores the textures and resets
+// the integer images (`store` 1) or only resets them (0), then the barrier `after`.
+static void resolve(const splat_prog *p, int w, int h, int store, GLbitfield after)
 {
+    glUseProgram(p->prog);
+    glUniform2i(p->size, w, h);
+    glUniform1i(p->store, store);
     glDispatchCompute((GLuint)(w + 7) / 8, (GLuint)(h + 7) / 8, 1);
+    glMemoryBarrier(after);
 }
+
+// After a resolve that stored: the next frame's atomics, the later passes' texture
+// fetches, and the raster path's framebuffer clears should the look switch back.
+#define AFTER_RESOLVE (GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT)
 
 // Every queued fluid through splat program `sp` (its images and test texture bound).
 static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *view, const float *proj, int w, int h)
@@ -216,12 +226,8 @@ bool eng_splat_surface(eng_renderer *r)
             return false;
         }
         // Their first reset (the resolve resets them after every use from then on).
-        glUseProgram(r->resolve_surface.prog);
-        glUniform2i(r->resolve_surface.size, s->fw, s->fh);
-        glUniform1i(r->resolve_surface.store, 0);
         bind_surface_resolve(s);
-        dispatch_2d(s->fw, s->fh);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        resolve(&r->resolve_surface, s->fw, s->fh, 0, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     mat4 view, proj;
     eng_camera_view(&r->cam, view);
@@ -245,12 +251,8 @@ bool eng_splat_surface(eng_renderer *r)
 
     t = eng_render_timer_begin(r, "surface_resolve");
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    glUseProgram(r->resolve_surface.prog);
-    glUniform2i(r->resolve_surface.size, s->fw, s->fh);
-    glUniform1i(r->resolve_surface.store, 1);
     bind_surface_resolve(s);
-    dispatch_2d(s->fw, s->fh);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    resolve(&r->resolve_surface, s->fw, s->fh, 1, AFTER_RESOLVE);
     unbind_images();
     bind_test(0);
     eng_render_timer_end(r, t);
@@ -274,12 +276,8 @@ bool eng_splat_shadow(eng_renderer *r)
                     s->size, s->size);
             return false;
         }
-        glUseProgram(r->resolve_light.prog);
-        glUniform2i(r->resolve_light.size, s->size, s->size);
-        glUniform1i(r->resolve_light.store, 0);
         bind_light_resolve(s);
-        dispatch_2d(s->size, s->size);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        resolve(&r->resolve_light, s->size, s->size, 0, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     // The casters' depth is read as a value here, not compared.
     glBindTexture(GL_TEXTURE_2D, s->depth);
@@ -291,12 +289,8 @@ bool eng_splat_shadow(eng_renderer *r)
     glUniform1f(r->splat_light.light_near, s->near_plane);
     splat_fluids(r, &r->splat_light, (const float *)s->view, (const float *)s->proj, s->size, s->size);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    glUseProgram(r->resolve_light.prog);
-    glUniform2i(r->resolve_light.size, s->size, s->size);
-    glUniform1i(r->resolve_light.store, 1);
     bind_light_resolve(s);
-    dispatch_2d(s->size, s->size);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+    resolve(&r->resolve_light, s->size, s->size, 1, AFTER_RESOLVE);
     unbind_images();
     bind_test(0);
     glBindTexture(GL_TEXTURE_2D, s->depth);
