@@ -700,6 +700,30 @@ static void compute_splats_draw_what_the_raster_passes_draw(void **state)
     double mean = frame_difference(raster, compute, 8, &far);
     print_message("frames: mean difference %.4f levels, %ld pixels off by more than 8\n", mean, far);
     assert_true(mean < 0.1 && far <= W * H / 1000);
+    // A particle the eye almost touches (1.2 radii from its centre, off the axis) covers
+    // most of the frame: the compute splat walks it all, as the raster quad draws it.
+    eng_camera_def cd = eng_default_camera_def();
+    const float eye[3] = { ONE[0] + 0.3f * RADIUS, ONE[1] + 0.2f * RADIUS, ONE[2] + 1.15f * RADIUS };
+    memcpy(cd.position, eye, sizeof eye);
+    memcpy(cd.target, ONE, sizeof eye);
+    cd.near_plane = 0.1f * RADIUS; // the sphere's near side stays beyond it
+    eng_camera near_cam;
+    char err[256];
+    if (!eng_camera_init(&near_cam, &cd, err, sizeof err)) fail_msg("camera: %s", err);
+    look = eng_default_fluid_look();
+    look.splat = ENG_FLUID_SPLAT_RASTER;
+    render_from(f, &near_cam, &look, ONE_PARTICLE, raster);
+    look.splat = ENG_FLUID_SPLAT_COMPUTE;
+    render_from(f, &near_cam, &look, ONE_PARTICLE, compute);
+    mean = frame_difference(raster, compute, 8, &far);
+    static unsigned char dry[W * H * 4];
+    render_from(f, &near_cam, &look, DRY, dry);
+    long shows;
+    frame_difference(raster, dry, 8, &shows);
+    print_message("a particle 1.2 radii from the eye: %ld of %d pixels show it; the two paths differ by %.4f levels "
+                  "(%ld pixels by more than 8)\n", shows, W * H, mean, far);
+    assert_true(shows > W * H / 2);
+    assert_true(mean < 0.1 && far <= W * H / 1000);
     // The shipped look (compute splats) and the raster passes against the same reference.
     look = eng_default_fluid_look();
     assert_int_equal(look.splat, ENG_FLUID_SPLAT_COMPUTE);

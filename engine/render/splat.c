@@ -85,14 +85,21 @@ void eng_splat_destroy(eng_renderer *r)
         if (bufs[i]) glDeleteBuffers(1, &bufs[i]);
 }
 
-// A GL-only storage buffer of `size` bytes (no CPU access).
+// A GL-only storage buffer of `size` bytes (no CPU access); 0 if GL could not make it.
 static GLuint gpu_buffer(GLsizeiptr size, const char *label)
 {
     GLuint b = 0;
+    GLint64 got = 0;
     glGenBuffers(1, &b);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, b);
     glBufferData(GL_SHADER_STORAGE_BUFFER, size, NULL, GL_DYNAMIC_COPY);
+    glGetBufferParameteri64v(GL_SHADER_STORAGE_BUFFER, GL_BUFFER_SIZE, &got);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    if (got != size) {
+        while (glGetError() != GL_NO_ERROR) {} // the GL_OUT_OF_MEMORY this leaves is reported by the caller
+        glDeleteBuffers(1, &b);
+        return 0;
+    }
     eng_render_label(GL_BUFFER, b, label);
     return b;
 }
@@ -107,6 +114,7 @@ static GLuint particle_groups(GLint count)
 
 bool eng_spray_cull(eng_renderer *r, const queued_fluid *f)
 {
+    if (f->count <= 0) return false; // buffers that hold no particle: nothing to list
     if (!r->spray_cmd) {
         r->spray_cmd = gpu_buffer(4 * sizeof(GLuint), "eng.spray.command");
         r->spray_groups = gpu_buffer(65535 * sizeof(GLuint), "eng.spray.groups");
@@ -114,7 +122,7 @@ bool eng_spray_cull(eng_renderer *r, const queued_fluid *f)
     if (f->count > r->spray_capacity) {
         if (r->spray_list) glDeleteBuffers(1, &r->spray_list);
         r->spray_list = gpu_buffer((GLsizeiptr)f->count * 2 * (GLsizeiptr)sizeof(GLuint), "eng.spray.list");
-        r->spray_capacity = f->count;
+        r->spray_capacity = r->spray_list ? f->count : 0;
     }
     if (!r->spray_cmd || !r->spray_groups || !r->spray_list) {
         eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the spray's buffers (%d drops) could not be made", f->count);

@@ -72,6 +72,7 @@ uint fixed_point(float x) { return uint(x * ENG_RENDER_SPLAT_SCALE + 0.5); }
 void splat(vec4 p)
 {
     float r = u_radius, r2 = r * r;
+    if (any(isnan(p.xyz)) || any(isinf(p.xyz))) return; // a diverged particle is not drawn
     vec3 c = (u_view * vec4(p.xyz, 1.0)).xyz;
     vec2 lo, hi; // the quad's corners in texels
 #ifdef SPLAT_LIGHT
@@ -101,7 +102,11 @@ void splat(vec4 p)
         hi = max(hi, t);
     }
 #endif
-    // Texels whose centres lie inside the quad.
+    // Texels whose centres lie inside the quad (clamped first: a sphere the eye nearly
+    // touches has a quad far wider than the target, and a float too large for an int has
+    // no defined conversion).
+    lo = clamp(lo, vec2(-1.0), vec2(u_size) + 1.0);
+    hi = clamp(hi, vec2(-1.0), vec2(u_size) + 1.0);
     ivec2 t0 = max(ivec2(ceil(lo - 0.5)), ivec2(0)), t1 = min(ivec2(floor(hi - 0.5)), u_size - 1);
 #ifdef SPLAT_THICK
     bool tinted = is_tint(p.w);
