@@ -149,6 +149,29 @@ for s in scripts/scenes/*.lua; do
     verdict "$ok" scene "$name" "exit 0" "exit $rc" "$secs"
 done
 
+# The benchmarks run and print what they are for (tiny sizes: a smoke test, not a timing):
+# seiche-bench drawing every step (frames per second), seiche-render-bench with both
+# splats, and a bad option refused naming it (exit 2).
+bench_case() { # NAME EXPECTED_EXIT TEXT COMMAND...
+    name=$1 expect=$2 want=$3
+    shift 3
+    start=$(date +%s)
+    "$@" >"$log_dir/bench_$name.err" 2>&1
+    rc=$?
+    secs=$(( $(date +%s) - start ))
+    ok=1
+    [ "$rc" = "$expect" ] || ok=0
+    grep -qF -- "$want" "$log_dir/bench_$name.err" || ok=0
+    sanitizer_reports "bench_$name" >>"$log_dir/bench_$name.err" || ok=0
+    verdict "$ok" bench "$name" "exit $rc, '$want'" "exit $rc (expected $expect), or no '$want'" "$secs"
+}
+bench_case frames_per_second 0 "frames/s" "$bin"/seiche-bench --particles 2000 --steps 3 --warmup 1 \
+    --render surface --size 96x64
+bench_case render_both_splats 0 "surface (splat compute)" "$bin"/seiche-render-bench --particles 2000 --frames 2 \
+    --warmup 1 --size 96x64 --mode surface
+bench_case bad_splat 2 "--splat must be raster or compute (got 'vulkan')" "$bin"/seiche-bench --particles 2000 \
+    --render surface --splat vulkan
+
 # Every libFuzzer harness of tests/fuzz/ (built by make fuzz-build with clang-14): the inputs
 # of tests/fuzz/regressions/NAME/ replayed, then SEICHE_FUZZ_SECONDS (default 10; 0 skips)
 # of fuzzing from the corpus in build/fuzz/corpus/NAME (tests/fuzz/run.sh). Skipped when

@@ -83,7 +83,8 @@ fi
 # (run_peer.sh reads PARTICLES, ITERATIONS, SMOKE, VARIANTS, CASE_TIMEOUT from the environment
 # and prints lines that start with "peer "; PEER_VARIANTS: its VARIANTS, in the first run only); binary variants
 # in .gpu/bins (below); RENDER=1:
-# seiche-render-bench at 1M, the surface look and spheres; DEBUG_SCENE=1: floating_objects
+# seiche-render-bench at 1M, the surface look and spheres, raster and compute splats, and
+# seiche-bench --render surface (frames per second, the step and drawing); DEBUG_SCENE=1: floating_objects
 # with the driver's KHR_debug messages (SEICHE_GL_DEBUG=1). EXTRA_SIZE (default 1048576)
 # replaces 1M in the first and the last.
 mkdir -p build/g-extra
@@ -130,10 +131,19 @@ if [ "${PEER:-0}" = 1 ] && [ -f .gpu/peer/run_peer.sh ]; then
     el "peer: done"
 fi
 if [ "${RENDER:-0}" = 1 ]; then
-    timeout -k 5 60 build/bin/seiche-render-bench --particles "$es" --frames 60 --warmup 10 --mode surface,spheres \
+    # Each pass, raster then compute splats (the render bench's default); then whole frames:
+    # the issue's step (4 iterations x 1 substep, dt 4 ms) and the surface drawn every step,
+    # both ways, in turn.
+    timeout -k 5 90 build/bin/seiche-render-bench --particles "$es" --frames 60 --warmup 10 --mode surface,spheres \
         --shaders shaders >build/g-extra/render.txt 2>&1
     el "render $es: exit $?"
-    grep -iE 'ms|frame' build/g-extra/render.txt | tail -n 8 | cut -c1-120
+    grep -iE 'ms|frame|splat' build/g-extra/render.txt | cut -c1-120
+    for sp in raster compute raster compute; do
+        timeout -k 5 60 build/bin/seiche-bench --particles "$es" --iterations 4 --steps 60 --warmup 10 \
+            --shaders shaders --render surface --splat "$sp" >"build/g-extra/frames-$sp.txt" 2>&1
+        echo "frames, $sp splats: $(grep -E '^ *[0-9]' "build/g-extra/frames-$sp.txt" | tail -n 1 | sed 's/.*frame_ms/frame_ms/')"
+    done
+    el "frames: done"
 fi
 if [ "${DEBUG_SCENE:-0}" = 1 ]; then
     # The driver's KHR_debug messages in a scene with bodies (buffers moved to host memory).

@@ -5,7 +5,10 @@
 // the spacing, dt 4 ms, one substep. For each particle count and iteration count it runs
 // warm-up steps, then measured steps, and prints the median per-stage and per-step GPU
 // milliseconds (GL timer queries), the wall-clock time per step, the density error the
-// solver reached, and the GL renderer; --json writes the same.
+// solver reached, and the GL renderer; --json writes the same. With --render MODE each step
+// is also drawn (the renderer's look in that mode, headless at --size, the camera of
+// seiche-render-bench), so that the wall-clock time per step is a frame's, rendering
+// included: it prints that as frames per second with the renderer's GPU time per frame.
 #include <errno.h>
 #include <stdbool.h>
 #include <math.h>
@@ -18,6 +21,9 @@
 
 #include "engine/core/progress.h"
 #include "engine/gl/context.h"
+#include "engine/gl/gpu_timer.h"
+#include "engine/render/camera.h"
+#include "engine/render/renderer.h"
 #include "fluid/pbf.h"
 
 #define MAX_LIST 16
@@ -39,7 +45,18 @@ typedef struct options {
     unsigned grid_cells;  // pbf_world_def.grid_cells_per_kernel (0: the library's default)
     bool tank_test;     // also run each case in a tank 20x wider and deeper
     const char *trace;    // --trace FILE: one CSV line per measured step (appended)
+    bool render;          // --render MODE: draw every step
+    eng_fluid_mode mode;
+    eng_fluid_splat splat;
+    int width, height;    // --size
 } options;
+
+// What drawing every step needs (--render).
+typedef struct drawing {
+    eng_context *ctx;
+    eng_renderer *renderer;
+    eng_camera cam;
+} drawing;
 
 typedef struct result {
     long particles_asked;
@@ -54,6 +71,7 @@ typedef struct result {
     double err_avg;       // mean over measured steps of mean max(rho / rho0 - 1, 0)
     double rho_err_max;   // max over measured steps of (rho_max / rho0 - 1)
     double memory_mib;    // GPU memory of the world (pbf_world_def_memory)
+    double frame_ms;      // --render: median GPU time of the renderer's frame
     uint32_t nan_count, outside_count, overflow_count;
 } result;
 
@@ -103,8 +121,17 @@ static int parse_list(const char *s, long *out, int *count, const char *name, lo
     return *count > 0;
 }
 
-static int run_one(const options *o, long n, int iterations, int substeps, float tank_scale, result *r, eng_progress *pr,
-                   long base)
+// Draws the world's water once (--render).
+static void draw(const drawing *dr, pbf_world *w)
+{
+    eng_renderer_begin(dr->renderer, dr->ctx, &dr->cam);
+    eng_fluid_draw fd = eng_fluid_draw_of(w, NULL);
+    eng_renderer_draw_fluid(dr->renderer, &fd);
+    eng_renderer_end(dr->renderer);
+}
+
+static int run_one(const options *o, const drawing *dr, long n, int iterations, int substeps, float tank_scale,
+                   result *r, eng_progress *pr, long base)
 {
     memset(r, 0, sizeof *r);
     r->particles_asked = n;
@@ -141,12 +168,15 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
         pbf_world_destroy(w);
         return 0;
     }
-    for (int i = 0; i < o->warmup; i++, eng_progress_update(pr, base + i, -1.0))
+    if (dr) eng_renderer_set_shadow_bounds(dr->renderer, lo, hi);
+    for (int i = 0; i < o->warmup; i++, eng_progress_update(pr, base + i, -1.0)) {
         if (pbf_world_step(w, (float)o->dt) != PBF_OK) {
             fprintf(stderr, "seiche-bench: %ld particles: %s\n", n, pbf_world_last_error(w));
             pbf_world_destroy(w);
             return 0;
         }
+        if (dr) draw(dr, w);
+    }
     pbf_world_poll_stats(w, NULL, 0, true);
     int cap = o->steps;
     double *step = calloc((size_t)cap, sizeof *step);
@@ -156,9 +186,12 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     double rho_sum = 0.0, err_sum = 0.0;
     pbf_step_stats st[16];
     double *submit = calloc((size_t)cap, sizeof *submit), *poll = calloc((size_t)cap, sizeof *poll);
-    double *rho_max = calloc((size_t)cap, sizeof *rho_max);
+    double *rho_max = calloc((size_t)cap, sizeof *rho_max), *frame = calloc((size_t)cap, sizeof *frame);
+    int frames = 0;
+    eng_gpu_timer *timer = dr ? eng_renderer_gpu_timer(dr->renderer) : NULL;
+    long frame_samples = 0;
     uint32_t *overflow = calloc((size_t)cap, sizeof *overflow);
-    bool failed = !step || !submit || !poll || !rho_max || !overflow;
+    bool failed = !step || !submit || !poll || !rho_max || !overflow || !frame;
     for (int s = 0; s < PBF_STAGE_COUNT; s++) failed |= !stage[s];
     if (failed) fprintf(stderr, "seiche-bench: %ld particles: out of memory for %d steps' timings\n", n, cap);
     glFinish();
@@ -169,6 +202,19 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
             fprintf(stderr, "seiche-bench: %ld particles: %s\n", n, pbf_world_last_error(w));
             failed = true;
             break;
+        }
+        if (dr) {
+            draw(dr, w);
+            // The frame's GPU time, when a frame's timestamps have come back (never waited for).
+            for (int k = 0; k < eng_gpu_timer_section_count(timer); k++) {
+                double ms;
+                const char *name = eng_gpu_timer_section(timer, k, &ms);
+                long samples = eng_gpu_timer_samples(timer, k);
+                if (name && strcmp(name, "frame") == 0 && samples > frame_samples && ms >= 0.0 && frames < cap) {
+                    frame[frames++] = ms;
+                    frame_samples = samples;
+                }
+            }
         }
         double tp = now_s();
         submit[i] = (tp - ts) * 1000.0;
@@ -196,6 +242,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     r->wall_ms = (now_s() - t0) * 1000.0 / o->steps;
     r->cpu_ms = (cpu_s() - c0) * 1000.0 / o->steps;
     r->step_ms = median(step, got);
+    r->frame_ms = median(frame, frames);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) r->stage_ms[s] = median(stage[s], got);
     r->rho_err_avg = got ? rho_sum / got : 0.0;
     r->err_avg = got ? err_sum / got : 0.0;
@@ -222,6 +269,7 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
     free(submit);
     free(poll);
     free(rho_max);
+    free(frame);
     free(overflow);
     free(step);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) free(stage[s]);
@@ -234,12 +282,13 @@ static int run_one(const options *o, long n, int iterations, int substeps, float
 }
 
 // One line of the table (and one JSON object); `scale` is the tank's x and z scale.
-static void print_row(const result *r, float scale, FILE *js, int *first)
+static void print_row(const result *r, float scale, bool rendered, FILE *js, int *first)
 {
     printf("%9u %5d %4d %4.0fx %8.1f %9.2f %9.2f %9.2f %9.3f %9.3f %9.3f", r->particles, r->iterations, r->substeps,
            (double)scale, r->memory_mib, r->step_ms, r->wall_ms, r->cpu_ms, 100.0 * r->rho_err_avg, 100.0 * r->err_avg,
            100.0 * r->rho_err_max);
     for (int s = 0; s < PBF_STAGE_COUNT; s++) printf(" %.2f", r->stage_ms[s]);
+    if (rendered) printf("  frame_ms %.2f, %.1f frames/s", r->frame_ms, r->wall_ms > 0.0 ? 1000.0 / r->wall_ms : 0.0);
     printf("%s\n", r->nan_count || r->outside_count ? "  (NaN or lost particles!)" : "");
     fflush(stdout);
     if (!js) return;
@@ -251,7 +300,10 @@ static void print_row(const result *r, float scale, FILE *js, int *first)
             r->overflow_count);
     for (int s = 0; s < PBF_STAGE_COUNT; s++)
         fprintf(js, "%s\"%s\": %.4f", s ? ", " : "", pbf_stage_name((pbf_stage)s), r->stage_ms[s]);
-    fprintf(js, "}}");
+    fprintf(js, "}");
+    if (rendered) fprintf(js, ", \"frame_ms\": %.4f, \"frames_per_s\": %.3f", r->frame_ms,
+                          r->wall_ms > 0.0 ? 1000.0 / r->wall_ms : 0.0);
+    fprintf(js, "}");
     *first = 0;
 }
 
@@ -260,7 +312,8 @@ static void usage(FILE *f)
     fprintf(f, "usage: seiche-bench [--particles N[,N...]] [--iterations K[,K...]] [--substeps S[,S...]]\n"
                "                    [--steps M] [--warmup W] [--dt SECONDS] [--sor W] [--json FILE] [--shaders DIR]\n"
                "                    [--tank X,Y,Z] [--block S] [--tank-test] [--trace FILE]\n"
-               "                    [--grid-cells K]\n"
+               "                    [--grid-cells K] [--render surface|spheres|density|speed]\n"
+               "                    [--splat raster|compute] [--size WxH]\n"
                "defaults: --particles 16000,64000 --iterations 3 --substeps 1 --steps 60 --warmup 10 --dt 0.004\n"
                "          --sor 0 (the library's default, pbf_params.sor: the relaxation schedule; W in (0, 2):\n"
                "          that constant factor on every iteration)\n"
@@ -270,6 +323,9 @@ static void usage(FILE *f)
                "--trace appends one CSV line per measured step to FILE: CPU ms inside the step and the\n"
                "statistics poll, the GPU's ms of that step and of each stage, rho_max, overflows\n"
                "--grid-cells K: neighbour grid cells per kernel radius (default: the library's, 2)\n"
+               "--render MODE draws every step in that mode (headless, --size, default 1280x720; --splat:\n"
+               "the look's way of drawing the particle passes, default compute): wall_ms is then a frame,\n"
+               "simulation and drawing, printed as frames/s beside the renderer's GPU ms per frame\n"
                "lists (comma-separated) of particles, iterations and substeps run every combination\n"
                "exit status: 0 ok, 1 a run lost particles or produced NaN, 2 a usage, world or write error,\n"
                "             3 no OpenGL 4.3 compute context\n");
@@ -294,6 +350,9 @@ int main(int argc, char **argv)
     o.tank[1] = 3.0f;
     o.tank[2] = 1.5f;
     o.block = 1.0f;
+    o.splat = eng_default_fluid_look().splat;
+    o.width = 1280;
+    o.height = 720;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "--help") == 0) {
@@ -369,6 +428,24 @@ int main(int argc, char **argv)
             o.trace = v;
         } else if (strcmp(a, "--shaders") == 0) {
             o.shader_dir = v;
+        } else if (strcmp(a, "--render") == 0) {
+            if (!eng_fluid_mode_parse(v, &o.mode)) {
+                fprintf(stderr, "seiche-bench: --render must be one of %s (got '%s')\n", eng_fluid_mode_names(), v);
+                return 2;
+            }
+            o.render = true;
+        } else if (strcmp(a, "--splat") == 0) {
+            if (!eng_fluid_splat_parse(v, &o.splat)) {
+                fprintf(stderr, "seiche-bench: --splat must be raster or compute (got '%s')\n", v);
+                return 2;
+            }
+        } else if (strcmp(a, "--size") == 0) {
+            char tail;
+            if (sscanf(v, "%dx%d%c", &o.width, &o.height, &tail) != 2 || o.width < 16 || o.height < 16 ||
+                o.width > 16384 || o.height > 16384) {
+                fprintf(stderr, "seiche-bench: --size must be WxH, each in [16, 16384] (got '%s')\n", v);
+                return 2;
+            }
         } else {
             fprintf(stderr, "seiche-bench: unknown option '%s'\n", a);
             usage(stderr);
@@ -378,12 +455,36 @@ int main(int argc, char **argv)
     }
     eng_context_def cd = eng_default_context_def();
     cd.mode = ENG_CONTEXT_HEADLESS;
-    cd.width = cd.height = 64;
+    cd.width = o.render ? o.width : 64;
+    cd.height = o.render ? o.height : 64;
     eng_context_status cst;
-    char err[512];
+    char err[2048];
     eng_context *ctx = eng_context_create(&cd, &cst, err, sizeof err);
     if (!ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? 3 : 2;
     printf("renderer: %s\n", eng_context_renderer(ctx));
+    drawing dr;
+    memset(&dr, 0, sizeof dr);
+    if (o.render) {
+        eng_renderer_def rd = eng_default_renderer_def();
+        rd.shader_dir = o.shader_dir;
+        rd.fluid.mode = o.mode;
+        rd.fluid.splat = o.splat;
+        dr.ctx = ctx;
+        dr.renderer = eng_renderer_create(&rd, err, sizeof err);
+        eng_camera_def camd = eng_default_camera_def();
+        const float eye[3] = { 1.3f, 1.25f, 2.7f }, target[3] = { 0.8f, 0.45f, 0.75f };
+        memcpy(camd.position, eye, sizeof eye);
+        memcpy(camd.target, target, sizeof target);
+        camd.fov_y = 50.0f * 3.14159265f / 180.0f;
+        if (!dr.renderer || !eng_camera_init(&dr.cam, &camd, err, sizeof err)) {
+            fprintf(stderr, "seiche-bench: %s\n", err);
+            eng_renderer_destroy(dr.renderer);
+            eng_context_destroy(ctx);
+            return 2;
+        }
+        printf("drawing every step: %s mode, %s splats, %dx%d (the camera of seiche-render-bench)\n",
+               eng_fluid_mode_name(o.mode), eng_fluid_splat_name(o.splat), o.width, o.height);
+    }
     printf("scene: dam break, a %g m cube of water in a %g x %g x %g m tank, h = 2 spacings, dt %.4g s, sor %g%s, "
            "wall friction %g, XSPH on, vorticity off; median of %d steps after %d warm-up\n",
            (double)o.block, (double)o.tank[0], (double)o.tank[1], (double)o.tank[2], o.dt, o.sor,
@@ -415,14 +516,14 @@ int main(int argc, char **argv)
             for (int t = 0; t < scales && ok; t++) {
                 long base = run_index++ * (o.warmup + o.steps);
                 float scale = t == 0 ? 1.0f : 20.0f;
-                int done = run_one(&o, o.particles[pi], (int)o.iterations[ii], (int)o.substeps[si], scale, &r[t], &pr,
-                                   base);
+                int done = run_one(&o, o.render ? &dr : NULL, o.particles[pi], (int)o.iterations[ii],
+                                   (int)o.substeps[si], scale, &r[t], &pr, base);
                 eng_progress_end(&pr);
                 if (!done) {
                     ok = 0;
                     break;
                 }
-                print_row(&r[t], scale, js, &first);
+                print_row(&r[t], scale, o.render, js, &first);
                 if (r[t].nan_count || r[t].outside_count) diverged = 1;
             }
             if (ok && scales == 2) {
@@ -443,6 +544,7 @@ int main(int argc, char **argv)
             ok = 0;
         }
     }
+    eng_renderer_destroy(dr.renderer);
     eng_context_destroy(ctx);
     if (ok && diverged) fprintf(stderr, "seiche-bench: a run lost particles or produced NaN (marked above)\n");
     if (ok && fflush(stdout) != 0) ok = 0;
