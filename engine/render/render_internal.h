@@ -57,6 +57,7 @@ typedef struct splat_prog {
     GLuint prog;
     GLint radius, count, fill, size, view, proj, light_near, store;
     GLint groups, spray_speed, spray_density, particle_mass, inv_rest_density; // spray_cull.comp
+    GLint stage;                                                                 // splat.comp
 } splat_prog;
 
 typedef struct queued_mesh {
@@ -109,6 +110,8 @@ struct eng_renderer {
     splat_prog spray_count, spray_scan, spray_write;
     GLuint spray_list, spray_cmd, spray_groups; // the spray pass's draw (spray_cull.comp)
     GLint spray_capacity;                       // drops spray_list holds
+    GLuint splat_big;                           // splat.comp's list of large spheres
+    GLint splat_big_capacity;                   // particles it holds
     GLuint smooth_prog, composite_prog;
     GLint smooth_step, smooth_world_radius, smooth_px_per_m, smooth_max_px, smooth_range;
     GLint comp_fluid_size, comp_layer, comp_absorption, comp_scatter, comp_refraction, comp_reflection,

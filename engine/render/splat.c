@@ -51,6 +51,7 @@ static bool build(eng_renderer *r, splat_prog *sp, const char *file, const char 
     sp->spray_density = glGetUniformLocation(p, "u_spray_density");
     sp->particle_mass = glGetUniformLocation(p, "u_particle_mass");
     sp->inv_rest_density = glGetUniformLocation(p, "u_inv_rest_density");
+    sp->stage = glGetUniformLocation(p, "u_stage");
     return true;
 }
 
@@ -80,8 +81,8 @@ void eng_splat_destroy(eng_renderer *r)
                           &r->resolve_light,   &r->spray_count,   &r->spray_scan,  &r->spray_write };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (all[i]->prog) glDeleteProgram(all[i]->prog);
-    GLuint bufs[3] = { r->spray_list, r->spray_cmd, r->spray_groups };
-    for (int i = 0; i < 3; i++)
+    GLuint bufs[4] = { r->spray_list, r->spray_cmd, r->spray_groups, r->splat_big };
+    for (int i = 0; i < 4; i++)
         if (bufs[i]) glDeleteBuffers(1, &bufs[i]);
 }
 
@@ -182,7 +183,27 @@ static void resolve(const splat_prog *p, int w, int h, int store, GLbitfield aft
 // fetches, and the raster path's framebuffer clears should the look switch back.
 #define AFTER_RESOLVE (GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT)
 
-// Every queued fluid through splat program `sp` (its images and test texture bound).
+// Work groups of the dispatch over the large spheres (each loops over the list).
+#define LARGE_GROUPS 512u
+
+// The list of large spheres, as long as the largest queued fluid; false (logged) if it
+// could not be made.
+static bool large_list(eng_renderer *r)
+{
+    GLint most = 0;
+    for (int i = 0; i < r->fluid_count; i++) most = r->fluids[i].count > most ? r->fluids[i].count : most;
+    if (most <= r->splat_big_capacity) return true;
+    if (r->splat_big) glDeleteBuffers(1, &r->splat_big);
+    r->splat_big = gpu_buffer(((GLsizeiptr)most + 1) * (GLsizeiptr)sizeof(GLuint), "eng.splat.large");
+    r->splat_big_capacity = r->splat_big ? most : 0;
+    if (!r->splat_big)
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the compute splats' list (%d particles) could not be made", most);
+    return r->splat_big != 0;
+}
+
+// Every queued fluid through splat program `sp` (its images and test texture bound, the
+// large list made): the list emptied, every particle (the large spheres listed), then the
+// listed ones a work group each.
 static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *view, const float *proj, int w, int h)
 {
     glUseProgram(sp->prog);
@@ -196,7 +217,16 @@ static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *vie
         glUniform1i(sp->count, f->count);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, f->d.positions);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_DRAW_SSBO_BINDING, f->d.draw_indirect);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPLAT_BIG_BINDING, r->splat_big);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // the last large dispatch read the list
+        glUniform1i(sp->stage, 2);
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glUniform1i(sp->stage, 0);
         glDispatchCompute(particle_groups(f->count), 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // the list (the images take atomics only)
+        glUniform1i(sp->stage, 1);
+        glDispatchCompute(LARGE_GROUPS, 1, 1);
     }
 }
 
@@ -225,6 +255,7 @@ static void bind_surface_resolve(const surface_targets *s)
 bool eng_splat_surface(eng_renderer *r)
 {
     surface_targets *s = &r->surf;
+    if (!large_list(r)) return false;
     if (!s->depth_bits) {
         s->depth_bits = eng_render_texture(GL_R32UI, s->fw, s->fh, GL_NEAREST, "eng.surface.splat_depth_bits");
         s->thick_bits = eng_render_uint_layers(s->fw, s->fh, 5, "eng.surface.splat_thickness_bits");
@@ -241,8 +272,15 @@ bool eng_splat_surface(eng_renderer *r)
     eng_camera_view(&r->cam, view);
     eng_camera_projection(&r->cam, r->aspect, proj);
 
-    // The scene's depth at the water's size (as the raster passes' depth test has it).
+    // The scene's depth at the water's size (as the raster passes' depth test has it), and
+    // the float textures cleared to "no water" (the resolve writes only touched texels).
     int t = eng_render_timer_begin(r, "surface_thickness");
+    const float zero[4] = { 0.0f, 0.0f, 0.0f, 0.0f };
+    glBindFramebuffer(GL_FRAMEBUFFER, s->depth_fbo);
+    glClearBufferfv(GL_COLOR, 0, zero);
+    glBindFramebuffer(GL_FRAMEBUFFER, s->thick_fbo);
+    glClearBufferfv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_COLOR, 1, zero);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, s->scene_fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, s->thick_fbo);
     glBlitFramebuffer(0, 0, s->width, s->height, 0, 0, s->fw, s->fh, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
@@ -277,6 +315,7 @@ static void bind_light_resolve(const shadow_map *s)
 bool eng_splat_shadow(eng_renderer *r)
 {
     shadow_map *s = &r->shadow;
+    if (!large_list(r)) return false;
     if (!s->bits) {
         s->bits = eng_render_uint_layers(s->size, s->size, 2, "eng.shadow.splat_bits");
         if (!s->bits) {

@@ -17,6 +17,8 @@
 #define ENG_RENDER_SPRAY_LIST_BINDING 3
 #define ENG_RENDER_SPRAY_CMD_BINDING 4
 #define ENG_RENDER_SPRAY_GROUPS_BINDING 5
+// The compute splats' list of spheres too large for one invocation (splat.comp).
+#define ENG_RENDER_SPLAT_BIG_BINDING 6
 
 // Vertex attribute locations of eng_mesh_gpu meshes.
 #define ENG_RENDER_ATTRIB_POSITION 0
@@ -45,6 +47,8 @@
 // Fixed point of the splats' sums: units per metre of thickness (2^20: a texel holds up to
 // 4096 m, to a micrometre).
 #define ENG_RENDER_SPLAT_SCALE 1048576.0
+// A sphere covering more texels than this is splatted by a whole work group (splat.comp).
+#define ENG_RENDER_SPLAT_BIG 256
 // The shadow map's front where no water is: m past the light's near plane.
 #define ENG_RENDER_SPLAT_FAR 1e30
 

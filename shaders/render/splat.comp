@@ -16,6 +16,10 @@
 //                chord, behind no opaque caster
 // A GPU whose raster hardware is scarce (a data-centre part) draws a million point sprites
 // slowly; these passes use none of it.
+// A sphere that covers more than ENG_RENDER_SPLAT_BIG texels (near the eye) would keep one
+// invocation looping while its neighbours idle: it is listed instead (u_stage 0), and a
+// second dispatch (u_stage 1) gives each listed sphere a whole work group, its texels
+// strided over the group. u_stage 2 empties the list (before each fluid's splat).
 #include "render_shared.glsl"
 #include "splat_order.glsl"
 
@@ -36,6 +40,12 @@ uniform float u_fill;   // the lattice's volume over the spheres'
 uniform ivec2 u_size;   // texels of the target
 uniform mat4 u_view;    // world -> view (the light's in SPLAT_LIGHT)
 uniform mat4 u_proj;    // view -> clip
+uniform int u_stage;    // 0: every particle (the large ones listed), 1: the listed ones, 2: empty the list
+
+layout(std430, binding = ENG_RENDER_SPLAT_BIG_BINDING) buffer Big {
+    uint big_count;
+    uint big_list[]; // particle indices
+};
 // The depth the particles are tested against (window depth 0..1): the scene's at the
 // water's resolution, or the shadow map's opaque casters.
 layout(binding = ENG_RENDER_TEX_SPLAT_TEST) uniform sampler2D u_test_depth;
@@ -69,7 +79,7 @@ float window_depth(float z)
 
 uint fixed_point(float x) { return uint(x * ENG_RENDER_SPLAT_SCALE + 0.5); }
 
-void splat(vec4 p)
+void splat(uint index, vec4 p)
 {
     float r = u_radius, r2 = r * r;
     if (any(isnan(p.xyz)) || any(isinf(p.xyz))) return; // a diverged particle is not drawn
@@ -108,12 +118,20 @@ void splat(vec4 p)
     lo = clamp(lo, vec2(-1.0), vec2(u_size) + 1.0);
     hi = clamp(hi, vec2(-1.0), vec2(u_size) + 1.0);
     ivec2 t0 = max(ivec2(ceil(lo - 0.5)), ivec2(0)), t1 = min(ivec2(floor(hi - 0.5)), u_size - 1);
+    int width = t1.x - t0.x + 1, area = width * (t1.y - t0.y + 1);
+    if (width <= 0 || t1.y < t0.y) return;
+    if (u_stage == 0 && area > ENG_RENDER_SPLAT_BIG) {
+        big_list[atomicAdd(big_count, 1u)] = index;
+        return;
+    }
+    int first = u_stage == 0 ? 0 : int(gl_LocalInvocationID.x), step = u_stage == 0 ? 1 : int(gl_WorkGroupSize.x);
 #ifdef SPLAT_THICK
     bool tinted = is_tint(p.w);
     vec3 tint = tinted ? tint_colour(p.w) : vec3(0.0);
 #endif
-    for (int y = t0.y; y <= t1.y; y++) {
-        for (int x = t0.x; x <= t1.x; x++) {
+    for (int k = first; k < area; k += step) {
+        int x = t0.x + k % width, y = t0.y + k / width;
+        {
             vec2 ndc = (vec2(x, y) + 0.5) / vec2(u_size) * 2.0 - 1.0;
             float test = texelFetch(u_test_depth, ivec2(x, y), 0).r;
 #ifdef SPLAT_LIGHT
@@ -153,7 +171,16 @@ void splat(vec4 p)
 
 void main()
 {
+    if (u_stage == 2) {
+        if (gl_GlobalInvocationID.x == 0u) big_count = 0u;
+        return;
+    }
+    if (u_stage == 1) {
+        uint count = big_count;
+        for (uint b = gl_WorkGroupID.x; b < count; b += gl_NumWorkGroups.x) splat(big_list[b], particles[big_list[b]]);
+        return;
+    }
     uint n = min(draw_command[1], uint(max(u_count, 0)));
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    for (uint i = gl_GlobalInvocationID.x; i < n; i += stride) splat(particles[i]);
+    for (uint i = gl_GlobalInvocationID.x; i < n; i += stride) splat(i, particles[i]);
 }

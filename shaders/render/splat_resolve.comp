@@ -1,7 +1,10 @@
 #version 430 core
 // After splat.comp: each texel's integer sums become the float textures the raster passes
 // would have written, and the integer images are reset for the next frame (so nothing
-// clears them separately). With u_store 0 it only resets (the images' first use).
+// clears them separately). A texel no sphere touched is left alone: its images hold their
+// reset values already, and its float textures were cleared to "no water" before the
+// splats (the shadow pass's clears; splat.c's for the surface). With u_store 0 it only
+// resets (the images' first use).
 //   RESOLVE_SURFACE  depth bits (no hit: 0) -> the eye depth (R32F, 0: no water);
 //                    layers 0..4 -> thickness (R16F) and the tinted share (RGBA16F)
 //   RESOLVE_LIGHT    layer 0, the front's code (no hit: ENG_RENDER_SPLAT_FAR) -> R32F;
@@ -34,10 +37,11 @@ void main()
     const float k = 1.0 / ENG_RENDER_SPLAT_SCALE;
 #ifdef RESOLVE_SURFACE
     if (u_store != 0) {
-        uint d = imageLoad(u_depth_bits, t).r;
+        uint d = imageLoad(u_depth_bits, t).r, s[5];
+        s[0] = imageLoad(u_thick_bits, ivec3(t, 0)).r;
+        if (d == 0xffffffffu && s[0] == 0u) return; // untouched (a tint comes with a thickness)
         imageStore(u_depth, t, vec4(d == 0xffffffffu ? 0.0 : uintBitsToFloat(d)));
-        uint s[5];
-        for (int i = 0; i < 5; i++) s[i] = imageLoad(u_thick_bits, ivec3(t, i)).r;
+        for (int i = 1; i < 5; i++) s[i] = imageLoad(u_thick_bits, ivec3(t, i)).r;
         imageStore(u_thick, t, vec4(float(s[0]) * k));
         imageStore(u_tint, t, vec4(float(s[1]), float(s[2]), float(s[3]), float(s[4])) * k);
     }
@@ -47,8 +51,10 @@ void main()
 #ifdef RESOLVE_LIGHT
     uint far_code = splat_order(ENG_RENDER_SPLAT_FAR);
     if (u_store != 0) {
-        imageStore(u_front, t, vec4(splat_value(imageLoad(u_bits, ivec3(t, 0)).r)));
-        imageStore(u_thick, t, vec4(float(imageLoad(u_bits, ivec3(t, 1)).r) * k));
+        uint front = imageLoad(u_bits, ivec3(t, 0)).r, thick = imageLoad(u_bits, ivec3(t, 1)).r;
+        if (front == far_code && thick == 0u) return; // untouched
+        imageStore(u_front, t, vec4(splat_value(front)));
+        imageStore(u_thick, t, vec4(float(thick) * k));
     }
     imageStore(u_bits, ivec3(t, 0), uvec4(far_code));
     imageStore(u_bits, ivec3(t, 1), uvec4(0u));
