@@ -644,14 +644,15 @@ static void reset_state(eng_renderer *r)
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glBindVertexArray(0);
     glUseProgram(0);
-    for (int u = 0; u <= ENG_RENDER_TEX_FLUID_TINT; u++) {
+    for (int u = 0; u <= ENG_RENDER_TEX_SPLAT_TEST; u++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)u);
         glBindTexture(GL_TEXTURE_2D, 0);
     }
     glActiveTexture(GL_TEXTURE0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_VELOCITY_SSBO_BINDING, 0);
+    // The storage bindings the particle passes, the compute splats and the spray's cull use.
+    for (GLuint b = ENG_RENDER_PARTICLE_SSBO_BINDING; b <= ENG_RENDER_SPLAT_BIG_BINDING; b++)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, b, 0);
 }
 
 void eng_renderer_end(eng_renderer *r)

@@ -204,7 +204,8 @@ void eng_renderer_draw_fluid(eng_renderer *r, const eng_fluid_draw *fluid);
 void eng_renderer_draw_particles(eng_renderer *r, const eng_camera *cam, GLuint positions_ssbo,
                                  GLuint draw_indirect_buffer, float radius, const eng_particle_style *style);
 /// Draws the frame, leaves GL state at defaults (the context's framebuffer bound, its full
-/// viewport, depth test on, blending off, program 0, VAO 0, texture units 0..6 unbound)
+/// viewport, depth test on, blending off, program 0, VAO 0, texture units 0..8, storage
+/// buffer bindings 0..6 and image units 0..4 unbound)
 /// and collects timer results. Does not present.
 void eng_renderer_end(eng_renderer *r);
 
