@@ -205,10 +205,11 @@ static int teardown(void **state)
     return 0;
 }
 
-enum { DRY, WET, ONE_PARTICLE };
+enum { DRY, WET, ONE_PARTICLE, WET_TWICE };
 
-// Renders the scene from `cam` with `look` and no water (DRY), the water (WET) or the one
-// particle alone, and reads it back (rows from the top) when `rgba` is given.
+// Renders the scene from `cam` with `look` and no water (DRY), the water (WET), the one
+// particle alone, or the water queued as two fluids (WET_TWICE: the renderer's passes over
+// several fluids), and reads it back (rows from the top) when `rgba` is given.
 static void render_from(fixture *f, const eng_camera *cam, const eng_fluid_look *look, int water, unsigned char *rgba)
 {
     assert_true(eng_renderer_set_fluid_look(f->r, look));
@@ -217,13 +218,15 @@ static void render_from(fixture *f, const eng_camera *cam, const eng_fluid_look 
     if (water != ONE_PARTICLE) eng_renderer_draw_scene(f->r, f->scene, f->meshes);
     if (water != DRY) {
         eng_fluid_draw d = eng_default_fluid_draw();
-        d.positions = water == WET ? f->ssbo : f->one_ssbo;
-        d.velocities = water == WET ? f->vel : 0;
-        d.draw_indirect = water == WET ? f->cmd : f->one_cmd;
+        bool block = water != ONE_PARTICLE;
+        d.positions = block ? f->ssbo : f->one_ssbo;
+        d.velocities = block ? f->vel : 0;
+        d.draw_indirect = block ? f->cmd : f->one_cmd;
         d.radius = RADIUS;
         d.particle_mass = 0.064f;
         d.rest_density = 1000.0f;
         eng_renderer_draw_fluid(f->r, &d);
+        if (water == WET_TWICE) eng_renderer_draw_fluid(f->r, &d);
     }
     eng_renderer_end(f->r);
     assert_int_equal(glGetError(), GL_NO_ERROR);
@@ -724,6 +727,23 @@ static void compute_splats_draw_what_the_raster_passes_draw(void **state)
                   "(%ld pixels by more than 8)\n", shows, W * H, mean, far);
     assert_true(shows > W * H / 2);
     assert_true(mean < 0.1 && far <= W * H / 1000);
+    // Two fluids a frame (the same water queued twice: twice the thickness, twice the spray):
+    // each fluid's splat, large-sphere list and spray cull in turn, as the raster passes
+    // draw each in turn.
+    look = eng_default_fluid_look();
+    look.splat = ENG_FLUID_SPLAT_RASTER;
+    render_from(f, &f->cam, &look, WET_TWICE, raster);
+    look.splat = ENG_FLUID_SPLAT_COMPUTE;
+    render_from(f, &f->cam, &look, WET_TWICE, compute);
+    mean = frame_difference(raster, compute, 8, &far);
+    static unsigned char once[W * H * 4];
+    render_from(f, &f->cam, &look, WET, once);
+    long thicker;
+    frame_difference(compute, once, 8, &thicker);
+    print_message("two fluids: the paths differ by %.4f levels (%ld pixels by more than 8); %ld pixels differ from one "
+                  "fluid's frame\n", mean, far, thicker);
+    assert_true(mean < 0.1 && far <= W * H / 1000);
+    assert_true(thicker > W * H / 50); // the second fluid was drawn
     // The shipped look (compute splats) and the raster passes against the same reference.
     look = eng_default_fluid_look();
     assert_int_equal(look.splat, ENG_FLUID_SPLAT_COMPUTE);
