@@ -43,6 +43,44 @@ static float unit_noise(void) // -0.5 .. 0.5
     return (float)(rng >> 8) / 16777216.0f - 0.5f;
 }
 
+// Draws `warmup` frames, then `frames` measured ones, each waited for, and prints the median
+// milliseconds of every timer section under "MODE (splat SPLAT):".
+static void measure(eng_renderer *r, eng_context *ctx, const eng_camera *cam, eng_scene *scene, eng_mesh_store *meshes,
+                    const eng_fluid_draw *fd, int warmup, int frames, const char *mode, const char *splat)
+{
+    eng_gpu_timer *t = eng_renderer_gpu_timer(r);
+    enum { MAX_SECTIONS = 16 };
+    double *ms[MAX_SECTIONS];
+    for (int i = 0; i < MAX_SECTIONS; i++) ms[i] = calloc((size_t)frames, sizeof(double));
+    int got[MAX_SECTIONS] = { 0 };
+    long seen[MAX_SECTIONS] = { 0 }; // samples so far: a section not drawn this frame keeps its count
+    for (int f = 0; f < warmup + frames; f++) {
+        eng_renderer_begin(r, ctx, cam);
+        eng_renderer_draw_scene(r, scene, meshes);
+        eng_renderer_draw_fluid(r, fd);
+        eng_renderer_end(r);
+        eng_gpu_timer_wait(t);
+        if (f < warmup) {
+            for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++)
+                seen[i] = eng_gpu_timer_samples(t, i);
+            continue;
+        }
+        for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++) {
+            double x;
+            eng_gpu_timer_section(t, i, &x);
+            long samples = eng_gpu_timer_samples(t, i);
+            if (samples > seen[i] && x >= 0.0 && got[i] < frames) ms[i][got[i]++] = x;
+            seen[i] = samples;
+        }
+    }
+    printf("%s (splat %s):\n", mode, splat);
+    for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++) {
+        qsort(ms[i], (size_t)got[i], sizeof(double), cmp_double);
+        if (got[i] > 0) printf("  %-18s %9.3f ms\n", eng_gpu_timer_section(t, i, NULL), ms[i][got[i] / 2]);
+    }
+    for (int i = 0; i < MAX_SECTIONS; i++) free(ms[i]);
+}
+
 static int usage(void)
 {
     fprintf(stderr, "usage: seiche-render-bench [--size WxH] [--particles N] [--frames N] [--warmup N]\n"
@@ -170,57 +208,28 @@ int main(int argc, char **argv)
 
     printf("seiche-render-bench: %dx%d, %ld particles (radius %.2f mm), surface textures at %.2f, %s\n", w, h, n,
            1000.0 * 0.5 * s, (double)eng_renderer_fluid_look(r).resolution, eng_context_renderer(ctx));
-    eng_gpu_timer *t = eng_renderer_gpu_timer(r);
     char splat_list[256], list[256];
     snprintf(splat_list, sizeof splat_list, "%s", splats);
     char *splat_save = NULL;
     for (char *sp = strtok_r(splat_list, ",", &splat_save); sp; sp = strtok_r(NULL, ",", &splat_save)) {
-    eng_fluid_look look = eng_renderer_fluid_look(r);
-    if (!eng_fluid_splat_parse(sp, &look.splat)) {
-        fprintf(stderr, "seiche-render-bench: --splat: each must be raster or compute (got '%s')\n", sp);
-        return 2;
-    }
-    eng_renderer_set_fluid_look(r, &look);
-    snprintf(list, sizeof list, "%s", modes);
-    char *mode_save = NULL;
-    for (char *m = strtok_r(list, ",", &mode_save); m; m = strtok_r(NULL, ",", &mode_save)) {
-        eng_fluid_mode mode;
-        if (!eng_fluid_mode_parse(m, &mode)) {
-            fprintf(stderr, "seiche-render-bench: --mode: each must be one of %s (got '%s')\n", eng_fluid_mode_names(), m);
+        eng_fluid_look look = eng_renderer_fluid_look(r);
+        if (!eng_fluid_splat_parse(sp, &look.splat)) {
+            fprintf(stderr, "seiche-render-bench: --splat: each must be raster or compute (got '%s')\n", sp);
             return 2;
         }
-        eng_renderer_set_fluid_mode(r, mode);
-        enum { MAX_SECTIONS = 16 };
-        double *ms[MAX_SECTIONS];
-        for (int i = 0; i < MAX_SECTIONS; i++) ms[i] = calloc((size_t)frames, sizeof(double));
-        int got[MAX_SECTIONS] = { 0 };
-        long seen[MAX_SECTIONS] = { 0 }; // samples so far: a section not drawn this frame keeps its count
-        for (int f = 0; f < warmup + frames; f++) {
-            eng_renderer_begin(r, ctx, &cam);
-            eng_renderer_draw_scene(r, scene, meshes);
-            eng_renderer_draw_fluid(r, &fd);
-            eng_renderer_end(r);
-            eng_gpu_timer_wait(t);
-            if (f < warmup) {
-                for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++)
-                    seen[i] = eng_gpu_timer_samples(t, i);
-                continue;
+        eng_renderer_set_fluid_look(r, &look);
+        snprintf(list, sizeof list, "%s", modes);
+        char *mode_save = NULL;
+        for (char *m = strtok_r(list, ",", &mode_save); m; m = strtok_r(NULL, ",", &mode_save)) {
+            eng_fluid_mode mode;
+            if (!eng_fluid_mode_parse(m, &mode)) {
+                fprintf(stderr, "seiche-render-bench: --mode: each must be one of %s (got '%s')\n", eng_fluid_mode_names(),
+                        m);
+                return 2;
             }
-            for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++) {
-                double x;
-                eng_gpu_timer_section(t, i, &x);
-                long samples = eng_gpu_timer_samples(t, i);
-                if (samples > seen[i] && x >= 0.0 && got[i] < frames) ms[i][got[i]++] = x;
-                seen[i] = samples;
-            }
+            eng_renderer_set_fluid_mode(r, mode);
+            measure(r, ctx, &cam, scene, meshes, &fd, warmup, frames, m, sp);
         }
-        printf("%s (splat %s):\n", m, sp);
-        for (int i = 0; i < eng_gpu_timer_section_count(t) && i < MAX_SECTIONS; i++) {
-            qsort(ms[i], (size_t)got[i], sizeof(double), cmp_double);
-            if (got[i] > 0) printf("  %-18s %9.3f ms\n", eng_gpu_timer_section(t, i, NULL), ms[i][got[i] / 2]);
-        }
-        for (int i = 0; i < MAX_SECTIONS; i++) free(ms[i]);
-    }
     }
     if (shot && !eng_screenshot_write_png(ctx, shot, err, sizeof err)) fprintf(stderr, "seiche-render-bench: %s\n", err);
     glDeleteBuffers(3, buf);

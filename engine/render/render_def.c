@@ -10,6 +10,14 @@
 
 static const char *const mode_names[ENG_FLUID_MODE_COUNT] = { "surface", "spheres", "density", "speed" };
 
+// The index of `name` in names[0..count-1]; -1 for any other text (NULL included).
+static int name_index(const char *const *names, int count, const char *name)
+{
+    for (int i = 0; name && i < count; i++)
+        if (strcmp(name, names[i]) == 0) return i;
+    return -1;
+}
+
 const char *eng_fluid_mode_name(eng_fluid_mode mode)
 {
     return (int)mode >= 0 && mode < ENG_FLUID_MODE_COUNT ? mode_names[mode] : NULL;
@@ -17,12 +25,9 @@ const char *eng_fluid_mode_name(eng_fluid_mode mode)
 
 bool eng_fluid_mode_parse(const char *name, eng_fluid_mode *mode)
 {
-    for (int i = 0; name && i < ENG_FLUID_MODE_COUNT; i++)
-        if (strcmp(name, mode_names[i]) == 0) {
-            *mode = (eng_fluid_mode)i;
-            return true;
-        }
-    return false;
+    int i = name_index(mode_names, ENG_FLUID_MODE_COUNT, name);
+    if (i >= 0) *mode = (eng_fluid_mode)i;
+    return i >= 0;
 }
 
 const char *eng_fluid_mode_names(void) { return "surface|spheres|density|speed"; }
@@ -258,12 +263,9 @@ const char *eng_fluid_view_name(eng_fluid_view view)
 
 bool eng_fluid_view_parse(const char *name, eng_fluid_view *view)
 {
-    for (int i = 0; name && i < ENG_FLUID_VIEW_COUNT; i++)
-        if (strcmp(name, view_names[i]) == 0) {
-            *view = (eng_fluid_view)i;
-            return true;
-        }
-    return false;
+    int i = name_index(view_names, ENG_FLUID_VIEW_COUNT, name);
+    if (i >= 0) *view = (eng_fluid_view)i;
+    return i >= 0;
 }
 
 static const char *const splat_names[ENG_FLUID_SPLAT_COUNT] = { "raster", "compute" };
@@ -275,10 +277,7 @@ const char *eng_fluid_splat_name(eng_fluid_splat splat)
 
 bool eng_fluid_splat_parse(const char *name, eng_fluid_splat *splat)
 {
-    for (int i = 0; name && i < ENG_FLUID_SPLAT_COUNT; i++)
-        if (strcmp(name, splat_names[i]) == 0) {
-            *splat = (eng_fluid_splat)i;
-            return true;
-        }
-    return false;
+    int i = name_index(splat_names, ENG_FLUID_SPLAT_COUNT, name);
+    if (i >= 0) *splat = (eng_fluid_splat)i;
+    return i >= 0;
 }

@@ -48,7 +48,7 @@ typedef struct particle_prog {
     GLint radius, count, fill, light_view, light_proj, light_near;
     GLint color_mode, color_range, particle_mass, inv_rest_density, color_low, color_mid, color_high;
     GLint specular, shininess;
-    GLint spray, spray_speed, spray_density;
+    GLint spray;
 } particle_prog;
 
 // One compute program of the splats (splat.comp, splat_resolve.comp); -1 where it has no

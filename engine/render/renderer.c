@@ -124,8 +124,6 @@ static bool build_particles(eng_renderer *r, particle_prog *pp, const char *frag
     pp->specular = glGetUniformLocation(p, "u_specular");
     pp->shininess = glGetUniformLocation(p, "u_shininess");
     pp->spray = glGetUniformLocation(p, "u_spray");
-    pp->spray_speed = glGetUniformLocation(p, "u_spray_speed");
-    pp->spray_density = glGetUniformLocation(p, "u_spray_density");
     return true;
 }
 

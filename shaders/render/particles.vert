@@ -42,9 +42,6 @@ uniform mat4 u_light_proj; // the light's view -> clip (orthographic)
 // (One name per #ifdef: the strict GL mode reads which blocks are active from the source,
 // and it follows `#ifdef NAME`, not `#if defined(A) || defined(B)`.)
 #ifdef COLOR_MODES
-#define READ_VELOCITIES 1
-#endif
-#ifdef READ_VELOCITIES
 layout(std430, binding = ENG_RENDER_VELOCITY_SSBO_BINDING) readonly buffer Velocities {
     vec4 velocities[]; // xyz: m/s, w: the particle's volume m^3 (mass / density)
 };
