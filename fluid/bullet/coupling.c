@@ -44,7 +44,6 @@ typedef struct body_entry {
     float added;               // kg: the added mass the force is applied with (cpl_def.added_mass), 0 none
     float share;               // the share of full submersion's lift it is taken for (slowly followed)
     float step_accel[CPL_ACCEL_RING][3]; // m/s^2: its acceleration in coupling step k, at k % CPL_ACCEL_RING
-    float v_before[3];         // m/s: its velocity at the start of the current step
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
     float placed;              // s: held while being set down in water (placing)
     float v0[3];               // velocity it was made with, m/s
@@ -915,12 +914,12 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         if (e->used && e->two_way && !e->has_force && !e->in_water) unmeasured_state(c, e, &before_p[i], NULL, &before_v[i]);
     }
     // Each dynamic body's velocity before the step, for its acceleration in it (the added mass).
+    phys_vec3 start_v[CPL_MAX_BODIES] = { { 0.0f, 0.0f, 0.0f } };
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
-        phys_vec3 v;
         if (!e->used || !e->two_way || e->type != PHYS_BODY_DYNAMIC) continue;
-        if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) v = (phys_vec3){ 0.0f, 0.0f, 0.0f };
-        e->v_before[0] = v.x, e->v_before[1] = v.y, e->v_before[2] = v.z;
+        if (phys_body_get_linear_velocity(c->def.phys, e->body, &start_v[i]) != PHYS_OK)
+            start_v[i] = (phys_vec3){ 0.0f, 0.0f, 0.0f };
     }
     c->hook_error = CPL_OK;
     pbf_result r = pbf_world_step_with(c->def.fluid, dt, hook, c);
@@ -934,7 +933,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             a[0] = a[1] = a[2] = 0.0f; // not yet let go: held, or falling before its first measurement
             continue;
         }
-        a[0] = (v.x - e->v_before[0]) / dt, a[1] = (v.y - e->v_before[1]) / dt, a[2] = (v.z - e->v_before[2]) / dt;
+        a[0] = (v.x - start_v[i].x) / dt, a[1] = (v.y - start_v[i].y) / dt, a[2] = (v.z - start_v[i].z) / dt;
     }
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];
