@@ -137,7 +137,8 @@ static bool build_programs(eng_renderer *r, char *err, size_t err_size)
                                            "render/mesh_shadow", err, err_size);
     if (!r->mesh_shadow.prog) return false;
     mesh_locations(&r->mesh_shadow);
-    return build_particles(r, &r->spheres, "render/particles.frag", "#define COLOR_MODES 1\n", "render/particles",
+    return build_particles(r, &r->spheres, "render/particles.frag",
+                           "#define COLOR_MODES 1\n#define NEAR_QUAD 1\n", "render/particles",
                            err, err_size) &&
            build_particles(r, &r->fluid_depth, "render/fluid_depth.frag", "#define NEAR_QUAD 1\n",
                            "render/fluid_depth", err, err_size) &&

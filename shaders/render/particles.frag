@@ -2,7 +2,12 @@
 // Sphere impostor of the sphere modes: the eye ray through this fragment meets the sphere
 // or the fragment is discarded; the hit point gives the normal (the scene's light, its
 // shadows) and the true depth. The colour comes from the vertex shader (COLOR_MODES).
+// Drawn with NEAR_QUAD: the quad lies at the sphere's nearest depth and the hit is never
+// nearer, which depth_greater declares, so a GPU keeps its early depth test and does not
+// shade the spheres hidden behind nearer ones.
 #include "frame.glsl"
+
+layout(depth_greater) out float gl_FragDepth;
 
 in vec3 v_view_pos;
 flat in vec3 v_center;
