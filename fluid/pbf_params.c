@@ -673,9 +673,21 @@ pbf_result pbf_level_layout(const pbf_params *p, const float domain_min[3], cons
     cell[0] = cell[1] = cell[2] = 0.0f;
     if (p->level_sweeps == 0) return PBF_OK;
     double want = (double)p->level_cell * p->kernel_radius, total = 1.0;
+    // The world validates its def first; pbf_world_def_memory may be asked about any def,
+    // so nothing below may meet a NaN (its conversion to an integer is undefined).
+    if (!isfinite(want) || !(want > 0.0)) {
+        snprintf(err, err_size, "pbf_params.level_cell x kernel_radius must be a positive size (got %g x %g)",
+                 (double)p->level_cell, (double)p->kernel_radius);
+        return PBF_ERR_INVALID_ARG;
+    }
     uint32_t n[3];
     for (int k = 0; k < 3; k++) {
         double len = (double)domain_max[k] - domain_min[k];
+        if (!isfinite(len) || !(len > 0.0)) {
+            snprintf(err, err_size, "the coarse level needs a finite domain with domain_max[%d] > domain_min[%d] (got min %g, max %g)",
+                     k, k, (double)domain_min[k], (double)domain_max[k]);
+            return PBF_ERR_INVALID_ARG;
+        }
         double m = floor(len / want + 0.5);
         if (m < 1.0) m = 1.0;
         total *= m;

@@ -180,6 +180,38 @@ static void bucket_clear_of_a_large_world_fits_one_dispatch(void **state)
     pbf_world_destroy(w);
 }
 
+// fuzz_pbf_api, regressions/memory_of_a_def_whose_domain_is_not_finite: pbf_world_def_memory
+// takes any def, unchecked; with the coarse level on, its layout divided a NaN domain into
+// cells and converted the NaN to an integer (undefined behaviour, which the sanitizers'
+// build stops on). The level's cells are now not counted where its layout cannot be made,
+// and the world refuses the same def naming the domain.
+static void memory_of_a_def_whose_domain_is_not_finite_is_defined(void **state)
+{
+    (void)state;
+    pbf_world_def def = pbf_default_world_def();
+    def.params.level_sweeps = 20;
+    uint64_t with_level = pbf_world_def_memory(&def);
+    def.params.level_sweeps = 0;
+    uint64_t without = pbf_world_def_memory(&def);
+    assert_true(with_level > without); // a finite domain: the level's cells counted
+    const float bad[] = { NAN, INFINITY, -INFINITY };
+    for (int k = 0; k < 3; k++) {
+        def = pbf_default_world_def();
+        def.domain_max[1] = bad[k];
+        uint64_t plain = pbf_world_def_memory(&def);
+        def.params.level_sweeps = 20;
+        assert_int_equal(pbf_world_def_memory(&def), plain);
+        char err[256];
+        assert_null(pbf_world_create(&def, err, sizeof err));
+        assert_non_null(strstr(err, "domain_max[1]"));
+    }
+    def = pbf_default_world_def();
+    def.params.kernel_radius = NAN;
+    uint64_t plain = pbf_world_def_memory(&def);
+    def.params.level_sweeps = 20;
+    assert_int_equal(pbf_world_def_memory(&def), plain);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -189,6 +221,7 @@ int main(void)
         cmocka_unit_test(long_step_of_a_wide_fast_nozzle_fills_the_capacity),
         cmocka_unit_test(grid_or_capacity_beyond_one_dispatch_is_refused),
         cmocka_unit_test(bucket_clear_of_a_large_world_fits_one_dispatch),
+        cmocka_unit_test(memory_of_a_def_whose_domain_is_not_finite_is_defined),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
