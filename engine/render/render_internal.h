@@ -8,8 +8,8 @@
 //               thickness)
 //   surface.c   the screen-space water: targets, thickness, depth, smoothing, composite
 //   splat.c     the water's particle passes (surface thickness and depth, the shadow's
-//               water) by compute shaders, when the look's splat is compute; the spray's
-//               cull
+//               water, the sphere modes' nearest particle) by compute shaders, when the
+//               look's splat is compute; the spray's cull
 #ifndef ENG_RENDER_INTERNAL_H
 #define ENG_RENDER_INTERNAL_H
 
@@ -106,12 +106,16 @@ struct eng_renderer {
     eng_renderer_def def;
     mesh_prog mesh, mesh_shadow;
     particle_prog spheres, fluid_depth, fluid_thick, fluid_shadow, fluid_spray;
+    particle_prog spheres_lit; // the sphere modes from compute splats (fullscreen.vert, spheres.frag)
     splat_prog splat_depth, splat_thick, splat_light, resolve_surface, resolve_light;
+    splat_prog splat_nearest, splat_id, resolve_spheres;
     splat_prog spray_count, spray_scan, spray_write;
     GLuint spray_list, spray_cmd, spray_groups; // the spray pass's draw (spray_cull.comp)
     GLint spray_capacity;                       // drops spray_list holds
     GLuint splat_big;                           // splat.comp's list of large spheres
     GLint splat_big_capacity;                   // particles it holds
+    GLuint sphere_ids, sphere_nearest;          // the sphere modes' splats: R32UI at the frame's size
+    int sphere_w, sphere_h;
     GLuint smooth_prog, composite_prog;
     GLint smooth_step, smooth_world_radius, smooth_px_per_m, smooth_max_px, smooth_range;
     GLint comp_fluid_size, comp_layer, comp_absorption, comp_scatter, comp_refraction, comp_reflection,
@@ -194,6 +198,16 @@ GLuint eng_render_uint_layers(int w, int h, int layers, const char *label);
 /// The surface's thickness, tint and depth (surf.thick, surf.tint, surf.depth), as the
 /// raster passes would write them; false (logged) if its images could not be made.
 bool eng_splat_surface(eng_renderer *r);
+/// The sphere modes' images at the frame's size (made or remade, then reset); false
+/// (logged) if GL could not make them: the raster impostors draw instead.
+bool eng_splat_spheres_targets(eng_renderer *r);
+/// Fluid `f`'s nearest particle at each pixel (splat.comp SPLAT_NEAREST, then SPLAT_ID)
+/// into r->sphere_ids, bound to ENG_RENDER_IMG_SPLAT for spheres.frag, with the barrier
+/// for its reads. Changes the program in use.
+void eng_splat_spheres_find(eng_renderer *r, const queued_fluid *f);
+/// After spheres.frag drew from them: the images reset for the next fluid or frame and
+/// unbound. Changes the program in use.
+void eng_splat_spheres_reset(eng_renderer *r);
 /// Lists the spray of fluid `f` (spray_cull.comp) into r->spray_list and its indirect
 /// command r->spray_cmd, with the barriers for the draw that reads them; false (logged)
 /// if the buffers could not be made.

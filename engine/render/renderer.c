@@ -103,10 +103,12 @@ static void mesh_locations(mesh_prog *m)
     m->checker_cell = glGetUniformLocation(p, "u_checker_cell");
 }
 
-static bool build_particles(eng_renderer *r, particle_prog *pp, const char *frag, const char *defines,
-                            const char *label, char *err, size_t err_size)
+// A particle program of vertex shader `vert` (particles.vert, or fullscreen.vert for the
+// sphere modes' compute path) and fragment shader `frag`, with its uniforms' locations.
+static bool build_particle_prog(eng_renderer *r, particle_prog *pp, const char *vert, const char *frag,
+                                const char *defines, const char *label, char *err, size_t err_size)
 {
-    GLuint p = pp->prog = eng_render_build(&r->def, "render/particles.vert", frag, defines, label, err, err_size);
+    GLuint p = pp->prog = eng_render_build(&r->def, vert, frag, defines, label, err, err_size);
     if (!p) return false;
     pp->radius = glGetUniformLocation(p, "u_radius");
     pp->count = glGetUniformLocation(p, "u_count");
@@ -125,6 +127,12 @@ static bool build_particles(eng_renderer *r, particle_prog *pp, const char *frag
     pp->shininess = glGetUniformLocation(p, "u_shininess");
     pp->spray = glGetUniformLocation(p, "u_spray");
     return true;
+}
+
+static bool build_particles(eng_renderer *r, particle_prog *pp, const char *frag, const char *defines,
+                            const char *label, char *err, size_t err_size)
+{
+    return build_particle_prog(r, pp, "render/particles.vert", frag, defines, label, err, err_size);
 }
 
 static bool build_programs(eng_renderer *r, char *err, size_t err_size)
@@ -147,7 +155,9 @@ static bool build_programs(eng_renderer *r, char *err, size_t err_size)
            build_particles(r, &r->fluid_shadow, "render/shadow_fluid.frag", "#define LIGHT_PASS 1\n",
                            "render/shadow_fluid", err, err_size) &&
            build_particles(r, &r->fluid_spray, "render/spray.frag", "#define SPRAY 1\n", "render/spray", err,
-                           err_size);
+                           err_size) &&
+           build_particle_prog(r, &r->spheres_lit, "render/fullscreen.vert", "render/spheres.frag",
+                               "#define COLOR_MODES 1\n", "render/spheres_lit", err, err_size);
 }
 
 eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t err_size)
@@ -208,8 +218,8 @@ eng_renderer *eng_renderer_create(const eng_renderer_def *def, char *err, size_t
 void eng_renderer_destroy(eng_renderer *r)
 {
     if (!r) return;
-    GLuint progs[] = { r->mesh.prog, r->mesh_shadow.prog, r->spheres.prog, r->fluid_depth.prog,
-                       r->fluid_thick.prog, r->fluid_shadow.prog, r->fluid_spray.prog };
+    GLuint progs[] = { r->mesh.prog,        r->mesh_shadow.prog,  r->spheres.prog,     r->fluid_depth.prog,
+                       r->fluid_thick.prog, r->fluid_shadow.prog, r->fluid_spray.prog, r->spheres_lit.prog };
     for (size_t i = 0; i < sizeof progs / sizeof progs[0]; i++)
         if (progs[i]) glDeleteProgram(progs[i]);
     eng_surface_destroy(r);
@@ -595,14 +605,23 @@ static void draw_opaque(eng_renderer *r)
     eng_render_timer_end(r, t);
 }
 
+// The sphere modes: per fluid, the raster impostors (particles.vert, particles.frag) or,
+// with compute splats, the nearest particle per pixel found by splat.c and lit by a
+// full-screen pass (spheres.frag); the same image to rounding (tests/test_render.c).
 static void draw_spheres(eng_renderer *r)
 {
     int t = eng_render_timer_begin(r, "particles");
-    const particle_prog *p = &r->spheres;
-    glUseProgram(p->prog);
-    glBindVertexArray(r->empty_vao);
+    bool compute = r->def.fluid.splat == ENG_FLUID_SPLAT_COMPUTE && eng_splat_spheres_targets(r);
+    const particle_prog *p = compute ? &r->spheres_lit : &r->spheres;
     for (int i = 0; i < r->fluid_count; i++) {
         const queued_fluid *f = &r->fluids[i];
+        if (compute) { // its own section too (the last fluid's, with several), inside "particles"
+            int ts = eng_render_timer_begin(r, "particles_splat");
+            eng_splat_spheres_find(r, f);
+            eng_render_timer_end(r, ts);
+        }
+        glUseProgram(p->prog);
+        glBindVertexArray(r->empty_vao);
         int mode = r->def.fluid.mode == ENG_FLUID_DENSITY ? ENG_RENDER_COLOR_DENSITY
                    : r->def.fluid.mode == ENG_FLUID_SPEED ? ENG_RENDER_COLOR_SPEED
                                                           : ENG_RENDER_COLOR_HEIGHT;
@@ -625,7 +644,12 @@ static void draw_spheres(eng_renderer *r)
         glUniform3fv(p->color_high, 1, f->style.color_high);
         glUniform1f(p->specular, f->style.specular);
         glUniform1f(p->shininess, f->style.shininess);
-        eng_render_draw_fluid_instances(f);
+        if (compute) {
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            eng_splat_spheres_reset(r);
+        } else {
+            eng_render_draw_fluid_instances(f);
+        }
     }
     eng_render_timer_end(r, t);
 }

@@ -114,7 +114,7 @@ typedef struct eng_fluid_look {
     float speed_max;        ///< speed mode: m/s at the red end, (0, 1000]
     bool shadows;           ///< the light's shadow map (bodies, walls, ground and water)
     eng_fluid_view view;    ///< surface: a debug view instead of the shaded water
-    eng_fluid_splat splat;  ///< surface and shadows: how the particle passes are drawn
+    eng_fluid_splat splat;  ///< surface, shadows and sphere modes: how the particle passes are drawn
 } eng_fluid_look;
 
 /// Surface mode, water absorbing (3, 1, 0.45)/m, half-resolution surface textures,

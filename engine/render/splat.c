@@ -67,6 +67,11 @@ bool eng_splat_create(eng_renderer *r, char *err, size_t err_size)
                  "render/splat_resolve_surface", err, err_size) &&
            build(r, &r->resolve_light, "render/splat_resolve.comp", "#define RESOLVE_LIGHT 1\n",
                  "render/splat_resolve_shadow", err, err_size) &&
+           build(r, &r->splat_nearest, "render/splat.comp", "#define SPLAT_NEAREST 1\n", "render/splat_nearest", err,
+                 err_size) &&
+           build(r, &r->splat_id, "render/splat.comp", "#define SPLAT_ID 1\n", "render/splat_id", err, err_size) &&
+           build(r, &r->resolve_spheres, "render/splat_resolve.comp", "#define RESOLVE_SPHERES 1\n",
+                 "render/splat_reset_spheres", err, err_size) &&
            build(r, &r->spray_count, "render/spray_cull.comp", "#define CULL_COUNT 1\n", "render/spray_count", err,
                  err_size) &&
            build(r, &r->spray_scan, "render/spray_cull.comp", "#define CULL_SCAN 1\n", "render/spray_scan", err,
@@ -77,13 +82,17 @@ bool eng_splat_create(eng_renderer *r, char *err, size_t err_size)
 
 void eng_splat_destroy(eng_renderer *r)
 {
-    splat_prog *all[] = { &r->splat_depth,     &r->splat_thick,   &r->splat_light, &r->resolve_surface,
-                          &r->resolve_light,   &r->spray_count,   &r->spray_scan,  &r->spray_write };
+    splat_prog *all[] = { &r->splat_depth,   &r->splat_thick, &r->splat_light, &r->resolve_surface,
+                          &r->resolve_light, &r->splat_nearest, &r->splat_id, &r->resolve_spheres,
+                          &r->spray_count,   &r->spray_scan,  &r->spray_write };
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (all[i]->prog) glDeleteProgram(all[i]->prog);
     GLuint bufs[4] = { r->spray_list, r->spray_cmd, r->spray_groups, r->splat_big };
     for (int i = 0; i < 4; i++)
         if (bufs[i]) glDeleteBuffers(1, &bufs[i]);
+    GLuint texs[2] = { r->sphere_ids, r->sphere_nearest };
+    for (int i = 0; i < 2; i++)
+        if (texs[i]) glDeleteTextures(1, &texs[i]);
 }
 
 // A GL-only storage buffer of `size` bytes (no CPU access); 0 if GL could not make it.
@@ -201,33 +210,42 @@ static bool large_list(eng_renderer *r)
     return r->splat_big != 0;
 }
 
-// Every queued fluid through splat program `sp` (its images and test texture bound, the
-// large list made): the list emptied, every particle (the large spheres listed), then the
-// listed ones a work group each.
-static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *view, const float *proj, int w, int h)
+// Splat program `sp` in use, with the view, projection and target size.
+static void splat_begin(const splat_prog *sp, const float *view, const float *proj, int w, int h)
 {
     glUseProgram(sp->prog);
     glUniformMatrix4fv(sp->view, 1, GL_FALSE, view);
     glUniformMatrix4fv(sp->proj, 1, GL_FALSE, proj);
     glUniform2i(sp->size, w, h);
     glUniform1f(sp->fill, 6.0f / 3.14159265f); // as eng_render_bind_fluid
-    for (int i = 0; i < r->fluid_count; i++) {
-        const queued_fluid *f = &r->fluids[i];
-        glUniform1f(sp->radius, f->d.radius);
-        glUniform1i(sp->count, f->count);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, f->d.positions);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_DRAW_SSBO_BINDING, f->d.draw_indirect);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPLAT_BIG_BINDING, r->splat_big);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // the last large dispatch read the list
-        glUniform1i(sp->stage, 2);
-        glDispatchCompute(1, 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        glUniform1i(sp->stage, 0);
-        glDispatchCompute(particle_groups(f->count), 1, 1);
-        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // the list (the images take atomics only)
-        glUniform1i(sp->stage, 1);
-        glDispatchCompute(LARGE_GROUPS, 1, 1);
-    }
+}
+
+// Fluid `f` through the splat program in use (its images and test texture bound, the large
+// list made): the list emptied, every particle (the large spheres listed), then the listed
+// ones a work group each.
+static void splat_fluid(eng_renderer *r, const splat_prog *sp, const queued_fluid *f)
+{
+    glUniform1f(sp->radius, f->d.radius);
+    glUniform1i(sp->count, f->count);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_PARTICLE_SSBO_BINDING, f->d.positions);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_DRAW_SSBO_BINDING, f->d.draw_indirect);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ENG_RENDER_SPLAT_BIG_BINDING, r->splat_big);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // the last large dispatch read the list
+    glUniform1i(sp->stage, 2);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUniform1i(sp->stage, 0);
+    glDispatchCompute(particle_groups(f->count), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); // the list (the images take atomics only)
+    glUniform1i(sp->stage, 1);
+    glDispatchCompute(LARGE_GROUPS, 1, 1);
+}
+
+// Every queued fluid through splat program `sp` (splat_fluid).
+static void splat_fluids(eng_renderer *r, const splat_prog *sp, const float *view, const float *proj, int w, int h)
+{
+    splat_begin(sp, view, proj, w, h);
+    for (int i = 0; i < r->fluid_count; i++) splat_fluid(r, sp, &r->fluids[i]);
 }
 
 static void bind_test(GLuint tex)
@@ -344,4 +362,69 @@ bool eng_splat_shadow(eng_renderer *r)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glBindTexture(GL_TEXTURE_2D, 0);
     return true;
+}
+
+// ---- the sphere modes -------------------------------------------------------------------
+// Per fluid: SPLAT_NEAREST merges each texel's nearest hit (atomicMin of the eye depth's
+// bits) into sphere_nearest; SPLAT_ID, after an image barrier, merges the index of a particle
+// whose hit is that nearest into sphere_ids; spheres.frag (renderer.c draw_spheres) lights
+// that particle at each pixel with the scene's depth test; a reset pass then puts both
+// images back to all ones. Nothing is tested against the scene here: where the nearest
+// sphere is hidden, every sphere there is.
+
+static void bind_sphere_images(const eng_renderer *r, GLenum access)
+{
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, r->sphere_ids, 0, GL_FALSE, 0, access, GL_R32UI);
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT_LAYERS, r->sphere_nearest, 0, GL_FALSE, 0, access, GL_R32UI);
+}
+
+static void reset_spheres(eng_renderer *r)
+{
+    bind_sphere_images(r, GL_WRITE_ONLY);
+    resolve(&r->resolve_spheres, r->sphere_w, r->sphere_h, 0, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    unbind_images();
+}
+
+bool eng_splat_spheres_targets(eng_renderer *r)
+{
+    if (!large_list(r)) return false;
+    if (r->sphere_ids && r->sphere_w == r->width && r->sphere_h == r->height) return true;
+    GLuint texs[2] = { r->sphere_ids, r->sphere_nearest };
+    for (int i = 0; i < 2; i++)
+        if (texs[i]) glDeleteTextures(1, &texs[i]);
+    r->sphere_ids = eng_render_texture(GL_R32UI, r->width, r->height, GL_NEAREST, "eng.spheres.splat_ids");
+    r->sphere_nearest = eng_render_texture(GL_R32UI, r->width, r->height, GL_NEAREST, "eng.spheres.splat_nearest");
+    if (!r->sphere_ids || !r->sphere_nearest) {
+        eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the compute splats' sphere images (%dx%d) could not be made",
+                r->width, r->height);
+        r->sphere_w = r->sphere_h = 0;
+        return false;
+    }
+    r->sphere_w = r->width;
+    r->sphere_h = r->height;
+    reset_spheres(r); // their first reset; each use resets them after
+    return true;
+}
+
+void eng_splat_spheres_find(eng_renderer *r, const queued_fluid *f)
+{
+    mat4 view, proj;
+    eng_camera_view(&r->cam, view);
+    eng_camera_projection(&r->cam, r->aspect, proj);
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, r->sphere_nearest, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    splat_begin(&r->splat_nearest, (const float *)view, (const float *)proj, r->width, r->height);
+    splat_fluid(r, &r->splat_nearest, f);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the nearest depths, read by SPLAT_ID
+    bind_sphere_images(r, GL_READ_WRITE);
+    splat_begin(&r->splat_id, (const float *)view, (const float *)proj, r->width, r->height);
+    splat_fluid(r, &r->splat_id, f);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // the indices, read by spheres.frag
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT_LAYERS, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+    glBindImageTexture(ENG_RENDER_IMG_SPLAT, r->sphere_ids, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+}
+
+void eng_splat_spheres_reset(eng_renderer *r)
+{
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT); // spheres.frag's reads before the stores
+    reset_spheres(r);
 }

@@ -6,6 +6,7 @@
 // nearer, which depth_greater declares, so a GPU keeps its early depth test and does not
 // shade the spheres hidden behind nearer ones.
 #include "frame.glsl"
+#include "sphere_lit.glsl"
 
 layout(depth_greater) out float gl_FragDepth;
 
@@ -21,18 +22,9 @@ out vec4 o_color;
 
 void main()
 {
-    vec3 dir = normalize(v_view_pos); // eye at the view-space origin
-    float b = dot(dir, v_center);
-    float h = b * b - (dot(v_center, v_center) - u_radius * u_radius);
-    if (h < 0.0) discard;
-    float t = b - sqrt(h);
-    vec3 hit = dir * t;
-    vec3 n_view = (hit - v_center) / u_radius;
-    vec4 clip = u_proj * vec4(hit, 1.0);
-    float ndc_z = clip.z / clip.w;
-    gl_FragDepth = ((gl_DepthRange.far - gl_DepthRange.near) * ndc_z + gl_DepthRange.near + gl_DepthRange.far) * 0.5;
-    vec3 n = normalize(mat3(u_inv_view) * n_view);
-    vec3 p = (u_inv_view * vec4(hit, 1.0)).xyz;
-    vec3 c = shade(v_color, n, p, u_specular, u_shininess);
-    o_color = vec4(fog(c, p), 1.0);
+    float depth;
+    vec4 colour;
+    if (!lit_sphere(normalize(v_view_pos), v_center, u_radius, v_color, u_specular, u_shininess, depth, colour)) discard;
+    gl_FragDepth = depth;
+    o_color = colour;
 }

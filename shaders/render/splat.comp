@@ -14,6 +14,12 @@
 //   SPLAT_LIGHT  shadow_fluid.frag: from the light (orthographic), the nearest water's
 //                distance past the near plane (atomicMin of an order-keeping code) and the
 //                chord, behind no opaque caster
+//   SPLAT_NEAREST  the sphere modes (particles.frag), first: as SPLAT_DEPTH, untested
+//                (nothing nearer than the nearest sphere can hide it: spheres.frag's depth
+//                test against the scene decides)
+//   SPLAT_ID     then: the index of a particle whose hit is the nearest (within 16 units in
+//                the last place; the lowest such index, as the raster pass keeps the first
+//                drawn), atomicMin into another image, for spheres.frag to light
 // A GPU whose raster hardware is scarce (a data-centre part) draws a million point sprites
 // slowly; these passes use none of it.
 // A sphere that covers more than ENG_RENDER_SPLAT_BIG texels (near the eye) would keep one
@@ -22,6 +28,18 @@
 // strided over the group. u_stage 2 empties the list (before each fluid's splat).
 #include "render_shared.glsl"
 #include "splat_order.glsl"
+#include "particle_colour.glsl"
+
+// The variants that ray-cast the sphere at each texel and keep its nearest hit.
+#ifdef SPLAT_DEPTH
+#define SPHERE_HIT 1
+#endif
+#ifdef SPLAT_NEAREST
+#define SPHERE_HIT 1
+#endif
+#ifdef SPLAT_ID
+#define SPHERE_HIT 1
+#endif
 
 layout(local_size_x = 64) in;
 
@@ -53,6 +71,13 @@ layout(binding = ENG_RENDER_TEX_SPLAT_TEST) uniform sampler2D u_test_depth;
 #ifdef SPLAT_DEPTH
 layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2D u_bits;
 #endif
+#ifdef SPLAT_NEAREST
+layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2D u_bits;
+#endif
+#ifdef SPLAT_ID
+layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2D u_bits; // particle indices
+layout(r32ui, binding = ENG_RENDER_IMG_SPLAT_LAYERS) uniform readonly uimage2D u_nearest; // SPLAT_NEAREST's
+#endif
 #ifdef SPLAT_THICK
 // layer 0: thickness; 1..4: tinted colour times chord (rgb) and chord (a)
 layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2DArray u_bits;
@@ -62,13 +87,6 @@ layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2DArray u_b
 layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2DArray u_bits;
 uniform float u_light_near; // m
 #endif
-
-bool is_tint(float w) { return w <= -1.0 && w >= -16777216.0; }
-vec3 tint_colour(float w)
-{
-    uint code = uint(round(-w - 1.0));
-    return vec3(float((code >> 16) & 255u), float((code >> 8) & 255u), float(code & 255u)) / 255.0;
-}
 
 // Window depth (0..1) of a view-space depth z (< 0), from the projection's z and w rows.
 float window_depth(float z)
@@ -96,7 +114,7 @@ void splat(uint index, vec4 p)
     if (d2 <= r2 * 1.0001 || c.z > -0.0) return; // eye inside the sphere or behind it
     float d = sqrt(d2);
     float grow = (d / sqrt(d2 - r2)) * (d / -c.z) * 1.02;
-#ifdef SPLAT_DEPTH
+#ifdef SPHERE_HIT
     float quad_z = -max(-c.z - r, 1e-4); // NEAR_QUAD: the quad at the sphere's nearest depth
 #else
     float quad_z = c.z;
@@ -133,8 +151,8 @@ void splat(uint index, vec4 p)
         int x = t0.x + k % width, y = t0.y + k / width;
         {
             vec2 ndc = (vec2(x, y) + 0.5) / vec2(u_size) * 2.0 - 1.0;
-            float test = texelFetch(u_test_depth, ivec2(x, y), 0).r;
 #ifdef SPLAT_LIGHT
+            float test = texelFetch(u_test_depth, ivec2(x, y), 0).r;
             vec2 v = (ndc - u_proj[3].xy) / vec2(u_proj[0][0], u_proj[1][1]); // orthographic
             vec2 e = v - c.xy;
             float h = r2 - dot(e, e);
@@ -147,14 +165,24 @@ void splat(uint index, vec4 p)
             // projection's first two rows).
             vec3 dir = normalize(vec3((ndc.x + u_proj[2][0]) / u_proj[0][0], (ndc.y + u_proj[2][1]) / u_proj[1][1], -1.0));
             float b = dot(dir, c);
-            float h = b * b - (d2 - r2);
-#ifdef SPLAT_DEPTH
+            precise float h = b * b - (d2 - r2); // precise: the same bits in every variant
+#ifdef SPHERE_HIT
             if (h < 0.0) continue;
-            vec3 hit = dir * (b - sqrt(h));
-            if (!(window_depth(hit.z) < test)) continue;
-            imageAtomicMin(u_bits, ivec2(x, y), floatBitsToUint(-hit.z));
+            precise vec3 hit = dir * (b - sqrt(h));
+            uint bits = floatBitsToUint(-hit.z);
+#ifdef SPLAT_DEPTH
+            if (!(window_depth(hit.z) < texelFetch(u_test_depth, ivec2(x, y), 0).r)) continue;
+            imageAtomicMin(u_bits, ivec2(x, y), bits);
+#endif
+#ifdef SPLAT_NEAREST
+            imageAtomicMin(u_bits, ivec2(x, y), bits);
+#endif
+#ifdef SPLAT_ID
+            uint nearest = imageLoad(u_nearest, ivec2(x, y)).r;
+            if (nearest != 0xffffffffu && bits <= nearest + 16u) imageAtomicMin(u_bits, ivec2(x, y), index);
+#endif
 #else
-            if (h <= 0.0 || !(quad_depth < test)) continue;
+            if (h <= 0.0 || !(quad_depth < texelFetch(u_test_depth, ivec2(x, y), 0).r)) continue;
             float chord = 2.0 * sqrt(h) * u_fill;
             imageAtomicAdd(u_bits, ivec3(x, y, 0), fixed_point(chord));
             if (tinted) {

@@ -9,6 +9,8 @@
 //                    layers 0..4 -> thickness (R16F) and the tinted share (RGBA16F)
 //   RESOLVE_LIGHT    layer 0, the front's code (no hit: ENG_RENDER_SPLAT_FAR) -> R32F;
 //                    layer 1 -> thickness (R16F)
+//   RESOLVE_SPHERES  only resets, after spheres.frag read them: the nearest depth's bits
+//                    and the nearest particle's index (none: all ones both)
 #include "render_shared.glsl"
 #include "splat_order.glsl"
 
@@ -23,6 +25,10 @@ layout(r32ui, binding = ENG_RENDER_IMG_SPLAT_LAYERS) uniform coherent uimage2DAr
 layout(r32f, binding = ENG_RENDER_IMG_OUT0) uniform writeonly image2D u_depth;
 layout(r16f, binding = ENG_RENDER_IMG_OUT1) uniform writeonly image2D u_thick;
 layout(rgba16f, binding = ENG_RENDER_IMG_OUT2) uniform writeonly image2D u_tint;
+#endif
+#ifdef RESOLVE_SPHERES
+layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform writeonly uimage2D u_ids;
+layout(r32ui, binding = ENG_RENDER_IMG_SPLAT_LAYERS) uniform writeonly uimage2D u_nearest;
 #endif
 #ifdef RESOLVE_LIGHT
 layout(r32ui, binding = ENG_RENDER_IMG_SPLAT) uniform coherent uimage2DArray u_bits;
@@ -47,6 +53,10 @@ void main()
     }
     imageStore(u_depth_bits, t, uvec4(0xffffffffu));
     for (int i = 0; i < 5; i++) imageStore(u_thick_bits, ivec3(t, i), uvec4(0u));
+#endif
+#ifdef RESOLVE_SPHERES
+    imageStore(u_ids, t, uvec4(0xffffffffu));
+    imageStore(u_nearest, t, uvec4(0xffffffffu));
 #endif
 #ifdef RESOLVE_LIGHT
     uint far_code = splat_order(ENG_RENDER_SPLAT_FAR);
