@@ -752,6 +752,68 @@ static void compute_splats_draw_what_the_raster_passes_draw(void **state)
     compare_reference(f, "surface_shaded.png", raster);
 }
 
+// A host's buffer may hold positions no sphere can be drawn at: NaN, infinities, and finite
+// ones so far away that their view-space coordinates overflow. Every path draws nothing
+// for them and the rest of the water as it would without them. (splat.comp returns before
+// converting such a quad's texel range to integers, undefined for a NaN; llvmpipe happens
+// to clamp it to the target's edge, so here this passes without that guard too.)
+static void positions_that_cannot_be_drawn_draw_nothing(void **state)
+{
+    fixture *f = *state;
+    const float odd[7][4] = { { ONE[0], ONE[1], ONE[2], 0.5f }, { NAN, 0.2f, 0.0f, 0.5f }, { INFINITY, 0.2f, 0.0f, 0.5f },
+                              { 0.0f, -INFINITY, 0.0f, 0.5f }, { 1e30f, 0.2f, 0.0f, 0.5f },
+                              { 0.0f, 0.2f, 3e38f, 0.5f }, { -3e38f, -3e38f, -3e38f, 0.5f } };
+    const GLuint command[4] = { 4, 7, 0, 0 };
+    GLuint ssbo, cmd;
+    glGenBuffers(1, &ssbo);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, ssbo);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, sizeof odd, odd, GL_STATIC_DRAW);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
+    glGenBuffers(1, &cmd);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd);
+    glBufferData(GL_DRAW_INDIRECT_BUFFER, sizeof command, command, GL_STATIC_DRAW);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    eng_camera_def cd = eng_default_camera_def();
+    const float eye[3] = { ONE[0], ONE[1] + 0.05f, ONE[2] + 0.3f };
+    memcpy(cd.position, eye, sizeof eye);
+    memcpy(cd.target, ONE, sizeof eye);
+    eng_camera cam;
+    char err[256];
+    if (!eng_camera_init(&cam, &cd, err, sizeof err)) fail_msg("camera: %s", err);
+    static unsigned char alone[W * H * 4], with_odd[W * H * 4];
+    const eng_fluid_mode modes[] = { ENG_FLUID_SURFACE, ENG_FLUID_SPHERES };
+    const eng_fluid_splat splats[] = { ENG_FLUID_SPLAT_RASTER, ENG_FLUID_SPLAT_COMPUTE };
+    for (int m = 0; m < 2; m++)
+        for (int k = 0; k < 2; k++) {
+            eng_fluid_look look = eng_default_fluid_look();
+            look.mode = modes[m];
+            look.splat = splats[k];
+            render_from(f, &cam, &look, ONE_PARTICLE, alone);
+            assert_true(eng_renderer_set_fluid_look(f->r, &look));
+            support_log_clear(&f->log);
+            eng_renderer_begin(f->r, f->ctx, &cam);
+            eng_fluid_draw d = eng_default_fluid_draw();
+            d.positions = ssbo;
+            d.draw_indirect = cmd;
+            d.radius = RADIUS;
+            d.particle_mass = 0.064f;
+            d.rest_density = 1000.0f;
+            eng_renderer_draw_fluid(f->r, &d);
+            eng_renderer_end(f->r);
+            assert_int_equal(glGetError(), GL_NO_ERROR);
+            assert_int_equal(f->log.error_count, 0);
+            assert_true(eng_read_pixels(f->ctx, with_odd, W, H, NULL, 0));
+            long far;
+            double mean = frame_difference(alone, with_odd, 8, &far);
+            print_message("%s, %s splats: one particle and six that cannot be drawn against it alone: %.4f levels, "
+                          "%ld pixels by more than 8\n", eng_fluid_mode_name(look.mode), eng_fluid_splat_name(look.splat),
+                          mean, far);
+            assert_true(mean < 0.05 && far <= W * H / 1000);
+        }
+    glDeleteBuffers(1, &ssbo);
+    glDeleteBuffers(1, &cmd);
+}
+
 // Frames the renderer has timed section `name` in (0 before its first), once every frame
 // drawn so far has finished.
 static long timed_frames(fixture *f, const char *name)
@@ -876,6 +938,7 @@ int main(void)
         cmocka_unit_test(fast_lonely_drops_show_as_spray),
         cmocka_unit_test(compute_splats_draw_what_the_raster_passes_draw),
         cmocka_unit_test(compute_splats_draw_the_sphere_modes_as_the_impostors_do),
+        cmocka_unit_test(positions_that_cannot_be_drawn_draw_nothing),
         cmocka_unit_test(every_pass_is_timed),
         cmocka_unit_test(fluid_looks_out_of_range_are_refused_naming_the_field),
     };

@@ -130,6 +130,9 @@ void splat(uint index, vec4 p)
         hi = max(hi, t);
     }
 #endif
+    // A finite position so far away that its view-space coordinates overflowed (a host's
+    // buffer, not the solver's, which keeps particles in its domain): no defined quad.
+    if (any(isnan(lo)) || any(isnan(hi)) || any(isinf(c))) return;
     // Texels whose centres lie inside the quad (clamped first: a sphere the eye nearly
     // touches has a quad far wider than the target, and a float too large for an int has
     // no defined conversion).
