@@ -607,7 +607,7 @@ static void draw_opaque(eng_renderer *r)
 
 // The sphere modes: per fluid, the raster impostors (particles.vert, particles.frag) or,
 // with compute splats, the nearest particle per pixel found by splat.c and lit by a
-// full-screen pass (spheres.frag); the same image to rounding (tests/test_render.c).
+// full-screen pass (spheres.frag); the same image to rounding (tests/test_surface.c).
 static void draw_spheres(eng_renderer *r)
 {
     int t = eng_render_timer_begin(r, "particles");
