@@ -26,6 +26,8 @@
 #include "engine/render/renderer.h"
 #include "fluid/pbf.h"
 
+#include "demos/render_bench/bench_camera.h"
+
 #define MAX_LIST 16
 
 typedef struct options {
@@ -471,12 +473,7 @@ int main(int argc, char **argv)
         rd.fluid.splat = o.splat;
         dr.ctx = ctx;
         dr.renderer = eng_renderer_create(&rd, err, sizeof err);
-        eng_camera_def camd = eng_default_camera_def();
-        const float eye[3] = { 1.3f, 1.25f, 2.7f }, target[3] = { 0.8f, 0.45f, 0.75f };
-        memcpy(camd.position, eye, sizeof eye);
-        memcpy(camd.target, target, sizeof target);
-        camd.fov_y = 50.0f * 3.14159265f / 180.0f;
-        if (!dr.renderer || !eng_camera_init(&dr.cam, &camd, err, sizeof err)) {
+        if (!dr.renderer || !bench_camera(&dr.cam, err, sizeof err)) {
             fprintf(stderr, "seiche-bench: %s\n", err);
             eng_renderer_destroy(dr.renderer);
             eng_context_destroy(ctx);

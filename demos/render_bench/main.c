@@ -28,6 +28,8 @@
 #include "engine/render/renderer.h"
 #include "engine/render/scene.h"
 
+#include "demos/render_bench/bench_camera.h"
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -199,12 +201,7 @@ int main(int argc, char **argv)
     fd.rest_density = 1000.0f;
 
     eng_camera cam;
-    eng_camera_def camd = eng_default_camera_def();
-    const float eye[3] = { 1.3f, 1.25f, 2.7f }, target[3] = { 0.8f, 0.45f, 0.75f };
-    memcpy(camd.position, eye, sizeof eye);
-    memcpy(camd.target, target, sizeof target);
-    camd.fov_y = 50.0f * 3.14159265f / 180.0f;
-    eng_camera_init(&cam, &camd, err, sizeof err);
+    bench_camera(&cam, err, sizeof err); // fixed values, which the camera accepts
 
     printf("seiche-render-bench: %dx%d, %ld particles (radius %.2f mm), surface textures at %.2f, %s\n", w, h, n,
            1000.0 * 0.5 * s, (double)eng_renderer_fluid_look(r).resolution, eng_context_renderer(ctx));
