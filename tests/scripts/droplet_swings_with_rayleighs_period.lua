@@ -7,8 +7,8 @@
 -- 2 pi / sqrt(8 sigma / (rho R^3)), R from the particles' volume. With the default kernel (two
 -- spacings, --set fluid.kernel_radius=0.025) the droplet rounds part way and stops at an
 -- anisotropy of about 0.06: the packing's yield, and this test fails.
--- Measured (llvmpipe, 0.16.1, 2109 particles): crossings at 0.700, 1.367, 2.050 s, a period of
--- 1.356 s against Rayleigh's 1.393 s (-2.7 %), swinging about 0.000.
+-- Measured (llvmpipe, 0.16.1, 2109 particles): crossings at 0.689, 1.363, 2.066 s, a period of
+-- 1.376 s against Rayleigh's 1.393 s (-1.2 %), swinging about 0.000 (a fit over 4 s: 1.34 s).
 -- frames: 140
 local r = seiche.param("particle_radius")
 local s = 2 * r
