@@ -80,6 +80,16 @@ bool eng_splat_create(eng_renderer *r, char *err, size_t err_size)
                  err_size);
 }
 
+// The sphere modes' images (splat.c, "the sphere modes") deleted and forgotten.
+static void drop_sphere_images(eng_renderer *r)
+{
+    GLuint texs[2] = { r->sphere_ids, r->sphere_nearest };
+    for (int i = 0; i < 2; i++)
+        if (texs[i]) glDeleteTextures(1, &texs[i]);
+    r->sphere_ids = r->sphere_nearest = 0;
+    r->sphere_w = r->sphere_h = 0;
+}
+
 void eng_splat_destroy(eng_renderer *r)
 {
     splat_prog *all[] = { &r->splat_depth,   &r->splat_thick, &r->splat_light, &r->resolve_surface,
@@ -90,9 +100,7 @@ void eng_splat_destroy(eng_renderer *r)
     GLuint bufs[4] = { r->spray_list, r->spray_cmd, r->spray_groups, r->splat_big };
     for (int i = 0; i < 4; i++)
         if (bufs[i]) glDeleteBuffers(1, &bufs[i]);
-    GLuint texs[2] = { r->sphere_ids, r->sphere_nearest };
-    for (int i = 0; i < 2; i++)
-        if (texs[i]) glDeleteTextures(1, &texs[i]);
+    drop_sphere_images(r);
 }
 
 // A GL-only storage buffer of `size` bytes (no CPU access); 0 if GL could not make it.
@@ -389,15 +397,13 @@ bool eng_splat_spheres_targets(eng_renderer *r)
 {
     if (!large_list(r)) return false;
     if (r->sphere_ids && r->sphere_w == r->width && r->sphere_h == r->height) return true;
-    GLuint texs[2] = { r->sphere_ids, r->sphere_nearest };
-    for (int i = 0; i < 2; i++)
-        if (texs[i]) glDeleteTextures(1, &texs[i]);
+    drop_sphere_images(r);
     r->sphere_ids = eng_render_texture(GL_R32UI, r->width, r->height, GL_NEAREST, "eng.spheres.splat_ids");
     r->sphere_nearest = eng_render_texture(GL_R32UI, r->width, r->height, GL_NEAREST, "eng.spheres.splat_nearest");
     if (!r->sphere_ids || !r->sphere_nearest) {
         eng_log(&r->def.logger, ENG_LOG_ERROR, "renderer: the compute splats' sphere images (%dx%d) could not be made",
                 r->width, r->height);
-        r->sphere_w = r->sphere_h = 0;
+        drop_sphere_images(r); // the one that was made, if any
         return false;
     }
     r->sphere_w = r->width;
