@@ -210,6 +210,21 @@ enum { DRY, WET, ONE_PARTICLE, WET_TWICE };
 // Renders the scene from `cam` with `look` and no water (DRY), the water (WET), the one
 // particle alone, or the water queued as two fluids (WET_TWICE: the renderer's passes over
 // several fluids), and reads it back (rows from the top) when `rgba` is given.
+// A camera 1.2 radii from the particle at ONE (off the axis), its near plane inside that,
+// so that the sphere covers most of the frame and its near side stays beyond the plane.
+static eng_camera near_camera(void)
+{
+    eng_camera_def cd = eng_default_camera_def();
+    const float eye[3] = { ONE[0] + 0.3f * RADIUS, ONE[1] + 0.2f * RADIUS, ONE[2] + 1.15f * RADIUS };
+    memcpy(cd.position, eye, sizeof eye);
+    memcpy(cd.target, ONE, sizeof eye);
+    cd.near_plane = 0.1f * RADIUS;
+    eng_camera cam;
+    char err[256];
+    if (!eng_camera_init(&cam, &cd, err, sizeof err)) fail_msg("camera: %s", err);
+    return cam;
+}
+
 static void render_from(fixture *f, const eng_camera *cam, const eng_fluid_look *look, int water, unsigned char *rgba)
 {
     assert_true(eng_renderer_set_fluid_look(f->r, look));
@@ -705,14 +720,7 @@ static void compute_splats_draw_what_the_raster_passes_draw(void **state)
     assert_true(mean < 0.1 && far <= W * H / 1000);
     // A particle the eye almost touches (1.2 radii from its centre, off the axis) covers
     // most of the frame: the compute splat walks it all, as the raster quad draws it.
-    eng_camera_def cd = eng_default_camera_def();
-    const float eye[3] = { ONE[0] + 0.3f * RADIUS, ONE[1] + 0.2f * RADIUS, ONE[2] + 1.15f * RADIUS };
-    memcpy(cd.position, eye, sizeof eye);
-    memcpy(cd.target, ONE, sizeof eye);
-    cd.near_plane = 0.1f * RADIUS; // the sphere's near side stays beyond it
-    eng_camera near_cam;
-    char err[256];
-    if (!eng_camera_init(&near_cam, &cd, err, sizeof err)) fail_msg("camera: %s", err);
+    eng_camera near_cam = near_camera();
     look = eng_default_fluid_look();
     look.splat = ENG_FLUID_SPLAT_RASTER;
     render_from(f, &near_cam, &look, ONE_PARTICLE, raster);
@@ -773,13 +781,8 @@ static void positions_that_cannot_be_drawn_draw_nothing(void **state)
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd);
     glBufferData(GL_DRAW_INDIRECT_BUFFER, sizeof command, command, GL_STATIC_DRAW);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-    eng_camera_def cd = eng_default_camera_def();
     const float eye[3] = { ONE[0], ONE[1] + 0.05f, ONE[2] + 0.3f };
-    memcpy(cd.position, eye, sizeof eye);
-    memcpy(cd.target, ONE, sizeof eye);
-    eng_camera cam;
-    char err[256];
-    if (!eng_camera_init(&cam, &cd, err, sizeof err)) fail_msg("camera: %s", err);
+    eng_camera cam = camera(eye, ONE, 60.0f);
     static unsigned char alone[W * H * 4], with_odd[W * H * 4];
     const eng_fluid_mode modes[] = { ENG_FLUID_SURFACE, ENG_FLUID_SPHERES };
     const eng_fluid_splat splats[] = { ENG_FLUID_SPLAT_RASTER, ENG_FLUID_SPLAT_COMPUTE };
@@ -856,14 +859,7 @@ static void compute_splats_draw_the_sphere_modes_as_the_impostors_do(void **stat
         // either; a silhouette pixel, a ray that grazes the sphere, either way.
         assert_true(mean < 0.1 && far <= W * H / 500);
     }
-    eng_camera_def cd = eng_default_camera_def();
-    const float eye[3] = { ONE[0] + 0.3f * RADIUS, ONE[1] + 0.2f * RADIUS, ONE[2] + 1.15f * RADIUS };
-    memcpy(cd.position, eye, sizeof eye);
-    memcpy(cd.target, ONE, sizeof eye);
-    cd.near_plane = 0.1f * RADIUS;
-    eng_camera near_cam;
-    char err[256];
-    if (!eng_camera_init(&near_cam, &cd, err, sizeof err)) fail_msg("camera: %s", err);
+    eng_camera near_cam = near_camera();
     eng_fluid_look look = eng_default_fluid_look();
     look.mode = ENG_FLUID_SPHERES;
     look.splat = ENG_FLUID_SPLAT_RASTER;
