@@ -360,6 +360,14 @@ int pbf_tension_substeps(const pbf_params *p, float dt)
     double h = p->kernel_radius;
     double pull = pbf_cohesion_factor(p) * pow(h, 6) / 64.0;
     double n = ceil((double)dt * sqrt(pull / (PBF_TENSION_STIFFNESS * h)) - 1e-9);
+    // A kernel wider than two spacings lets the cohesion keep the water jittering unless each
+    // step is solved finely: PBF_WIDE_TENSION_SOLVES density solves (substeps x iterations) per
+    // second and N/m (docs/solver.md, "A wide kernel needs a fine solve").
+    if (h > PBF_WIDE_TENSION_KERNEL * 2.0 * (double)p->particle_radius) {
+        double solves = PBF_WIDE_TENSION_SOLVES * (double)p->surface_tension * (double)dt;
+        double wide = ceil(solves / (double)(p->iterations > 0 ? p->iterations : 1) * (1.0 - 1e-6)); // dt is a float
+        if (wide > n) n = wide;
+    }
     return n < 1.0 ? 1 : n > 1e6 ? 1000000 : (int)n;
 }
 

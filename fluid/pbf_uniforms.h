@@ -76,7 +76,16 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// times a substep squared, in kernel radii, that keeps a droplet quiet (0.075 still held one,
 /// 0.19 blew it up; 0.00125 until the pull was taken at the predicted positions).
 #define PBF_TENSION_STIFFNESS 0.01
-/// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it).
+/// A kernel wider than this many spacings (the default is 2) takes the floor below as well.
+#define PBF_WIDE_TENSION_KERNEL 2.05
+/// Measured on droplets at rest (docs/solver.md, "A wide kernel needs a fine solve"): with a
+/// kernel of 2.1 to 3 spacings the cohesion keeps the water jittering (0.1 to 1.7 J in a ball
+/// of 2109 particles at 20 N/m at 4-6 substeps) unless a step has at least this many density
+/// solves (substeps x iterations) per second and N/m of surface_tension: 64 of a 1/60 s step
+/// at 20 N/m, where the jitter falls to the default kernel's.
+#define PBF_WIDE_TENSION_SOLVES 192.0
+/// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it),
+/// and with a kernel wider than two spacings quiet.
 int pbf_tension_substeps(const pbf_params *p, float dt);
 /// The most substeps a step may take: max(substeps, max_substeps). Any of the guards
 /// (pbf_guard_substeps, pbf_guard_compression) and the tension's floor may go up to it,

@@ -161,6 +161,33 @@ static void tension_holds_a_droplet_together(void **state)
     assert_true(without.held < 0.3);
 }
 
+// With a kernel wider than two spacings the cohesion keeps a droplet jittering unless a step
+// has PBF_WIDE_TENSION_SOLVES solves (substeps x iterations) per second and N/m: the floor
+// follows the tension, the step and the iterations, and the default kernel does not take it
+// (docs/solver.md, "A wide kernel needs a fine solve").
+static void a_wide_kernel_takes_a_fine_solve(void **state)
+{
+    (void)state;
+    pbf_params p = pbf_default_params();
+    p.surface_tension = 20.0f;
+    int narrow = pbf_tension_substeps(&p, DT);
+    p.kernel_radius = 6.0f * p.particle_radius; // three spacings
+    p.iterations = 2;
+    assert_int_equal(pbf_tension_substeps(&p, DT), 32); // 64 solves of a 1/60 s step at 20 N/m
+    p.iterations = 4;
+    assert_int_equal(pbf_tension_substeps(&p, DT), 16);
+    assert_int_equal(pbf_tension_substeps(&p, DT / 2), 8);
+    p.surface_tension = 5.0f;
+    assert_int_equal(pbf_tension_substeps(&p, DT), 4);
+    p.kernel_radius = 4.0f * p.particle_radius; // the default two spacings: the stiffness rule alone
+    p.surface_tension = 20.0f;
+    assert_int_equal(pbf_tension_substeps(&p, DT), narrow);
+    assert_true(narrow < 16);
+    p.surface_tension = 0.0f;
+    p.kernel_radius = 6.0f * p.particle_radius;
+    assert_int_equal(pbf_tension_substeps(&p, DT), 1);
+}
+
 // A droplet turning in zero gravity keeps its angular momentum: nothing outside it acts on
 // it. Tension squeezes the droplet, so its density constraint pushes every pair apart in
 // every substep, at the predicted positions x*. Until 0.12.1 the pull was taken at the
@@ -285,6 +312,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_pair_force_gives_the_tension_asked),
         cmocka_unit_test(a_strong_tension_takes_more_substeps),
+        cmocka_unit_test(a_wide_kernel_takes_a_fine_solve),
         cmocka_unit_test(tension_holds_a_droplet_together),
         cmocka_unit_test(a_turning_droplet_keeps_its_angular_momentum),
         cmocka_unit_test(tension_turned_on_again_starts_from_no_pull),
