@@ -842,10 +842,12 @@ static void warn_tension(pbf_world *w, float dt)
     bool short_of = need > most;
     if (short_of && !w->tension_warned && w->log) {
         char msg[512];
-        snprintf(msg, sizeof msg, "surface_tension = %g N/m needs %d substeps of a %.3g s step to stay stable and "
-                 "max_substeps = %d allows %d: the water may blow up (lower surface_tension or the step, or raise "
-                 "max_substeps; docs/solver.md, \"Surface tension\")", (double)p->surface_tension, need, (double)dt,
-                 p->max_substeps, most);
+        bool wide = p->kernel_radius > PBF_WIDE_TENSION_KERNEL * 2.0f * p->particle_radius;
+        snprintf(msg, sizeof msg, "surface_tension = %g N/m needs %d substeps of a %.3g s step to stay stable%s and "
+                 "max_substeps = %d allows %d: the water may %s (lower surface_tension or the step, or raise "
+                 "max_substeps%s; docs/solver.md, \"Surface tension\")", (double)p->surface_tension, need, (double)dt,
+                 wide ? " and quiet with a kernel wider than two spacings" : "", p->max_substeps, most,
+                 wide ? "boil or blow up" : "blow up", wide ? " or iterations, or narrow kernel_radius" : "");
         w->log(w->log_user, 2, msg);
     }
     w->tension_warned = short_of;
