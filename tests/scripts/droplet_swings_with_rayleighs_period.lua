@@ -15,9 +15,10 @@
 -- droplet boiling, 0.06 J after the damping).
 -- Measured (llvmpipe, 0.17.0, 2109 particles): 0.0022 J at rest against the flow's 0.047 J;
 -- crossings at 0.647, 1.288, 2.003 s, a period of 1.355 s against Rayleigh's 1.393 s (-2.7 %;
--- over 4 s, five crossings +0.5 %, a fit -0.9 %). The period depends on the solve and does not
--- converge (16 x 4 -11 %, 64 x 4 +25 %: docs/solver.md, "A wide kernel needs a fine solve"),
--- so this holds the behaviour at this solve; it does not show item 6 met.
+-- over 4 s, five crossings +0.5 %, a fit -0.9 %; settled for 0.75 or 1.25 s instead, -2 to +1 %).
+-- The period depends on the solve and does not converge (16 x 4 -10 %, 48 x 4 -3 %, 64 x 4 +25
+-- to +39 %: docs/solver.md, "A wide kernel needs a fine solve"), so this holds the behaviour at
+-- this solve; it does not show item 6 met.
 -- frames: 208
 local r = seiche.param("particle_radius")
 local s = 2 * r
