@@ -352,6 +352,11 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->cohesion_norm = (float)pbf_cohesion_factor(p);
 }
 
+bool pbf_tension_kernel_is_wide(const pbf_params *p)
+{
+    return (double)p->kernel_radius > PBF_WIDE_TENSION_KERNEL * 2.0 * (double)p->particle_radius;
+}
+
 int pbf_tension_substeps(const pbf_params *p, float dt)
 {
     if (!(p->surface_tension > 0.0f) || !(dt > 0.0f)) return 1;
@@ -363,7 +368,7 @@ int pbf_tension_substeps(const pbf_params *p, float dt)
     // A kernel wider than two spacings lets the cohesion keep the water jittering unless each
     // step is solved finely: PBF_WIDE_TENSION_SOLVES density solves (substeps x iterations) per
     // second and N/m (docs/solver.md, "A wide kernel needs a fine solve").
-    if (h > PBF_WIDE_TENSION_KERNEL * 2.0 * (double)p->particle_radius) {
+    if (pbf_tension_kernel_is_wide(p)) {
         double solves = PBF_WIDE_TENSION_SOLVES * (double)p->surface_tension * (double)dt;
         double wide = ceil(solves / (double)(p->iterations > 0 ? p->iterations : 1) * (1.0 - 1e-6)); // dt is a float
         if (wide > n) n = wide;

@@ -84,6 +84,8 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// solves (substeps x iterations) per second and N/m of surface_tension: 64 of a 1/60 s step
 /// at 20 N/m, where the jitter falls to the default kernel's.
 #define PBF_WIDE_TENSION_SOLVES 192.0
+/// Whether kernel_radius is wider than PBF_WIDE_TENSION_KERNEL spacings (the floor below applies).
+bool pbf_tension_kernel_is_wide(const pbf_params *p);
 /// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it),
 /// and with a kernel wider than two spacings quiet.
 int pbf_tension_substeps(const pbf_params *p, float dt);

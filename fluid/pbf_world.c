@@ -842,7 +842,7 @@ static void warn_tension(pbf_world *w, float dt)
     bool short_of = need > most;
     if (short_of && !w->tension_warned && w->log) {
         char msg[512];
-        bool wide = p->kernel_radius > PBF_WIDE_TENSION_KERNEL * 2.0f * p->particle_radius;
+        bool wide = pbf_tension_kernel_is_wide(p);
         snprintf(msg, sizeof msg, "surface_tension = %g N/m needs %d substeps of a %.3g s step to stay stable%s and "
                  "max_substeps = %d allows %d: the water may %s (lower surface_tension or the step, or raise "
                  "max_substeps%s; docs/solver.md, \"Surface tension\")", (double)p->surface_tension, need, (double)dt,
