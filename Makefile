@@ -23,7 +23,8 @@ setup:
 
 # premake lists source files explicitly and embeds the shaders (build/gen/): regenerate
 # when a source directory or a shader changes.
-build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed demos/embed_glfw demos/render_bench tests
+# setup is order-only: premake4 comes from it, so under make -j it must finish first.
+build/Makefile: premake5.lua $(wildcard shaders/*/*) engine engine/core engine/gl engine/render engine/script engine/app fluid fluid/bullet demos/seiche demos/bench demos/embed demos/embed_glfw demos/render_bench tests | setup
 	premake4 --file=premake5.lua gmake
 	@# ar only adds members: a renamed or removed source would leave its old object in a
 	@# library, and a renamed test would leave its old program for run.sh to run. The file
