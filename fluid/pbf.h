@@ -56,9 +56,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 17
+#define PBF_VERSION_MINOR 18
 #define PBF_VERSION_PATCH 0
-#define PBF_VERSION_STRING "0.17.0"
+#define PBF_VERSION_STRING "0.18.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -207,6 +207,10 @@ typedef struct pbf_constants {
     float scorr_scale;    ///< m^2, 1 / lattice_grad2: the artificial pressure term is
                           ///< -k (W / W(dq))^n * scorr_scale, so k reads as a constraint
                           ///< violation (k = 0.1 pushes like a 10 % compression)
+    float jacobi_mu_max;  ///< the largest eigenvalue of one Jacobi sweep's A D^-1 on a filled
+                          ///< rest lattice at this kernel: 2.82 at h = 2 spacings, 6.7 at 3.
+                          ///< A kernel wider than 2 spacings scales the relaxation factors by
+                          ///< 2.82 / jacobi_mu_max (docs/solver.md, "Under-relaxed Jacobi")
 } pbf_constants;
 /// All zeros for a set that pbf_params_validate refuses (or NULL).
 pbf_constants pbf_derive_constants(const pbf_params *params);

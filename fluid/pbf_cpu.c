@@ -347,7 +347,7 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
             pbf_cpu_level(w, P);
             stage_done(w, PBF_STAGE_LEVEL, s, -1);
         }
-        float relax = pbf_relaxation(p, it); // the shaders' uniform relax
+        float relax = pbf_relaxation(p, &w->k, it); // the shaders' uniform relax
         pbf_cpu_delta(w, P, relax, it == level_at);
         stage_done(w, PBF_STAGE_DELTA, s, it);
         if (w->gpu_count > 0) {

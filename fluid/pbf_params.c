@@ -105,7 +105,77 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
     double u = 0.5 * s / h;
     double v_half = 0.5 * pow(1.0 - u, 5) * (1.0 + 2.0 * u);
     c.boundary_scale = (float)((missing / sw) / v_half);
+    c.jacobi_mu_max = (float)pbf_jacobi_mu_max(h / s);
     return c;
+}
+
+// mu(q) of a lattice neighbourhood: sites (spacing units) and their spiky gradients' shape
+// (kappa - r)^2 / r times the site (the constant factors cancel in the ratio).
+#define JACOBI_SITES 520 // r < 5 spacings (kernel_radius at most 10 particle radii) holds 514
+typedef struct jacobi_sites {
+    int count;
+    double norm; // sum_j |grad W(r_j)|^2
+    float site[JACOBI_SITES][3];
+    float grad[JACOBI_SITES][3];
+} jacobi_sites;
+
+static double jacobi_mu(const jacobi_sites *js, const double q[3])
+{
+    double g[3] = { 0.0, 0.0, 0.0 };
+    for (int j = 0; j < js->count; j++) {
+        double sn = sin(q[0] * js->site[j][0] + q[1] * js->site[j][1] + q[2] * js->site[j][2]);
+        g[0] += js->grad[j][0] * sn;
+        g[1] += js->grad[j][1] * sn;
+        g[2] += js->grad[j][2] * sn;
+    }
+    return (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) / js->norm;
+}
+
+double pbf_jacobi_mu_max(double spacings)
+{
+    if (!(spacings > 0.0) || spacings > 5.0) return 0.0;
+    jacobi_sites js; // 12 KiB
+    js.count = 0;
+    js.norm = 0.0;
+    int n = (int)ceil(spacings);
+    for (int z = -n; z <= n; z++)
+        for (int y = -n; y <= n; y++)
+            for (int x = -n; x <= n; x++) {
+                double r = sqrt((double)(x * x + y * y + z * z));
+                if (r == 0.0 || r >= spacings || js.count >= JACOBI_SITES) continue;
+                double m = (spacings - r) * (spacings - r) / r;
+                js.site[js.count][0] = (float)x, js.site[js.count][1] = (float)y, js.site[js.count][2] = (float)z;
+                js.grad[js.count][0] = (float)(x * m), js.grad[js.count][1] = (float)(y * m);
+                js.grad[js.count][2] = (float)(z * m);
+                js.norm += (double)js.grad[js.count][0] * js.grad[js.count][0] +
+                           (double)js.grad[js.count][1] * js.grad[js.count][1] +
+                           (double)js.grad[js.count][2] * js.grad[js.count][2];
+                js.count++;
+            }
+    if (js.count == 0) return 0.0;
+    // The lattice is symmetric under the axes' permutations and signs: q in pi >= q0 >= q1
+    // >= q2 >= 0 covers the zone. A grid of pi/12, then a pattern search from its best.
+    const int steps = 12;
+    double best = -1.0, at[3] = { 0.0, 0.0, 0.0 };
+    for (int a = 0; a <= steps; a++)
+        for (int b = 0; b <= a; b++)
+            for (int c = 0; c <= b; c++) {
+                double q[3] = { PBF_PI * a / steps, PBF_PI * b / steps, PBF_PI * c / steps };
+                double mu = jacobi_mu(&js, q);
+                if (mu > best) best = mu, at[0] = q[0], at[1] = q[1], at[2] = q[2];
+            }
+    for (double step = PBF_PI / steps; step > 1e-4;) {
+        bool moved = false;
+        for (int axis = 0; axis < 3; axis++)
+            for (int sign = -1; sign <= 1; sign += 2) {
+                double q[3] = { at[0], at[1], at[2] };
+                q[axis] = fmin(PBF_PI, fmax(0.0, q[axis] + sign * step));
+                double mu = jacobi_mu(&js, q);
+                if (mu > best) best = mu, at[0] = q[0], at[1] = q[1], at[2] = q[2], moved = true;
+            }
+        if (!moved) step *= 0.5;
+    }
+    return best;
 }
 
 #define CHECK(cond, field, fmt, value, rule)                                                  \
@@ -352,11 +422,6 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
     g->cohesion_norm = (float)pbf_cohesion_factor(p);
 }
 
-bool pbf_tension_kernel_is_wide(const pbf_params *p)
-{
-    return (double)p->kernel_radius > PBF_WIDE_TENSION_KERNEL * 2.0 * (double)p->particle_radius;
-}
-
 int pbf_tension_substeps(const pbf_params *p, float dt)
 {
     if (!(p->surface_tension > 0.0f) || !(dt > 0.0f)) return 1;
@@ -365,14 +430,6 @@ int pbf_tension_substeps(const pbf_params *p, float dt)
     double h = p->kernel_radius;
     double pull = pbf_cohesion_factor(p) * pow(h, 6) / 64.0;
     double n = ceil((double)dt * sqrt(pull / (PBF_TENSION_STIFFNESS * h)) - 1e-9);
-    // A kernel wider than two spacings lets the cohesion keep the water jittering unless each
-    // step is solved finely: PBF_WIDE_TENSION_SOLVES density solves (substeps x iterations) per
-    // second and N/m (docs/solver.md, "A wide kernel needs a fine solve").
-    if (pbf_tension_kernel_is_wide(p)) {
-        double solves = PBF_WIDE_TENSION_SOLVES * (double)p->surface_tension * (double)dt;
-        double wide = ceil(solves / (double)(p->iterations > 0 ? p->iterations : 1) * (1.0 - 1e-6)); // dt is a float
-        if (wide > n) n = wide;
-    }
     return n < 1.0 ? 1 : n > 1e6 ? 1000000 : (int)n;
 }
 
@@ -507,15 +564,28 @@ uint32_t pbf_row_stride(uint32_t dims_x, uint32_t buckets)
 // elsewhere (at 0.6 three iterations give p(mu_max) = -0.31, one -0.68: a tank boils), then
 // pairs; one iteration alone takes 0.35 (0.43, p(mu_max) = -0.2, still left a tank at
 // 42 mm/s).
-float pbf_relaxation(const pbf_params *p, int it)
+//
+// The eigenvalues grow with the kernel (pbf_jacobi_mu_max: 6.7 at 3 spacings), and at 3
+// spacings the even pair's p(mu_max) is 6.5 a step: the water boils wherever the constraint
+// is loaded (under a droplet's cohesion, at depth). A wider kernel scales every factor by
+// mu_max(2) / mu_max(its own), which maps its spectrum onto the default kernel's; a narrower
+// one keeps them (its modes are damped already).
+static double relaxation_scale(const pbf_constants *k)
+{
+    if (!k || !(k->jacobi_mu_max > PBF_JACOBI_MU_LATTICE * (1.0 + 1e-3))) return 1.0;
+    return PBF_JACOBI_MU_LATTICE / (double)k->jacobi_mu_max;
+}
+
+float pbf_relaxation(const pbf_params *p, const pbf_constants *k, int it)
 {
     if (p->sor > 0.0f) return p->sor;
-    const double m = PBF_JACOBI_MU_MAX;
-    if (p->iterations == 1) return 0.35f;
-    if (p->iterations % 2 == 1 && it < 3) return it < 2 ? 1.0f : (float)((1.0 - 0.25 / ((1.0 - m) * (1.0 - m))) / m);
+    const double m = PBF_JACOBI_MU_MAX, scale = relaxation_scale(k);
+    if (p->iterations == 1) return (float)(0.35 * scale);
+    if (p->iterations % 2 == 1 && it < 3)
+        return (float)(scale * (it < 2 ? 1.0 : (1.0 - 0.25 / ((1.0 - m) * (1.0 - m))) / m));
     const double sum = 1.2, d = sqrt(sum * sum - 4.0 * sum / PBF_JACOBI_MU_DEEP);
-    int k = p->iterations % 2 == 1 ? it - 3 : it; // the pairs' own index
-    return (float)(k % 2 == 0 ? 0.5 * (sum + d) : 0.5 * (sum - d));
+    int i = p->iterations % 2 == 1 ? it - 3 : it; // the pairs' own index
+    return (float)(scale * (i % 2 == 0 ? 0.5 * (sum + d) : 0.5 * (sum - d)));
 }
 
 void pbf_uniforms_space(pbf_gpu_params *g, const float grid_origin[3], const uint32_t grid_dims[3],

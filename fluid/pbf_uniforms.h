@@ -18,6 +18,9 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
 /// h = 2 spacings (spiky kernel), which pbf_relaxation keeps stable: docs/solver.md,
 /// "Under-relaxed Jacobi"; tests/test_solver.c computes it.
 #define PBF_JACOBI_MU_MAX 2.8
+/// The same, as pbf_jacobi_mu_max(2) finds it: a kernel whose pbf_constants.jacobi_mu_max is
+/// larger scales the relaxation factors by this over its own (tests/test_solver.c checks it).
+#define PBF_JACOBI_MU_LATTICE 2.8207
 
 /// The eigenvalue up to which an even iteration count's pairs of factors still damp: water
 /// compressed and disordered at depth reaches beyond PBF_JACOBI_MU_MAX (a 0.4 m column of
@@ -25,9 +28,20 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
 /// 3.33): docs/solver.md, "Under-relaxed Jacobi".
 #define PBF_JACOBI_MU_DEEP 4.0
 
+/// The largest eigenvalue of the Jacobi iteration matrix A D^-1 on a filled cubic lattice
+/// with the kernel `spacings` lattice spacings wide (spiky gradient): the largest over the
+/// Brillouin zone of mu(q) = |sum_j grad W(r_j) sin(q . r_j)|^2 / sum_j |grad W(r_j)|^2,
+/// searched on a grid and refined. 2.82 at 2 spacings, 3.38 at 2.25, 4.19 at 2.5, 6.72 at 3,
+/// 14.4 at 4: it grows with the neighbourhood, and the factors tuned at 2 spacings leave the
+/// modes above PBF_JACOBI_MU_DEEP growing (pbf_constants.jacobi_mu_max holds it for a set).
+double pbf_jacobi_mu_max(double spacings);
+
 /// The relaxation factor of iteration `it` (0-based) of p->iterations: the uniform `relax`
-/// of delta.comp and collide.comp, the `relax` argument of the CPU reference's passes.
-float pbf_relaxation(const pbf_params *p, int it);
+/// of delta.comp and collide.comp, the `relax` argument of the CPU reference's passes. For
+/// a kernel wider than 2 spacings every factor is scaled by pbf_jacobi_mu_max(2) /
+/// k->jacobi_mu_max, so each lattice mode is damped as the default kernel's mode of the same
+/// rank is (a positive `sor`, a constant factor the caller chose, is taken as it is).
+float pbf_relaxation(const pbf_params *p, const pbf_constants *k, int it);
 
 /// The space's part: the grid (origin m, cells per axis, total cells, cell size m), the
 /// domain (m) and the container planes (inward normal xyz, offset w).
@@ -76,18 +90,7 @@ uint64_t pbf_grid_geometry(const float domain_min[3], const float domain_max[3],
 /// times a substep squared, in kernel radii, that keeps a droplet quiet (0.075 still held one,
 /// 0.19 blew it up; 0.00125 until the pull was taken at the predicted positions).
 #define PBF_TENSION_STIFFNESS 0.01
-/// A kernel wider than this many spacings (the default is 2) takes the floor below as well.
-#define PBF_WIDE_TENSION_KERNEL 2.05
-/// Measured on droplets at rest (docs/solver.md, "A wide kernel needs a fine solve"): with a
-/// kernel of 2.1 to 3 spacings the cohesion keeps the water jittering (0.1 to 1.7 J in a ball
-/// of 2109 particles at 20 N/m at 4-6 substeps) unless a step has at least this many density
-/// solves (substeps x iterations) per second and N/m of surface_tension: 64 of a 1/60 s step
-/// at 20 N/m, where the jitter falls to the default kernel's.
-#define PBF_WIDE_TENSION_SOLVES 192.0
-/// Whether kernel_radius is wider than PBF_WIDE_TENSION_KERNEL spacings (the floor below applies).
-bool pbf_tension_kernel_is_wide(const pbf_params *p);
-/// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it),
-/// and with a kernel wider than two spacings quiet.
+/// The fewest substeps of a step dt (s) that keep the cohesion force stable (1 without it).
 int pbf_tension_substeps(const pbf_params *p, float dt);
 /// The most substeps a step may take: max(substeps, max_substeps). Any of the guards
 /// (pbf_guard_substeps, pbf_guard_compression) and the tension's floor may go up to it,

@@ -657,7 +657,7 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
             stage_done(s, PBF_STAGE_DENSITY, it);
         }
         if (it == level_at) level_solve(s);
-        float relax = pbf_relaxation(p, it);
+        float relax = pbf_relaxation(p, &w->k, it);
         glProgramUniform1f(w->programs[PROG_DELTA], w->u_relax[0], relax);
         glProgramUniform1i(w->programs[PROG_DELTA], w->u_apply_level, it == level_at);
         glProgramUniform1f(w->programs[PROG_COLLIDE], w->u_relax[1], relax);
@@ -842,12 +842,10 @@ static void warn_tension(pbf_world *w, float dt)
     bool short_of = need > most;
     if (short_of && !w->tension_warned && w->log) {
         char msg[512];
-        bool wide = pbf_tension_kernel_is_wide(p);
-        snprintf(msg, sizeof msg, "surface_tension = %g N/m needs %d substeps of a %.3g s step to stay stable%s and "
-                 "max_substeps = %d allows %d: the water may %s (lower surface_tension or the step, or raise "
-                 "max_substeps%s; docs/solver.md, \"Surface tension\")", (double)p->surface_tension, need, (double)dt,
-                 wide ? " and quiet with a kernel wider than two spacings" : "", p->max_substeps, most,
-                 wide ? "boil or blow up" : "blow up", wide ? " or iterations, or narrow kernel_radius" : "");
+        snprintf(msg, sizeof msg, "surface_tension = %g N/m needs %d substeps of a %.3g s step to stay stable and "
+                 "max_substeps = %d allows %d: the water may blow up (lower surface_tension or the step, or raise "
+                 "max_substeps; docs/solver.md, \"Surface tension\")", (double)p->surface_tension, need, (double)dt,
+                 p->max_substeps, most);
         w->log(w->log_user, 2, msg);
     }
     w->tension_warned = short_of;

