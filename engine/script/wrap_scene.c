@@ -126,11 +126,11 @@ static int l_scene(lua_State *L)
         c->params = pbf_seed_params();
         char where[256];
         eng_log(&s->log, ENG_LOG_WARN,
-                "%sseiche.scene: preset \"seed\" is the first version's parameter set, kept for comparison, and it is "
-                "not stable: one substep of a 1/60 s frame lets particles move about a spacing per solve, and its "
-                "artificial pressure (s_corr k = 0.1) pushes them apart, so a sloshing tank gains about 20 %% in "
-                "energy in 0.3 s (the time-step guard is off in it: with more substeps s_corr adds energy faster); "
-                "use the default preset (docs/solver.md)", scr_where(L, where, sizeof where));
+                "%sseiche.scene: preset \"seed\" is the first version's parameter set, kept for comparison, not "
+                "for use: one substep of a 1/60 s frame lets particles move about a spacing per solve, so its water "
+                "compresses by up to 30 %% where a dam breaks (its time-step guard is off), and its artificial "
+                "pressure (s_corr k = 0.1) pushes particles apart; use the default preset (docs/solver.md)",
+                scr_where(L, where, sizeof where));
     }
     if (scr_field_present(L, 1, "name")) {
         char got[64];
