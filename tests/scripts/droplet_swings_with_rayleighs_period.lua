@@ -28,7 +28,7 @@ local L = 6 * R0
 local c = L / 2
 seiche.scene { name = "droplet", capacity = 4000, gravity = { 0, 0, 0 },
                domain = { min = { 0, 0, 0 }, max = { L, L, L } },
-               fluid = { kernel_radius = 6 * r, surface_tension = sigma, viscosity = 0, vorticity = 0,
+               fluid = { particle_radius = r, kernel_radius = 6 * r, surface_tension = sigma, viscosity = 0, vorticity = 0,
                          iterations = 4, damping = DAMPING } }
 local pts = {}
 for i = -N, N do
