@@ -133,7 +133,7 @@ static double jacobi_mu(const jacobi_sites *js, const double q[3])
 
 double pbf_jacobi_mu_max(double spacings)
 {
-    if (!(spacings > 0.0) || spacings > 5.0) return 0.0;
+    if (!(spacings > 0.0) || spacings > 5.0 + 1e-4) return 0.0; // 10 r, with the floats' rounding
     jacobi_sites js; // 12 KiB
     js.count = 0;
     js.norm = 0.0;

@@ -34,6 +34,7 @@ void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_const
 /// searched on a grid and refined. 2.82 at 2 spacings, 3.38 at 2.25, 4.19 at 2.5, 6.72 at 3,
 /// 14.4 at 4: it grows with the neighbourhood, and the factors tuned at 2 spacings leave the
 /// modes above PBF_JACOBI_MU_DEEP growing (pbf_constants.jacobi_mu_max holds it for a set).
+/// 0 outside (0, 5] (kernel_radius is at most 10 particle radii).
 double pbf_jacobi_mu_max(double spacings);
 
 /// The relaxation factor of iteration `it` (0-based) of p->iterations: the uniform `relax`

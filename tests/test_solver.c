@@ -631,6 +631,18 @@ static void a_wide_kernel_scales_the_relaxation_to_its_spectrum(void **state)
         }
     }
     assert_true(fabs(pbf_jacobi_mu_max(2.0) - PBF_JACOBI_MU_LATTICE) < 1e-4);
+    // The widest kernel allowed, at radii whose float ratio rounds either way.
+    const float radii[] = { 0.0125f, 0.007f, 0.0333f, 0.1f };
+    int widest = 0;
+    for (size_t i = 0; i < sizeof radii / sizeof radii[0]; i++) {
+        pbf_params p = pbf_default_params();
+        p.particle_radius = radii[i];
+        p.kernel_radius = 10.0f * radii[i];
+        if (pbf_params_validate(&p, NULL, 0) != PBF_OK) continue;
+        assert_true(pbf_derive_constants(&p).jacobi_mu_max > 27.0f);
+        widest++;
+    }
+    assert_int_equal(widest, 4);
     assert_true(pbf_jacobi_mu_max(3.0) > 6.5); // why the scaling is there
 }
 
