@@ -111,10 +111,10 @@ pbf_constants pbf_derive_constants(const pbf_params *p)
 
 // mu(q) of a lattice neighbourhood: sites (spacing units) and their spiky gradients' shape
 // (kappa - r)^2 / r times the site (the constant factors cancel in the ratio).
-#define JACOBI_SITES 520 // r < 5 spacings (kernel_radius at most 10 particle radii) holds 514
+#define JACOBI_SITES 260 // half of r < 5 spacings (kernel_radius at most 10 particle radii): 257
 typedef struct jacobi_sites {
     int count;
-    double norm; // sum_j |grad W(r_j)|^2
+    double norm; // sum_j |grad W(r_j)|^2 over the half kept
     float site[JACOBI_SITES][3];
     float grad[JACOBI_SITES][3];
 } jacobi_sites;
@@ -128,13 +128,17 @@ static double jacobi_mu(const jacobi_sites *js, const double q[3])
         g[1] += js->grad[j][1] * sn;
         g[2] += js->grad[j][2] * sn;
     }
-    return (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) / js->norm;
+    return 2.0 * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) / js->norm; // (2g)^2 / (2 norm) over the half
 }
 
 double pbf_jacobi_mu_max(double spacings)
 {
     if (!(spacings > 0.0) || spacings > 5.0 + 1e-4) return 0.0; // 10 r, with the floats' rounding
-    jacobi_sites js; // 12 KiB
+    // Every parameter change derives the constants again (18 ms at 5 spacings): remember the
+    // last kernel asked on this thread.
+    static _Thread_local double last_spacings = 0.0, last_mu = 0.0;
+    if (spacings == last_spacings) return last_mu;
+    jacobi_sites js; // 6 KiB
     js.count = 0;
     js.norm = 0.0;
     int n = (int)ceil(spacings);
@@ -142,7 +146,9 @@ double pbf_jacobi_mu_max(double spacings)
         for (int y = -n; y <= n; y++)
             for (int x = -n; x <= n; x++) {
                 double r = sqrt((double)(x * x + y * y + z * z));
-                if (r == 0.0 || r >= spacings || js.count >= JACOBI_SITES) continue;
+                // Half the sites: -r gives the same term as r (sin and the gradient both flip).
+                bool half = z > 0 || (z == 0 && (y > 0 || (y == 0 && x > 0)));
+                if (!half || r >= spacings || js.count >= JACOBI_SITES) continue;
                 double m = (spacings - r) * (spacings - r) / r;
                 js.site[js.count][0] = (float)x, js.site[js.count][1] = (float)y, js.site[js.count][2] = (float)z;
                 js.grad[js.count][0] = (float)(x * m), js.grad[js.count][1] = (float)(y * m);
@@ -175,6 +181,7 @@ double pbf_jacobi_mu_max(double spacings)
             }
         if (!moved) step *= 0.5;
     }
+    last_spacings = spacings, last_mu = best;
     return best;
 }
 
