@@ -41,7 +41,8 @@ double pbf_jacobi_mu_max(double spacings);
 /// of delta.comp and collide.comp, the `relax` argument of the CPU reference's passes. For
 /// a kernel wider than 2 spacings every factor is scaled by pbf_jacobi_mu_max(2) /
 /// k->jacobi_mu_max, so each lattice mode is damped as the default kernel's mode of the same
-/// rank is (a positive `sor`, a constant factor the caller chose, is taken as it is).
+/// rank is (a positive `sor`, a constant factor the caller chose, is taken as it is; k NULL
+/// gives the unscaled factors, the default kernel's).
 float pbf_relaxation(const pbf_params *p, const pbf_constants *k, int it);
 
 /// The space's part: the grid (origin m, cells per axis, total cells, cell size m), the
