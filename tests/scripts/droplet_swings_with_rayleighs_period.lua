@@ -111,15 +111,13 @@ function on_step(dt, t)
     -- held stretched by the packing's yield creeps about a small anisotropy and may cross zero
     -- now and then (the default kernel: from +0.044 to -0.018, crossings 0.45, 1.56 and 0.19 s
     -- apart; the wide kernel's 0.58-0.62 s apart, to -0.062 from +0.089).
-    local halves, worst = {}, 0
-    for q = 2, #crossings do halves[#halves + 1] = crossings[q] - crossings[q - 1] end
-    local mean = #halves > 0 and (crossings[#crossings] - crossings[1]) / #halves or 0
-    for _, d in ipairs(halves) do worst = math.max(worst, math.abs(d / mean - 1)) end
+    local mean, worst = #crossings > 1 and (crossings[#crossings] - crossings[1]) / (#crossings - 1) or 0, 0
+    for q = 2, #crossings do worst = math.max(worst, math.abs((crossings[q] - crossings[q - 1]) / mean - 1)) end
     seiche.check(#crossings >= 3 and -trough >= 0.5 * peak and worst <= 0.25, string.format(
         "the droplet does not swing about round: %d zero crossings of its anisotropy in %.2f s, half periods within "
         .. "%.0f %% of their mean, from %+.3f to %+.3f (bound: three crossings, within 25 %%, and to the other side by "
         .. "half the first stretch), now %+.4f", #crossings, t - t0, 100 * worst, peak, trough, a))
-    local period = 2 * (crossings[#crossings] - crossings[1]) / (#crossings - 1)
+    local period = 2 * mean -- a half period's mean
     print(string.format("period %.3f s, %+.1f %% of Rayleigh's", period, 100 * (period / rayleigh - 1)))
     seiche.check(math.abs(period / rayleigh - 1) <= 0.20, string.format(
         "period %.3f s against Rayleigh's %.3f s (bound 20 %%)", period, rayleigh))
