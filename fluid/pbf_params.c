@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -183,6 +184,129 @@ double pbf_jacobi_mu_max(double spacings)
     }
     last_spacings = spacings, last_mu = best;
     return best;
+}
+
+// ---- the cohesion's tension on the rest lattice ---------------------------------------------
+// Akinci's spline in units of the spacing (H the kernel in spacings): pulls beyond H/2.
+static double akinci_spline(double r, double H)
+{
+    if (r <= 0.0 || r >= H) return 0.0;
+    double a = (H - r) * (H - r) * (H - r) * r * r * r;
+    return 2.0 * r > H ? a : 2.0 * a - pow(H, 6) / 64.0;
+}
+
+// The deepest layer below a face whose density the sums read (3 ceil(5 sqrt 27) + 2 = 80).
+#define COHESION_LAYERS 96
+
+double pbf_cohesion_face_stress(double spacings, const int face[3])
+{
+    double H = spacings;
+    int n2 = face[0] * face[0] + face[1] * face[1] + face[2] * face[2];
+    if (!(H > 0.0) || H > 5.0 + 1e-4 || n2 == 0) return 0.0;
+    int n = (int)ceil(H);
+    double len = sqrt((double)n2);
+    int depth = (int)ceil(H * len); // |face . g| < depth for every site g of the neighbourhood
+    if (3 * depth + 2 > COHESION_LAYERS) return 0.0;
+    // Layers m = 0, 1, 2, ... deep of the half-space face . x <= 0; a site g of a particle m
+    // deep lies face . g higher. rho[m]: the spiky sum of a particle m deep over the bulk's.
+    double rho[COHESION_LAYERS] = { 0.0 }, bulk = 0.0;
+    for (int z = -n; z <= n; z++)
+        for (int y = -n; y <= n; y++)
+            for (int x = -n; x <= n; x++) {
+                double r = sqrt((double)(x * x + y * y + z * z));
+                if (r >= H) continue;
+                double w = (H - r) * (H - r) * (H - r);
+                int proj = face[0] * x + face[1] * y + face[2] * z;
+                bulk += w;
+                for (int m = proj < 0 ? 0 : proj; m < COHESION_LAYERS; m++) rho[m] += w;
+            }
+    for (int m = 0; m < COHESION_LAYERS; m++) rho[m] /= bulk;
+    // Kirkwood-Buff: sigma A = the sum over the pairs cut by any plane parallel to the face
+    // of f(r) (r^2 - 3 z^2) / (2r), z along the normal, f the pull K_ij S(r). A face's cell
+    // (area len) holds one particle of each layer, which takes half of each of its pairs.
+    // Deeper than 2 depth a particle and its neighbours have the bulk's density and its sum
+    // vanishes by the lattice's symmetry.
+    double sum = 0.0;
+    for (int m = 0; m <= 2 * depth + 1; m++)
+        for (int z = -n; z <= n; z++)
+            for (int y = -n; y <= n; y++)
+                for (int x = -n; x <= n; x++) {
+                    double r = sqrt((double)(x * x + y * y + z * z));
+                    int mj = m - (face[0] * x + face[1] * y + face[2] * z); // the neighbour's depth
+                    if (r <= 0.0 || r >= H || mj < 0) continue;
+                    double zn = (m - mj) / len;
+                    double k = 2.0 / (rho[m] + rho[mj]);
+                    sum += 0.5 * k * akinci_spline(r, H) * (r * r - 3.0 * zn * zn) / (2.0 * r);
+                }
+    return sum / len;
+}
+
+// (pi/8) int_0^H r^4 S(r) dr: the tension of a flat cut through a uniform continuum of
+// particles one per cubic spacing, per unit k (pbf_cohesion_factor's closed form).
+static double cohesion_continuum(double H)
+{
+    const double half = 0.5;
+    double inner = pow(half, 8) / 8.0 - 3.0 * pow(half, 9) / 9.0 + 3.0 * pow(half, 10) / 10.0 - pow(half, 11) / 11.0 -
+                   pow(half, 5) / (5.0 * 64.0);
+    return PBF_PI / 8.0 * (1.0 / 1320.0 + inner) * pow(H, 11);
+}
+
+// The faces whose stresses are averaged: 0 <= a <= b <= c <= 3, coprime (the lattice's
+// symmetric wedge covers every orientation).
+static int cohesion_faces(int faces[][3], int most)
+{
+    int count = 0;
+    for (int c = 1; c <= 3; c++)
+        for (int b = 0; b <= c; b++)
+            for (int a = 0; a <= b; a++) {
+                int g = c, x = b;
+                while (x) { int t = g % x; g = x; x = t; }
+                x = a;
+                while (x) { int t = g % x; g = x; x = t; }
+                if (g != 1 || count >= most) continue;
+                faces[count][0] = a, faces[count][1] = b, faces[count][2] = c;
+                count++;
+            }
+    return count;
+}
+
+double pbf_cohesion_lattice_ratio(double spacings)
+{
+    if (!(spacings > 0.0) || spacings > 5.0 + 1e-4) return 0.0;
+    static _Thread_local double last_spacings = 0.0, last_ratio = 0.0;
+    if (spacings == last_spacings) return last_ratio;
+    double H = spacings < 2.0 ? 2.0 : spacings; // narrower: too few neighbours for a surface
+    int faces[32][3];
+    int count = cohesion_faces(faces, 32);
+    // Each face's share of the sphere: the directions (uniform in cos theta and phi over an
+    // octant, sorted into the wedge) nearest to it.
+    double weight[32] = { 0.0 };
+    const int grid = 48;
+    for (int i = 0; i < grid; i++)
+        for (int j = 0; j < grid; j++) {
+            double u = (i + 0.5) / grid, phi = 0.5 * PBF_PI * (j + 0.5) / grid, w = sqrt(1.0 - u * u);
+            double v[3] = { w * cos(phi), w * sin(phi), u };
+            for (int a = 0; a < 2; a++) // sort ascending
+                for (int b = 0; b < 2 - a; b++)
+                    if (v[b] > v[b + 1]) { double t = v[b]; v[b] = v[b + 1]; v[b + 1] = t; }
+            int best = 0;
+            double near = -1.0;
+            for (int f = 0; f < count; f++) {
+                double l = sqrt((double)(faces[f][0] * faces[f][0] + faces[f][1] * faces[f][1] + faces[f][2] * faces[f][2]));
+                double d = (v[0] * faces[f][0] + v[1] * faces[f][1] + v[2] * faces[f][2]) / l;
+                if (d > near) near = d, best = f;
+            }
+            weight[best] += 1.0;
+        }
+    double sum = 0.0, total = 0.0;
+    for (int f = 0; f < count; f++) {
+        if (weight[f] <= 0.0) continue;
+        sum += weight[f] * pbf_cohesion_face_stress(H, faces[f]);
+        total += weight[f];
+    }
+    double ratio = sum / total / cohesion_continuum(H);
+    last_spacings = spacings, last_ratio = ratio;
+    return ratio;
 }
 
 #define CHECK(cond, field, fmt, value, rule)                                                  \
@@ -385,18 +509,14 @@ pbf_result pbf_params_apply(pbf_params *p, const char *const *names, const doubl
 
 double pbf_cohesion_factor(const pbf_params *p)
 {
-    // A flat surface of the rest lattice (n = 1/s^3 particles of mass m = rho0 s^3) cut by
-    // pair forces m k S(r): the bonds across the plane hold an energy per area of
-    // (pi/2) n^2 int r^3 phi(r) dr with phi(r) = m k int_r^h S, which is 2 sigma; by parts,
-    // sigma = (pi/8) n^2 m k int_0^h r^4 S(r) dr = (pi/8) (rho0 / s^3) k J h^11 with J the
-    // integral in units of h (the two branches of S, u = r / h):
-    //   int_0^1 u^7 (1-u)^3 du = 1/1320, plus int_0^1/2 u^7 (1-u)^3 - u^4/64 du.
-    const double half = 0.5;
-    double inner = pow(half, 8) / 8.0 - 3.0 * pow(half, 9) / 9.0 + 3.0 * pow(half, 10) / 10.0 - pow(half, 11) / 11.0 -
-                   pow(half, 5) / (5.0 * 64.0);
-    double J = 1.0 / 1320.0 + inner;
-    double h = p->kernel_radius, s = 2.0 * p->particle_radius;
-    return 8.0 * (double)p->surface_tension * s * s * s / (PBF_PI * p->rest_density * J * pow(h, 11));
+    // sigma = k rho0 s^8 T: T the tension per unit k of a flat cut through the rest lattice
+    // (spacing units), by Kirkwood and Buff with Akinci's K_ij at the lattice's densities,
+    // averaged over the cut's orientations (pbf_cohesion_lattice_ratio times the continuum's
+    // (pi/8) int_0^H u^4 S(u) du; docs/solver.md, "Surface tension").
+    double h = p->kernel_radius, s = 2.0 * p->particle_radius, H = h / s;
+    double ratio = pbf_cohesion_lattice_ratio(H);
+    if (!(ratio > 0.0)) return 0.0; // a kernel that validation refuses
+    return (double)p->surface_tension / (p->rest_density * pow(s, 8) * ratio * cohesion_continuum(H));
 }
 
 void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt)

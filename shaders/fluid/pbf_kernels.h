@@ -185,7 +185,8 @@ PBF_FN pbf_vec3 grad_spiky(PBF_P_ARG pbf_vec3 r)
 // adhesion for SPH fluids"): along each pair, k S(r) with S their spline, which pulls beyond
 // h/2 and pushes closer, times K_ij = 2 rho0 / (rho_i + rho_j) (evens out the particle
 // deficiency at the surface). k comes from the surface tension sigma (N/m) the pair force
-// gives a flat surface of the rest lattice (pbf_cohesion_factor). Their curvature term is
+// gives the rest lattice's flat surfaces, K_ij included, averaged over their orientations
+// (pbf_cohesion_factor). Their curvature term is
 // left out: its push on the particles under the surface scattered droplets under the
 // unilateral density constraint (docs/solver.md, "Surface tension").
 

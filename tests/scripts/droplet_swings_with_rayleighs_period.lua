@@ -8,16 +8,19 @@
 -- positions it settled into, is given the flow of its l = 2 mode, v = A (x, -y/2, -z/2) with
 -- A = 0.5 /s. Checked: before the flow the droplet is quiet (kinetic energy under a tenth of the
 -- flow's); after it, its anisotropy (x'x' - (y'y' + z'z')/2) / r'r' crosses zero at least three
--- times in 3.2 s and the period from those crossings is within 20 % of Rayleigh's,
--- 2 pi / sqrt(8 sigma / (rho R^3)), R from the particles' volume. The issue asks for 10 %: the
--- droplet swings 12-13 % fast at every solve measured from 4 x 2 to 64 x 4 (docs/solver.md, "A
--- wide kernel and its relaxation"), so this holds the behaviour; it does not show item 6 met.
+-- times in 3.2 s and the period from those crossings is within 10 % of Rayleigh's,
+-- 2 pi / sqrt(8 sigma / (rho R^3)), R from the particles' volume. This holds at the default
+-- substeps; the period still depends on the solve (about right at 4 x 2 to 8 x 2, 12 % slow at
+-- 16 x 2, 28-32 % slow at 32 x 4) and a droplet at half the spacing swings heavily damped
+-- (docs/solver.md, "A wide kernel and its relaxation"), so item 6 is not met by this alone.
 -- It fails with the default kernel (--set fluid.kernel_radius=0.05: the packing's yield holds
--- the droplet stretched), and it failed before 0.18.0, whose relaxation factors let the wide
--- kernel's top modes grow (the droplet boiled at these substeps).
--- Measured (llvmpipe, 0.18.0, 2109 particles, 4 substeps): 0.0019 J at rest against the flow's
--- 0.047 J; from +0.089 to -0.062, crossings at 0.627, 1.206, 1.826, 2.424, 3.026 s, a period of
--- 1.199 s against Rayleigh's 1.393 s (-13.9 %).
+-- the droplet stretched), before 0.18.0, whose relaxation factors let the wide kernel's top
+-- modes grow (the droplet boiled at these substeps), and before 0.19.0, whose k came from a
+-- continuum's cut rather than the lattice's with Akinci's K_ij (a tension of about 1.3 sigma:
+-- -13.9 %).
+-- Measured (llvmpipe, 0.19.0, 2109 particles, 4 substeps): 0.0018 J at rest against the flow's
+-- 0.047 J; from +0.098 to -0.067, crossings at 0.689, 1.333, 2.022, 2.684 s, a period of 1.330 s
+-- against Rayleigh's 1.393 s (-4.5 %).
 -- frames: 260
 local r = seiche.param("particle_radius")
 local s = 2 * r
@@ -119,6 +122,6 @@ function on_step(dt, t)
         .. "half the first stretch), now %+.4f", #crossings, t - t0, 100 * worst, peak, trough, a))
     local period = 2 * mean -- a half period's mean
     print(string.format("period %.3f s, %+.1f %% of Rayleigh's", period, 100 * (period / rayleigh - 1)))
-    seiche.check(math.abs(period / rayleigh - 1) <= 0.20, string.format(
-        "period %.3f s against Rayleigh's %.3f s (bound 20 %%)", period, rayleigh))
+    seiche.check(math.abs(period / rayleigh - 1) <= 0.10, string.format(
+        "period %.3f s against Rayleigh's %.3f s (bound 10 %%)", period, rayleigh))
 end
