@@ -513,6 +513,7 @@ double pbf_cohesion_factor(const pbf_params *p)
     // (spacing units), by Kirkwood and Buff with Akinci's K_ij at the lattice's densities,
     // averaged over the cut's orientations (pbf_cohesion_lattice_ratio times the continuum's
     // (pi/8) int_0^H u^4 S(u) du; docs/solver.md, "Surface tension").
+    if (!(p->surface_tension > 0.0f)) return 0.0; // off: no lattice sums to do
     double h = p->kernel_radius, s = 2.0 * p->particle_radius, H = h / s;
     double ratio = pbf_cohesion_lattice_ratio(H);
     if (!(ratio > 0.0)) return 0.0; // a kernel that validation refuses

@@ -11,7 +11,8 @@
 /// artificial pressure, vorticity, viscosity, damping, speed clamp, particle radius.
 /// k (1/(m^5 s^2)) of the cohesion pull k S(r) that gives the rest lattice's surface the
 /// tension p->surface_tension (N/m), averaged over its orientations: pbf_kernels.h
-/// cohesion_of, pbf_cohesion_lattice_ratio. 0 for a kernel that validation refuses.
+/// cohesion_of, pbf_cohesion_lattice_ratio. 0 without tension or for a kernel that validation
+/// refuses.
 double pbf_cohesion_factor(const pbf_params *p);
 
 /// The tension per unit k of a flat cut through the rest lattice (spacing units, one particle
