@@ -7,7 +7,7 @@
 -- Keys:  b throw a ball at the middle from a random side    g gravity on / off
 --        t surface tension 20 N/m / off (without it a thrown ball sprays apart)
 --        r reset    space pause
--- The tension takes its substeps: 6 of a 1/60 s frame at 20 N/m (the explicit pull needs
+-- The tension takes its substeps: 5 of a 1/60 s frame at 20 N/m (the explicit pull needs
 -- them; far fewer blow a drop up); 5 N/m takes the default 4 and rounds a drop less.
 
 local SIGMA = 20 -- N/m; water's own is 0.072: drops of a few particles' radius need far more
