@@ -4,7 +4,6 @@
 
 #include <math.h>
 #include <stddef.h>
-#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -195,7 +194,8 @@ static double akinci_spline(double r, double H)
     return 2.0 * r > H ? a : 2.0 * a - pow(H, 6) / 64.0;
 }
 
-// The deepest layer below a face whose density the sums read (3 ceil(5 sqrt 27) + 2 = 80).
+// The deepest layer below a face whose density the sums read: 3 depth + 2, 80 for the faces
+// averaged below (indices up to 3) at 5 spacings.
 #define COHESION_LAYERS 96
 
 double pbf_cohesion_face_stress(double spacings, const int face[3])
@@ -221,9 +221,9 @@ double pbf_cohesion_face_stress(double spacings, const int face[3])
                 for (int m = proj < 0 ? 0 : proj; m < COHESION_LAYERS; m++) rho[m] += w;
             }
     for (int m = 0; m < COHESION_LAYERS; m++) rho[m] /= bulk;
-    // Kirkwood-Buff: sigma A = the sum over the pairs cut by any plane parallel to the face
-    // of f(r) (r^2 - 3 z^2) / (2r), z along the normal, f the pull K_ij S(r). A face's cell
-    // (area len) holds one particle of each layer, which takes half of each of its pairs.
+    // Kirkwood-Buff: sigma A = the sum over the surface's pairs of f(r) (r^2 - 3 z^2) / (2r),
+    // z along the normal, f the pull K_ij S(r). A face's cell (area len) holds one particle
+    // of each layer, which takes half of each of its pairs.
     // Deeper than 2 depth a particle and its neighbours have the bulk's density and its sum
     // vanishes by the lattice's symmetry.
     double sum = 0.0;

@@ -9,6 +9,8 @@
 
 /// The solver's part: gravity, time step (s), kernel constants, masses, relaxation,
 /// artificial pressure, vorticity, viscosity, damping, speed clamp, particle radius.
+void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt);
+
 /// k (1/(m^5 s^2)) of the cohesion pull k S(r) that gives the rest lattice's surface the
 /// tension p->surface_tension (N/m), averaged over its orientations: pbf_kernels.h
 /// cohesion_of, pbf_cohesion_lattice_ratio. 0 without tension or for a kernel that validation
@@ -17,18 +19,17 @@ double pbf_cohesion_factor(const pbf_params *p);
 
 /// The tension per unit k of a flat cut through the rest lattice (spacing units, one particle
 /// per cubic spacing) along the face with integer normal `face`, the kernel `spacings` wide:
-/// the Kirkwood-Buff sum over the pairs across it of the pull K_ij S(r) (Akinci's spline and
+/// the Kirkwood-Buff sum over the surface's pairs of the pull K_ij S(r) (Akinci's spline and
 /// density factor, the densities the spiky sum gives the layers under the face). 0 outside
 /// (0, 5] spacings or for a zero normal.
 double pbf_cohesion_face_stress(double spacings, const int face[3]);
 
 /// The lattice's tension over the continuum's (pi/8) int_0^H u^4 S(u) du, averaged over the
 /// faces 0 <= a <= b <= c <= 3 weighted by the share of directions nearest each: 1.32 at 2
-/// spacings, 1.13 at 2.5, 1.24 at 3, 1.22 at 4 (most of it Akinci's K at the surface, about
-/// +19 %). A kernel narrower than 2 spacings takes the value at 2 (its lattice surface has
-/// too few neighbours: the sum falls to 0 at one spacing). 0 outside (0, 5].
+/// spacings, 1.13 at 2.5, 1.24 at 3, 1.22 at 4 (Akinci's K at the surface's thin densities
+/// raises it by 13-21 %). A kernel narrower than 2 spacings takes the value at 2 (its lattice
+/// surface has too few neighbours: the sum falls to 0 at one spacing). 0 outside (0, 5].
 double pbf_cohesion_lattice_ratio(double spacings);
-void pbf_uniforms_solver(pbf_gpu_params *g, const pbf_params *p, const pbf_constants *k, float dt);
 
 /// The largest eigenvalue of the Jacobi iteration matrix A D^-1 on a filled cubic lattice at
 /// h = 2 spacings (spiky kernel), which pbf_relaxation keeps stable: docs/solver.md,
