@@ -11,7 +11,7 @@
 -- times in 3.2 s and the period from those crossings is within 10 % of Rayleigh's,
 -- 2 pi / sqrt(8 sigma / (rho R^3)), R from the particles' volume. This holds at the default
 -- substeps; the period still depends on the solve (about right at 4 x 2 to 8 x 2, 12 % slow at
--- 16 x 2, 28-32 % slow at 32 x 4) and a droplet at half the spacing swings heavily damped
+-- 16 x 2, 24-32 % slow at 16 x 4 and 32 x 4) and a droplet at half the spacing swings heavily damped
 -- (docs/solver.md, "A wide kernel and its relaxation"), so item 6 is not met by this alone.
 -- It fails with the default kernel (--set fluid.kernel_radius=0.05: the packing's yield holds
 -- the droplet stretched), before 0.18.0, whose relaxation factors let the wide kernel's top
