@@ -197,28 +197,33 @@ static double akinci_spline(double r, double H)
 // The deepest layer below a face whose density the sums read: 3 depth + 2, 80 for the faces
 // averaged below (indices up to 3) at 5 spacings.
 #define COHESION_LAYERS 96
+#define COHESION_SITES 528 // r < 5 spacings, the centre included: 515
 
 double pbf_cohesion_face_stress(double spacings, const int face[3])
 {
     double H = spacings;
     int n2 = face[0] * face[0] + face[1] * face[1] + face[2] * face[2];
     if (!(H > 0.0) || H > 5.0 + 1e-4 || n2 == 0) return 0.0;
-    int n = (int)ceil(H);
     double len = sqrt((double)n2);
     int depth = (int)ceil(H * len); // |face . g| < depth for every site g of the neighbourhood
     if (3 * depth + 2 > COHESION_LAYERS) return 0.0;
-    // Layers m = 0, 1, 2, ... deep of the half-space face . x <= 0; a site g of a particle m
-    // deep lies face . g higher. rho[m]: the spiky sum of a particle m deep over the bulk's.
+    // The neighbourhood's sites g once: their height face . g over the face's layers, their
+    // distance and Akinci's pull at it. rho[m]: the spiky sum of a particle m layers deep in
+    // the half-space face . x <= 0 (its sites face . g <= m) over the bulk's.
+    struct { int proj; double r, spline; } site[COHESION_SITES];
+    int count = 0, n = (int)ceil(H);
     double rho[COHESION_LAYERS] = { 0.0 }, bulk = 0.0;
     for (int z = -n; z <= n; z++)
         for (int y = -n; y <= n; y++)
             for (int x = -n; x <= n; x++) {
                 double r = sqrt((double)(x * x + y * y + z * z));
-                if (r >= H) continue;
-                double w = (H - r) * (H - r) * (H - r);
+                if (r >= H || count >= COHESION_SITES) continue;
                 int proj = face[0] * x + face[1] * y + face[2] * z;
+                double w = (H - r) * (H - r) * (H - r);
                 bulk += w;
                 for (int m = proj < 0 ? 0 : proj; m < COHESION_LAYERS; m++) rho[m] += w;
+                site[count].proj = proj, site[count].r = r, site[count].spline = akinci_spline(r, H);
+                count++;
             }
     for (int m = 0; m < COHESION_LAYERS; m++) rho[m] /= bulk;
     // Kirkwood-Buff: sigma A = the sum over the surface's pairs of f(r) (r^2 - 3 z^2) / (2r),
@@ -228,16 +233,12 @@ double pbf_cohesion_face_stress(double spacings, const int face[3])
     // vanishes by the lattice's symmetry.
     double sum = 0.0;
     for (int m = 0; m <= 2 * depth + 1; m++)
-        for (int z = -n; z <= n; z++)
-            for (int y = -n; y <= n; y++)
-                for (int x = -n; x <= n; x++) {
-                    double r = sqrt((double)(x * x + y * y + z * z));
-                    int mj = m - (face[0] * x + face[1] * y + face[2] * z); // the neighbour's depth
-                    if (r <= 0.0 || r >= H || mj < 0) continue;
-                    double zn = (m - mj) / len;
-                    double k = 2.0 / (rho[m] + rho[mj]);
-                    sum += 0.5 * k * akinci_spline(r, H) * (r * r - 3.0 * zn * zn) / (2.0 * r);
-                }
+        for (int q = 0; q < count; q++) {
+            int mj = m - site[q].proj; // the neighbour's depth
+            double r = site[q].r, z = site[q].proj / len;
+            if (r <= 0.0 || mj < 0) continue;
+            sum += 0.5 * 2.0 / (rho[m] + rho[mj]) * site[q].spline * (r * r - 3.0 * z * z) / (2.0 * r);
+        }
     return sum / len;
 }
 
@@ -278,6 +279,11 @@ double pbf_cohesion_lattice_ratio(double spacings)
     double H = spacings < 2.0 ? 2.0 : spacings; // narrower: too few neighbours for a surface
     int faces[32][3];
     int count = cohesion_faces(faces, 32);
+    double unit[32][3];
+    for (int f = 0; f < count; f++) {
+        double l = sqrt((double)(faces[f][0] * faces[f][0] + faces[f][1] * faces[f][1] + faces[f][2] * faces[f][2]));
+        for (int a = 0; a < 3; a++) unit[f][a] = faces[f][a] / l;
+    }
     // Each face's share of the sphere: the directions (uniform in cos theta and phi over an
     // octant, sorted into the wedge) nearest to it.
     double weight[32] = { 0.0 };
@@ -292,8 +298,7 @@ double pbf_cohesion_lattice_ratio(double spacings)
             int best = 0;
             double near = -1.0;
             for (int f = 0; f < count; f++) {
-                double l = sqrt((double)(faces[f][0] * faces[f][0] + faces[f][1] * faces[f][1] + faces[f][2] * faces[f][2]));
-                double d = (v[0] * faces[f][0] + v[1] * faces[f][1] + v[2] * faces[f][2]) / l;
+                double d = v[0] * unit[f][0] + v[1] * unit[f][1] + v[2] * unit[f][2];
                 if (d > near) near = d, best = f;
             }
             weight[best] += 1.0;
