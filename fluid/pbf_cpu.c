@@ -351,7 +351,7 @@ static void substep(pbf_cpu_world *w, const pbf_gpu_params *P, int s)
         pbf_cpu_delta(w, P, relax, it == level_at);
         stage_done(w, PBF_STAGE_DELTA, s, it);
         if (w->gpu_count > 0) {
-            pbf_cpu_collide(w, P, relax);
+            pbf_cpu_collide(w, P, relax, it == level_at);
             stage_done(w, PBF_STAGE_COLLIDE, s, it);
         }
         swap4(&w->pred, &w->pred_out);

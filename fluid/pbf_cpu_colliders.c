@@ -93,6 +93,27 @@ void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3
     }
 }
 
+/// colliders_level_reaction: the reaction of two-way colliders to the coarse level's push at
+/// a particle at x, as to a multiplier lambda = -p(x) (no motion of the particle).
+void pbf_cpu_colliders_level_reaction(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda)
+{
+    if (lambda == 0.0f) return;
+    float to_force = -P->mass * P->inv_dt * P->inv_dt;
+    for (uint32_t b = 0; b < P->collider_count; b++) {
+        const pbf_gpu_collider *c = &w->gpu[b];
+        float V;
+        pbf_vec3 gradV;
+        if (!collider_boundary(w, P, c, x, &V, &gradV)) continue;
+        if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
+        pbf_vec3 p1, ln;
+        pbf_float4 q1;
+        collider_end_pose(P, c, &p1, &q1);
+        float d = shape_distance(w, c, quat_rotate_inv(q1, pbf_sub(x, p1)), &ln);
+        pbf_vec3 n = quat_rotate(q1, ln);
+        add_force(w, b, pbf_scale(to_force * lambda, gradV), pbf_sub(x, pbf_scale(d, n)));
+    }
+}
+
 /// colliders_collide: moves a particle now at x, which started the substep at xs, out of
 /// every collider to PBF_CONTACT_MARGIN of a particle radius from its surface, sweeping its path in each
 /// collider's frame from the previous pose to the current one; particles that started

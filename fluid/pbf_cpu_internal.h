@@ -103,7 +103,7 @@ void pbf_cpu_neighbours(pbf_cpu_world *w, const pbf_gpu_params *P, const pbf_flo
                         bool solve);
 void pbf_cpu_density(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, bool apply_level);
-void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax);
+void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, bool apply_level);
 void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P);
 void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P);
@@ -116,6 +116,7 @@ float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32
 void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float *rho, pbf_vec3 *grad_i);
 void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
                              pbf_vec3 *dp);
+void pbf_cpu_colliders_level_reaction(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda);
 pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x);
 void pbf_cpu_colliders_begin_step(pbf_cpu_world *w);
 void pbf_cpu_colliders_end_step(pbf_cpu_world *w);

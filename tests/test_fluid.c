@@ -640,7 +640,7 @@ static int level_warnings(int level_sweeps, bool two_way, bool remove_after, sup
     return log->warnings;
 }
 
-/// The coarse level's push has no reaction on bodies yet (docs/solver.md, "The coarse
+/// The coarse level's push has only a partial reaction on bodies (docs/solver.md, "The coarse
 /// level"): a world with it on and a two-way body says so, once while both are there, naming
 /// level_sweeps; with the level off, or beside a one-way body, it says nothing. Taken away and
 /// brought back, the body is warned about again.
@@ -651,7 +651,7 @@ static void coarse_level_beside_a_two_way_body_warns(void **state)
     assert_int_equal(level_warnings(0, true, false, &off), 0);
     assert_int_equal(level_warnings(4, false, false, &one_way), 0);
     assert_int_equal(level_warnings(4, true, false, &on), 1);
-    support_assert_mentions(on.last, (const char *const[]){ "level_sweeps = 4", "two-way bodies", "no reaction", NULL });
+    support_assert_mentions(on.last, (const char *const[]){ "level_sweeps = 4", "two-way bodies", "partial reaction", NULL });
     assert_int_equal(level_warnings(4, true, true, &again), 2);
 }
 

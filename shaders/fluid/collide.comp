@@ -1,8 +1,8 @@
 #version 430
 // Stage collide (each iteration, only when there are colliders): the colliders' part of
 // the position correction, -lambda_i sum_b G(d_b) n_b (with the reaction forces on
-// two-way bodies), then the swept collisions against the bodies, on the positions the
-// delta pass wrote. A pass of its own because the collider code, even when it is skipped,
+// two-way bodies), in the coarse level's iteration the reaction to its push (no motion),
+// then the swept collisions against the bodies, on the positions the delta pass wrote. A pass of its own because the collider code, even when it is skipped,
 // makes the delta pass twice as slow on CPU drivers.
 #define USE_POS
 #define USE_PRED
@@ -11,10 +11,12 @@
 #define USE_COLLIDERS
 #define USE_FORCES
 #define WRITE_FORCES
+#define USE_LEVEL
 #include "common.glsl"
 #include "colliders.glsl"
 layout(local_size_x = PBF_WG) in;
 uniform float relax; // this iteration's relaxation factor (pbf_relaxation)
+uniform bool apply_level; // in the iteration after the coarse level's solve (pbf_level_iteration)
 
 void main()
 {
@@ -23,6 +25,7 @@ void main()
     vec4 pi = pred[i];   // the iteration's start: position, and lambda in w
     vec3 bdp = vec3(0.0);
     colliders_delta(pi.xyz, pi.w, relax, bdp);
+    if (apply_level) colliders_level_reaction(pi.xyz, -level_pressure(pi.xyz));
     vec3 x = pred_out[i].xyz + relax * bdp;
     x = colliders_collide(i, x);
     for (uint p = 0u; p < P.plane_count; p++) {

@@ -124,6 +124,26 @@ void colliders_delta(vec3 x, float lambda, float relax, inout vec3 dp)
     }
 }
 
+// The coarse level's push has no reaction of its own (it moves the water by -grad p):
+// two-way colliders take it here, as the boundary's reaction to a multiplier -p(x) at the
+// particle, once per substep (the level's iteration).
+void colliders_level_reaction(vec3 x, float lambda)
+{
+    if (lambda == 0.0) return;
+    float to_force = -P.mass * P.inv_dt * P.inv_dt;
+    for (uint b = 0u; b < P.collider_count; b++) {
+        float V;
+        vec3 gradV;
+        if (!collider_boundary(b, x, V, gradV)) continue;
+        if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
+        vec3 p1, n;
+        vec4 q1;
+        collider_end_pose(b, p1, q1);
+        float d = collider_distance_at(b, p1, q1, x, n);
+        add_force(b, to_force * lambda * gradV, x - d * n);
+    }
+}
+
 // Moves particle i at x out of every collider to PBF_CONTACT_MARGIN of a particle radius
 // from its surface, sweeping its path through the substep in each collider's frame.
 vec3 colliders_collide(uint i, vec3 x)
