@@ -855,10 +855,11 @@ static void warn_tension(pbf_world *w, float dt)
 
 // The coarse level's push has only a partial reaction (docs/solver.md, "The coarse level"):
 // bodies feel it through the multiplier -p at the particles next to them (collide.comp),
-// which is right where the level's cells see the body (a floor, a box on the cells' lines)
-// but not where a cell is part body, part water, and the forces on two-way bodies (and on
-// static ones that measure theirs) then miss much of the share of the water's weight it
-// carries. Say so once while the level is on and such a body is there.
+// which is about right at the defaults' spacing where the level's cells see the body whole
+// (a floor, a box on the cells' lines) but not where a cell is part body, part water, nor
+// at finer spacings, and the forces on two-way bodies (and on static ones that measure
+// theirs) then miss part of the share of the water's weight it carries. Say so once while
+// the level is on and such a body is there.
 static void warn_level(pbf_world *w)
 {
     bool two_way = false;
@@ -868,8 +869,8 @@ static void warn_level(pbf_world *w)
     if (two_way && !w->level_warned && w->log) {
         char msg[512];
         snprintf(msg, sizeof msg, "level_sweeps = %d with two-way bodies: the coarse level's push has only a partial reaction, "
-                 "so the forces on bodies its cells cut through miss much of the share of the water's weight it carries "
-                 "(a submerged sphere measured 35-53 %% light, a floor within 1.2 %%; docs/solver.md, \"The coarse level\")", w->params.level_sweeps);
+                 "so the forces on bodies miss part of the share of the water's weight it carries (measured: a floor "
+                 "+2.8 %% to -17.5 %%, a submerged sphere 35-53 %% light; docs/solver.md, \"The coarse level\")", w->params.level_sweeps);
         w->log(w->log_user, 2, msg);
     }
     w->level_warned = two_way;

@@ -4,7 +4,9 @@
 -- multiplier -p at each particle (collide.comp). The slab's top stands a quarter of a cell
 -- above a cell face, so the cells at the floor are part body, part water. Averaged over 1.5 s
 -- once it settled: within 2 % of m g. Measured (llvmpipe, 0.19.1): +1.2 %; the same floor on
--- a cell face +0.5 %; without the reaction (0.19.0) -11.4 % (-12.3 % on a cell face).
+-- a cell face +0.5 %; without the reaction (0.19.0) -11.4 % (-12.3 % on a cell face). At half the
+-- spacing it is not this good (+2.8 % on a cell face, -17.5 % a quarter cell above; -22.1 and
+-- -37.9 % without): docs/solver.md.
 -- frames: 180
 seiche.scene { capacity = 8000, container = { min = { 0, 0, 0 }, max = { 0.3, 0.5, 0.3 } },
                fluid = { level_sweeps = 20 } }
