@@ -302,7 +302,8 @@ void pbf_cpu_delta(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, bool 
 
 /// collide.comp (only with colliders): the colliders' part of the correction, computed at
 /// the iteration's start (pred, lambda in pred.w) and added times relax to what delta wrote,
-/// in the coarse level's iteration the colliders' reaction to its push, then the swept collisions from the substep's start position pos[i], then the container.
+/// in the coarse level's iteration the colliders' reaction to its push, then the swept
+/// collisions from the substep's start position pos[i], then the container.
 void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, bool apply_level)
 {
     for (uint32_t i = 0; i < w->count; i++) {

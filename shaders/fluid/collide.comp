@@ -1,9 +1,10 @@
 #version 430
 // Stage collide (each iteration, only when there are colliders): the colliders' part of
 // the position correction, -lambda_i sum_b G(d_b) n_b (with the reaction forces on
-// two-way bodies), in the coarse level's iteration the reaction to its push (no motion),
-// then the swept collisions against the bodies, on the positions the delta pass wrote. A pass of its own because the collider code, even when it is skipped,
-// makes the delta pass twice as slow on CPU drivers.
+// two-way bodies), in the coarse level's iteration the bodies' reaction to its push (no
+// motion), then the swept collisions against the bodies, on the positions the delta pass
+// wrote. A pass of its own because the collider code, even when it is skipped, makes the
+// delta pass twice as slow on CPU drivers.
 #define USE_POS
 #define USE_PRED
 #define USE_PRED_OUT

@@ -688,7 +688,9 @@ PBF_FN float level_p(PBF_P_ARG PBF_LEVEL_ARG int x, int y, int z)
     return level[level_index(PBF_P_ x, y, z)].p;
 }
 
-/// p at x (m^2), trilinear between the cell centres (air reads 0), clamped into the grid.
+/// p at x (m^2), trilinear between the centres of the water cells around it (air cells left
+/// out and the weights renormalised; 0 among air only), clamped into the grid: the coarse
+/// level's p beside a body, whose inside the level counts as air.
 PBF_FN float level_pressure(PBF_P_ARG PBF_LEVEL_ARG pbf_vec3 x)
 {
     int i0[3];
