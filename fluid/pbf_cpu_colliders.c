@@ -67,11 +67,14 @@ static void add_force(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 at)
 }
 
 /// colliders_delta: the colliders' part of the position correction of a particle at x with
-/// multiplier lambda, and the reaction on two-way colliders (f = -m relax bdp / dt^2).
+/// multiplier lambda, and the reaction on two-way colliders (f = -m relax bdp / dt^2), plus
+/// in the coarse level's iteration their reaction to its push as to a multiplier
+/// level_lambda = -p(x) (no motion of the particle; 0 otherwise).
 void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
-                             pbf_vec3 *dp)
+                             float level_lambda, pbf_vec3 *dp)
 {
     float to_force = -P->mass * P->inv_dt * P->inv_dt * relax;
+    float to_level = -P->mass * P->inv_dt * P->inv_dt;
     for (uint32_t b = 0; b < P->collider_count; b++) {
         const pbf_gpu_collider *c = &w->gpu[b];
         float V;
@@ -81,36 +84,17 @@ void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3
         *dp = pbf_add(*dp, bdp);
         if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
         accumulate(&w->forces[b][3], 1);
-        if (lambda != 0.0f) {
+        if (lambda != 0.0f || level_lambda != 0.0f) {
             // Acting at the particle's nearest surface point.
             pbf_vec3 p1, ln;
             pbf_float4 q1;
             collider_end_pose(P, c, &p1, &q1);
             float d = shape_distance(w, c, quat_rotate_inv(q1, pbf_sub(x, p1)), &ln);
             pbf_vec3 n = quat_rotate(q1, ln);
-            add_force(w, b, pbf_scale(to_force, bdp), pbf_sub(x, pbf_scale(d, n)));
+            pbf_vec3 f = pbf_scale(to_force, bdp);
+            if (level_lambda != 0.0f) f = pbf_add(f, pbf_scale(to_level * level_lambda, gradV));
+            add_force(w, b, f, pbf_sub(x, pbf_scale(d, n)));
         }
-    }
-}
-
-/// colliders_level_reaction: the reaction of two-way colliders to the coarse level's push at
-/// a particle at x, as to a multiplier lambda = -p(x) (no motion of the particle).
-void pbf_cpu_colliders_level_reaction(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda)
-{
-    if (lambda == 0.0f) return;
-    float to_force = -P->mass * P->inv_dt * P->inv_dt;
-    for (uint32_t b = 0; b < P->collider_count; b++) {
-        const pbf_gpu_collider *c = &w->gpu[b];
-        float V;
-        pbf_vec3 gradV;
-        if (!collider_boundary(w, P, c, x, &V, &gradV)) continue;
-        if ((c->info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
-        pbf_vec3 p1, ln;
-        pbf_float4 q1;
-        collider_end_pose(P, c, &p1, &q1);
-        float d = shape_distance(w, c, quat_rotate_inv(q1, pbf_sub(x, p1)), &ln);
-        pbf_vec3 n = quat_rotate(q1, ln);
-        add_force(w, b, pbf_scale(to_force * lambda, gradV), pbf_sub(x, pbf_scale(d, n)));
     }
 }
 

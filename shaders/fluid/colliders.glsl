@@ -102,9 +102,13 @@ void add_force(uint b, vec3 f, vec3 at)
 
 // The colliders' part of the position correction of particle x with multiplier lambda;
 // the particle's reaction pushes two-way colliders (f = -m dx / dt^2, dx = relax * bdp).
-void colliders_delta(vec3 x, float lambda, float relax, inout vec3 dp)
+// level_lambda (0 but in the coarse level's iteration): -p(x), the level's push, which has
+// no reaction of its own (it moves the water by -grad p); the colliders take it as the
+// reaction to that multiplier, once per substep, and the particle does not move for it.
+void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, inout vec3 dp)
 {
     float to_force = -P.mass * P.inv_dt * P.inv_dt * relax;
+    float to_level = -P.mass * P.inv_dt * P.inv_dt;
     for (uint b = 0u; b < P.collider_count; b++) {
         float V;
         vec3 gradV;
@@ -113,34 +117,16 @@ void colliders_delta(vec3 x, float lambda, float relax, inout vec3 dp)
         dp += bdp;
         if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
         atomicAdd(forces[int(b) * 8 + 3], 1);
-        if (lambda != 0.0) {
+        if (lambda != 0.0 || level_lambda != 0.0) {
             // Acting at the particle's nearest surface point.
             vec3 p1, n;
             vec4 q1;
             collider_end_pose(b, p1, q1);
             float d = collider_distance_at(b, p1, q1, x, n);
-            add_force(b, to_force * bdp, x - d * n);
+            vec3 f = to_force * bdp;
+            if (level_lambda != 0.0) f += to_level * level_lambda * gradV;
+            add_force(b, f, x - d * n);
         }
-    }
-}
-
-// The coarse level's push has no reaction of its own (it moves the water by -grad p):
-// two-way colliders take it here, as the boundary's reaction to a multiplier -p(x) at the
-// particle, once per substep (the level's iteration).
-void colliders_level_reaction(vec3 x, float lambda)
-{
-    if (lambda == 0.0) return;
-    float to_force = -P.mass * P.inv_dt * P.inv_dt;
-    for (uint b = 0u; b < P.collider_count; b++) {
-        float V;
-        vec3 gradV;
-        if (!collider_boundary(b, x, V, gradV)) continue;
-        if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
-        vec3 p1, n;
-        vec4 q1;
-        collider_end_pose(b, p1, q1);
-        float d = collider_distance_at(b, p1, q1, x, n);
-        add_force(b, to_force * lambda * gradV, x - d * n);
     }
 }
 

@@ -688,27 +688,15 @@ PBF_FN float level_p(PBF_P_ARG PBF_LEVEL_ARG int x, int y, int z)
     return level[level_index(PBF_P_ x, y, z)].p;
 }
 
-/// p at x (m^2), trilinear between the centres of the water cells around it (air cells left
-/// out and the weights renormalised; 0 among air only), clamped into the grid: the coarse
-/// level's p beside a body, whose inside the level counts as air.
+/// p at x (m^2), trilinear between the centres of the water cells around it (the deposit's
+/// weights, level_corner; air cells left out and the weights renormalised; 0 among air only):
+/// the coarse level's p beside a body, whose inside the level counts as air.
 PBF_FN float level_pressure(PBF_P_ARG PBF_LEVEL_ARG pbf_vec3 x)
 {
-    int i0[3];
-    float t[3];
-    for (int a = 0; a < 3; a++) {
-        int n = PBF_INT_OF(pbf_comp(P.level_dims, a));
-        float g = pbf_clamp(level_coord(PBF_P_ x, a), 0.0f, PBF_FLOAT_OF(n - 1));
-        i0[a] = pbf_clampi(PBF_FLOOR_INT(g), 0, n > 1 ? n - 2 : 0);
-        t[a] = g - PBF_FLOAT_OF(i0[a]);
-    }
     float sum = 0.0f, wsum = 0.0f;
     for (int k = 0; k < 8; k++) {
-        float wgt = ((k & 1) != 0 ? t[0] : 1.0f - t[0]) * (((k >> 1) & 1) != 0 ? t[1] : 1.0f - t[1]) *
-                    (((k >> 2) & 1) != 0 ? t[2] : 1.0f - t[2]);
-        int cx = pbf_clampi(i0[0] + (k & 1), 0, PBF_INT_OF(P.level_dims.x) - 1);
-        int cy = pbf_clampi(i0[1] + ((k >> 1) & 1), 0, PBF_INT_OF(P.level_dims.y) - 1);
-        int cz = pbf_clampi(i0[2] + ((k >> 2) & 1), 0, PBF_INT_OF(P.level_dims.z) - 1);
-        PBF_UINT id = level_index(PBF_P_ cx, cy, cz);
+        PBF_UINT id;
+        float wgt = level_corner(PBF_P_ x, k, PBF_ADDR(id));
         if (level[id].e <= PBF_LEVEL_AIR) continue;
         sum += wgt * level[id].p;
         wsum += wgt;
