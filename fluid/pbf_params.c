@@ -252,6 +252,16 @@ static double cohesion_continuum(double H)
     return PBF_PI / 8.0 * (1.0 / 1320.0 + inner) * pow(H, 11);
 }
 
+static int gcd(int a, int b)
+{
+    while (b) {
+        int t = a % b;
+        a = b;
+        b = t;
+    }
+    return a;
+}
+
 // The faces whose stresses are averaged: 0 <= a <= b <= c <= 3, coprime (the lattice's
 // symmetric wedge covers every orientation).
 static int cohesion_faces(int faces[][3], int most)
@@ -260,11 +270,7 @@ static int cohesion_faces(int faces[][3], int most)
     for (int c = 1; c <= 3; c++)
         for (int b = 0; b <= c; b++)
             for (int a = 0; a <= b; a++) {
-                int g = c, x = b;
-                while (x) { int t = g % x; g = x; x = t; }
-                x = a;
-                while (x) { int t = g % x; g = x; x = t; }
-                if (g != 1 || count >= most) continue;
+                if (gcd(gcd(c, b), a) != 1 || count >= most) continue;
                 faces[count][0] = a, faces[count][1] = b, faces[count][2] = c;
                 count++;
             }
