@@ -25,7 +25,7 @@ pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const f
     if (w->in_step)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_particles");
     if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
-    if (n > w->capacity - w->count)
+    if (n > w->capacity - w->count && !(pbf_count_settle(w) && n <= w->capacity - w->count))
         return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
                     n, w->count, w->capacity);
     char err[256];
@@ -62,6 +62,8 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
     char err[256];
     uint64_t total;
     pbf_result fit = pbf_block_lattice(b, s, w->domain_min, w->domain_max, w->count, w->capacity, n, &total, err, sizeof err);
+    if (fit == PBF_ERR_CAPACITY && pbf_count_settle(w)) // the count was an upper bound: try the exact one
+        fit = pbf_block_lattice(b, s, w->domain_min, w->domain_max, w->count, w->capacity, n, &total, err, sizeof err);
     if (fit != PBF_OK) return pbf_fail(w, fit, "%s", err);
     float *p4 = malloc((size_t)total * 16), *v4 = malloc((size_t)total * 16);
     if (!p4 || !v4) {

@@ -222,6 +222,7 @@ void pbf_emitters_free(pbf_world *w);
 /// PBF_STEP_WAIT_NS; a GPU that has not finished by then is reported (a warning through the
 /// world's log, once per world) and the caller goes on without that record.
 bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait);
+bool pbf_count_settle(pbf_world *w);
 /// Colliders (pbf_colliders.c): upload before a step, read forces after.
 void pbf_colliders_upload(pbf_world *w);
 void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot);

@@ -817,6 +817,25 @@ static void read_early(pbf_world *w, stats_slot *slot)
     release_slot(slot);
 }
 
+// The live count made exact: every step still in flight read now, oldest first (waiting for
+// it; the records stay for the next poll). Between steps w->count is an upper bound, since
+// sinks remove particles on the GPU and the count comes back with the step's record a frame
+// or two later; an edit refused for want of room must not rest on that bound (on an NVIDIA
+// H200 a script that drained its droplet through a sink and put it back the next frame was
+// refused, "2109 of capacity 4000 in use", with none left). Waits only when a step is pending:
+// callers use it on the refusal path, not every frame. True when a record was read.
+bool pbf_count_settle(pbf_world *w)
+{
+    bool read = false;
+    for (int k = 0; k < RING; k++) {
+        stats_slot *r = &w->ring[(w->ring_head + k) % RING];
+        if (!r->pending) continue;
+        read_early(w, r);
+        read = true;
+    }
+    return read;
+}
+
 // The fastest particle speed of a finished step, read (waiting for it) if not yet; -1 when
 // that step's record is gone.
 static float speed_of_step(pbf_world *w, uint64_t step)

@@ -670,6 +670,21 @@ static void fast_lonely_drops_show_as_spray(void **state)
     assert_true(sum / DROPS > 25.0);
 }
 
+// True when texel i has a neighbour (of the 8) whose depth differs from its own by more than
+// jump in either image: the texel lies on the edge of a nearer sphere's disc.
+static bool on_a_depth_edge(const float *d0, const float *d1, int w, int h, int i, double jump)
+{
+    int x = i % w, y = i / w;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            int u = x + dx, v = y + dy;
+            if ((dx == 0 && dy == 0) || u < 0 || v < 0 || u >= w || v >= h) continue;
+            int j = v * w + u;
+            if (fabs((double)d0[j] - d0[i]) > jump || fabs((double)d1[j] - d1[i]) > jump) return true;
+        }
+    return false;
+}
+
 // The compute splats (look.splat = compute) make the textures the raster passes make: the
 // same water in the same texels at the same depth, the same thickness to the fixed point's
 // and R16F's rounding, and so the same frame (the surface and the water's shadow).
@@ -690,28 +705,36 @@ static void compute_splats_draw_what_the_raster_passes_draw(void **state)
     assert_true(eng_gpu_timer_ms(timer, "surface_resolve") >= 0.0); // the compute path ran
     t = eng_renderer_surface_textures(f->r);
     float *depth_c = read_r32f(t.depth, t.width, t.height), *thick_c = read_r32f(t.thickness, t.width, t.height);
-    int water = 0, only_one = 0, differ = 0;
+    int water = 0, only_one = 0, differ = 0, inside = 0;
     double worst_depth = 0.0, worst_thick = 0.0, thick_sum = 0.0;
     for (int i = 0; i < t.width * t.height; i++) {
         bool a = depth_r[i] > 0.0f, b = depth_c[i] > 0.0f;
         only_one += a != b;
         if (a && b) {
             water++;
-            worst_depth = fmax(worst_depth, fabs((double)depth_c[i] - depth_r[i]));
-            differ += fabs((double)depth_c[i] - depth_r[i]) > 1e-4;
+            double d = fabs((double)depth_c[i] - depth_r[i]);
+            worst_depth = fmax(worst_depth, d);
+            if (d > 1e-4) {
+                differ++;
+                inside += !on_a_depth_edge(depth_r, depth_c, t.width, t.height, i, 0.5 * d);
+            }
         }
         worst_thick = fmax(worst_thick, fabs((double)thick_c[i] - thick_r[i]));
         thick_sum += thick_r[i];
     }
     print_message("compute splats: %d texels of water, %d with water in one only, %d at depths more than 0.1 mm "
-                  "apart (at most %.2e m), thickness within %.2e m (mean %.3f m)\n",
-                  water, only_one, differ, worst_depth, worst_thick, thick_sum / (t.width * t.height));
+                  "apart (at most %.2e m; %d of them off a sphere's edge), thickness within %.2e m (mean %.3f m)\n",
+                  water, only_one, differ, worst_depth, inside, worst_thick, thick_sum / (t.width * t.height));
     assert_true(water > t.width * t.height / 10);
     assert_true(only_one <= water / 500); // a texel centre on a silhouette may fall either way
-    // The nearest hit: where two spheres' (or a sphere's and the red box's) depths tie to
-    // a float's rounding, the two paths' roundings may pick differently (8 of 2042 texels
-    // on llvmpipe, by up to 2.5 cm: the next particle behind).
-    assert_true(differ <= water / 100);
+    // Where a nearer sphere's disc ends in front of a farther one, a texel centre on that edge
+    // falls inside or outside it by rounding: the raster path's sprite corners are snapped to
+    // the rasteriser's subpixel grid, the compute path measures from the exact centre. Such a
+    // texel shows the next sphere behind, cm farther (8 of 2042 texels on llvmpipe, 30 of
+    // 2043 by up to 3.7 cm on an NVIDIA H200). Every such texel sits on a depth edge; a texel
+    // inside a disc that differs means a sphere drawn at another depth, or not at all.
+    assert_true(inside == 0);
+    assert_true(differ <= water / 25);
     assert_true(worst_thick < 2e-3 * 8.0); // R16F's step at the thickest texels (< 8 m)
     free(depth_r), free(thick_r), free(depth_c), free(thick_c);
     long far;

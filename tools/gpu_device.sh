@@ -84,7 +84,8 @@ fi
 # and prints lines that start with "peer "; PEER_VARIANTS: its VARIANTS, in the first run only); binary variants
 # in .gpu/bins (below); RENDER=1:
 # seiche-render-bench at 1M, the surface look and spheres, raster and compute splats, and
-# seiche-bench --render surface (frames per second, the step and drawing); DEBUG_SCENE=1: floating_objects
+# seiche-bench --render surface (frames per second, the step and drawing; 4 x 1 both ways, then
+# the defaults' 2 x 4 with compute splats); DEBUG_SCENE=1: floating_objects
 # with the driver's KHR_debug messages (SEICHE_GL_DEBUG=1). EXTRA_SIZE (default 1048576)
 # replaces 1M in the first and the last.
 mkdir -p build/g-extra
@@ -143,6 +144,10 @@ if [ "${RENDER:-0}" = 1 ]; then
             --shaders shaders --render surface --splat "$sp" >"build/g-extra/frames-$sp.txt" 2>&1
         echo "frames, $sp splats: $(grep -E '^ *[0-9]' "build/g-extra/frames-$sp.txt" | tail -n 1 | sed 's/.*frame_ms/frame_ms/')"
     done
+    # The same at the defaults' solve (2 iterations x 4 substeps), compute splats.
+    timeout -k 5 60 build/bin/seiche-bench --particles "$es" --iterations 2 --substeps 4 --steps 60 --warmup 10 \
+        --shaders shaders --render surface --splat compute >build/g-extra/frames-defaults.txt 2>&1
+    echo "frames, 2 x 4, compute splats: $(grep -E '^ *[0-9]' build/g-extra/frames-defaults.txt | tail -n 1 | cut -c1-60) ... $(grep -E '^ *[0-9]' build/g-extra/frames-defaults.txt | tail -n 1 | sed 's/.*frame_ms/frame_ms/')"
     el "frames: done"
 fi
 if [ "${DEBUG_SCENE:-0}" = 1 ]; then
