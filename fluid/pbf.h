@@ -275,6 +275,10 @@ typedef struct pbf_block_def {
 } pbf_block_def;
 pbf_block_def pbf_default_block_def(void);
 /// Adds the block; returns the number of particles added through `added` (may be NULL).
+/// PBF_ERR_CAPACITY when it does not fit the capacity (nothing added). Room is judged on the
+/// exact live count: where the kept count (pbf_world_particle_count, an upper bound with
+/// sinks) says it does not fit, the steps still in flight are waited for and read first
+/// (their records stay for pbf_world_poll_stats). The same for pbf_world_add_particles.
 pbf_result pbf_world_add_block(pbf_world *world, const pbf_block_def *block, uint32_t *added);
 /// Adds particles at given positions (xyz triples, m) and velocities (may be NULL).
 pbf_result pbf_world_add_particles(pbf_world *world, const float *positions, const float *velocities,

@@ -817,13 +817,9 @@ static void read_early(pbf_world *w, stats_slot *slot)
     release_slot(slot);
 }
 
-// The live count made exact: every step still in flight read now, oldest first (waiting for
-// it; the records stay for the next poll). Between steps w->count is an upper bound, since
-// sinks remove particles on the GPU and the count comes back with the step's record a frame
-// or two later; an edit refused for want of room must not rest on that bound (on an NVIDIA
-// H200 a script that drained its droplet through a sink and put it back the next frame was
-// refused, "2109 of capacity 4000 in use", with none left). Waits only when a step is pending:
-// callers use it on the refusal path, not every frame. True when a record was read.
+// The live count made exact: every step in flight read now, oldest first, waiting for it (the
+// records stay for the poll). Between steps w->count is an upper bound (sinks remove on the
+// GPU); callers use this before refusing for want of room. True when a record was read.
 bool pbf_count_settle(pbf_world *w)
 {
     bool read = false;
