@@ -222,7 +222,12 @@ void pbf_emitters_free(pbf_world *w);
 /// PBF_STEP_WAIT_NS; a GPU that has not finished by then is reported (a warning through the
 /// world's log, once per world) and the caller goes on without that record.
 bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait);
+/// The step records' ring (pbf_stats.c): the live count made exact by reading every step in
+/// flight (true when one was read); a pending record read now and kept for the next poll;
+/// the fastest particle speed of a finished step (-1 when its record is gone).
 bool pbf_count_settle(pbf_world *w);
+void pbf_read_early(pbf_world *w, stats_slot *slot);
+float pbf_speed_of_step(pbf_world *w, uint64_t step);
 /// Colliders (pbf_colliders.c): upload before a step, read forces after.
 void pbf_colliders_upload(pbf_world *w);
 void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot);
