@@ -57,8 +57,8 @@ extern "C" {
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
 #define PBF_VERSION_MINOR 19
-#define PBF_VERSION_PATCH 1
-#define PBF_VERSION_STRING "0.19.1"
+#define PBF_VERSION_PATCH 2
+#define PBF_VERSION_STRING "0.19.2"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).

@@ -40,7 +40,23 @@ void main()
         float le = length(eta);
         if (le > 1e-9) v += P.dt * P.vorticity * cross(eta / le, omega[i].xyz);
     } else {
-        for (uint q = 0u; q < nn; q++) {
+        // Four neighbours per trip, loads first (as density.comp and delta.comp); the sums
+        // still in list order.
+        uint q = 0u;
+        for (; q + 3u < nn; q += 4u) {
+            uint ja = nb_at(i, q), jb = nb_at(i, q + 1u), jc = nb_at(i, q + 2u), jd = nb_at(i, q + 3u);
+            vec3 ra = xi - pos[ja].xyz, rb = xi - pos[jb].xyz, rc = xi - pos[jc].xyz, rd = xi - pos[jd].xyz;
+            vec4 va = vel[ja], vb = vel[jb], vc = vel[jc], vd = vel[jd];
+            xsph += va.w * (va.xyz - vi) * w_poly6(dot(ra, ra));
+            sum_w += w_spiky(length(ra));
+            xsph += vb.w * (vb.xyz - vi) * w_poly6(dot(rb, rb));
+            sum_w += w_spiky(length(rb));
+            xsph += vc.w * (vc.xyz - vi) * w_poly6(dot(rc, rc));
+            sum_w += w_spiky(length(rc));
+            xsph += vd.w * (vd.xyz - vi) * w_poly6(dot(rd, rd));
+            sum_w += w_spiky(length(rd));
+        }
+        for (; q < nn; q++) { // the last 0-3
             uint j = nb_at(i, q);
             vec3 r = xi - pos[j].xyz;
             vec4 vj = vel[j];
