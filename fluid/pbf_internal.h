@@ -115,8 +115,8 @@ struct pbf_world {
     uint32_t grid_dims[3], cells;
 
     GLuint programs[PROG_COUNT];
-    GLint u_scan_n[2], u_frame, u_tint[4], u_relax[2]; // u_relax: delta, collide
-    GLint u_apply_level, u_collide_level, u_level_parity;
+    GLint u_scan_n[2], u_frame, u_tint[4], u_relax[2], u_apply_level[2]; // u_relax, u_apply_level: delta, collide
+    GLint u_level_parity;
     GLuint level;              // pbf_gpu_level_cell[level_dims[3]] (one cell while the level is off)
     uint32_t level_dims[4];    // xyz, w = all (0 while level_sweeps is 0)
     float level_cell[3];       // m

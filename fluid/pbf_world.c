@@ -181,8 +181,8 @@ static pbf_result build_programs(pbf_world *w, char *err, size_t err_size)
     w->u_frame = glGetUniformLocation(w->programs[PROG_METRICS_FINAL], "frame");
     w->u_relax[0] = glGetUniformLocation(w->programs[PROG_DELTA], "relax");
     w->u_relax[1] = glGetUniformLocation(w->programs[PROG_COLLIDE], "relax");
-    w->u_apply_level = glGetUniformLocation(w->programs[PROG_DELTA], "apply_level");
-    w->u_collide_level = glGetUniformLocation(w->programs[PROG_COLLIDE], "apply_level");
+    w->u_apply_level[0] = glGetUniformLocation(w->programs[PROG_DELTA], "apply_level");
+    w->u_apply_level[1] = glGetUniformLocation(w->programs[PROG_COLLIDE], "apply_level");
     w->u_level_parity = glGetUniformLocation(w->programs[PROG_LEVEL_SWEEP], "parity");
     pbf_tint_locate(w);
     return PBF_OK;
@@ -660,9 +660,9 @@ static void substep(step_ctx *s, float dt, int sub, int slot)
         if (it == level_at) level_solve(s);
         float relax = pbf_relaxation(p, &w->k, it);
         glProgramUniform1f(w->programs[PROG_DELTA], w->u_relax[0], relax);
-        glProgramUniform1i(w->programs[PROG_DELTA], w->u_apply_level, it == level_at);
+        glProgramUniform1i(w->programs[PROG_DELTA], w->u_apply_level[0], it == level_at);
         glProgramUniform1f(w->programs[PROG_COLLIDE], w->u_relax[1], relax);
-        glProgramUniform1i(w->programs[PROG_COLLIDE], w->u_collide_level, it == level_at);
+        glProgramUniform1i(w->programs[PROG_COLLIDE], w->u_apply_level[1], it == level_at);
         dispatch_particles(s, PROG_DELTA, PBF_STAGE_DELTA);
         stage_done(s, PBF_STAGE_DELTA, it);
         if (w->gpu_colliders > 0) {
