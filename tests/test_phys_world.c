@@ -26,6 +26,42 @@ static void test_negative_mass_is_rejected_naming_the_field(void **state) {
     assert_contains(phys_world_last_error(f->world), "phys_body_def.density must be > 0");
 }
 
+// Bullet lets a body of about 1.5e7 kg fall straight through a static floor (1e7 rests): the
+// wrapper refuses bodies over PHYS_MAX_MASS, given as a mass or as a density, and one at the
+// limit rests on a static box as a light one does.
+static void test_mass_over_the_limit_is_refused_and_the_limit_rests(void **state) {
+    fixture *f = *state;
+    phys_body_def def = phys_default_body_def();
+    def.shape = make_box(f->world, 0.05f, 0.05f, 0.05f);
+    def.mass = 2.0f * PHYS_MAX_MASS;
+    phys_body_id id = {0, 0, 0};
+    assert_int_equal(phys_body_create(f->world, &def, &id), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "phys_body_def.mass must be at most PHYS_MAX_MASS = 1e+06 kg (got 2e+06)");
+    def.mass = 0;
+    def.density = 2.0e9f;  // 0.001 m^3: 2e6 kg
+    assert_int_equal(phys_body_create(f->world, &def, &id), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "gives mass 2e+06 kg; it must be in (0, PHYS_MAX_MASS = 1e+06 kg]");
+    assert_int_equal(phys_world_get_body_count(f->world), 0);
+
+    phys_body_def floor = phys_default_body_def();
+    floor.type = PHYS_BODY_STATIC;
+    floor.shape = make_box(f->world, 1, 0.025f, 1);
+    floor.position = v3(0, -0.025f, 0);
+    phys_body_id floor_id = {0, 0, 0};
+    assert_ok(phys_body_create(f->world, &floor, &floor_id));
+    def.density = 1000;
+    def.mass = PHYS_MAX_MASS;
+    def.position = v3(0, 0.3f, 0);
+    phys_body_id heavy = {0, 0, 0}, light = {0, 0, 0};
+    assert_ok(phys_body_create(f->world, &def, &heavy));
+    def.mass = 1;
+    def.position = v3(0.5f, 0.3f, 0);
+    assert_ok(phys_body_create(f->world, &def, &light));
+    run(f->world, 1.0f / 60.0f, 90);
+    assert_near(position_of(f->world, heavy).y, 0.05, 0.002);
+    assert_near(position_of(f->world, light).y, 0.05, 0.002);
+}
+
 static void test_zero_size_box_is_rejected_naming_the_field(void **state) {
     fixture *f = *state;
     phys_box box = {{1, 0, 1}};
@@ -296,6 +332,7 @@ static void test_same_scene_gives_bit_identical_state(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_negative_mass_is_rejected_naming_the_field, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_mass_over_the_limit_is_refused_and_the_limit_rests, setup, teardown),
         cmocka_unit_test_setup_teardown(test_zero_size_box_is_rejected_naming_the_field, setup, teardown),
         cmocka_unit_test_setup_teardown(test_nan_pose_is_rejected_naming_the_field, setup, teardown),
         cmocka_unit_test_setup_teardown(test_stale_id_is_rejected_after_destroy, setup, teardown),

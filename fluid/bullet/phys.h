@@ -434,6 +434,11 @@ typedef enum phys_body_type {
     PHYS_BODY_DYNAMIC = 2    ///< moved by forces and contacts
 } phys_body_type;
 
+/// The heaviest dynamic body, kg. Bullet's contact solver lets a body of about
+/// 1.5e7 kg or more fall straight through a static floor (measured with Bullet
+/// 3.24: 1e7 kg rests, 1.5e7 kg falls), so bodies are held an order below that.
+#define PHYS_MAX_MASS 1.0e6f
+
 /// Body settings. Fill with phys_default_body_def(), then change fields.
 typedef struct phys_body_def {
     phys_body_type type;         ///< default PHYS_BODY_DYNAMIC
@@ -442,9 +447,10 @@ typedef struct phys_body_def {
     phys_quat orientation;       ///< unit quaternion (x, y, z, w); default identity
     phys_vec3 linear_velocity;   ///< m/s; default 0; must be 0 for static bodies
     phys_vec3 angular_velocity;  ///< rad/s, world axes; default 0; must be 0 for static bodies
-    /// kg, finite and >= 0. Dynamic bodies only: if mass > 0 it wins and
-    /// `density` is ignored; if mass == 0 the mass is density × shape volume.
-    /// Ignored (but still checked) for static and kinematic bodies.
+    /// kg, finite, in [0, PHYS_MAX_MASS]. Dynamic bodies only: if mass > 0 it
+    /// wins and `density` is ignored; if mass == 0 the mass is density × shape
+    /// volume, which must not pass PHYS_MAX_MASS either. Ignored (but still
+    /// checked) for static and kinematic bodies.
     float mass;
     /// kg/m³, finite; must be > 0 when used (dynamic, mass == 0). Default 1000.
     float density;

@@ -143,6 +143,12 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
                         "%s: phys_body_def.mass must be >= 0 and finite (got %g)", fn,
                         (double)d.mass);
         }
+        if (d.mass > PHYS_MAX_MASS) {
+            return fail(w, PHYS_ERR_INVALID_ARG,
+                        "%s: phys_body_def.mass must be at most PHYS_MAX_MASS = %g kg (got %g): "
+                        "Bullet lets heavier bodies fall through static ones",
+                        fn, (double)PHYS_MAX_MASS, (double)d.mass);
+        }
         CHECK(check_finite(w, fn, "phys_body_def.density", d.density));
         CHECK(check_range(w, fn, "phys_body_def.friction", d.friction, 0, kMaxFriction));
         CHECK(check_range(w, fn, "phys_body_def.restitution", d.restitution, 0, 1));
@@ -180,12 +186,12 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
                                 fn, (double)d.density);
                 }
                 mass = d.density * shape.desc.volume;
-                if (!std::isfinite(mass) || !(mass > 0)) {
+                if (!std::isfinite(mass) || !(mass > 0) || mass > PHYS_MAX_MASS) {
                     return fail(w, PHYS_ERR_INVALID_ARG,
                                 "%s: phys_body_def.density %g times the %s volume %g m^3 gives "
-                                "mass %g kg; it must be > 0 and finite",
+                                "mass %g kg; it must be in (0, PHYS_MAX_MASS = %g kg]",
                                 fn, (double)d.density, shape_name(st), (double)shape.desc.volume,
-                                (double)mass);
+                                (double)mass, (double)PHYS_MAX_MASS);
                 }
             }
             if (st == PHYS_SHAPE_COMPOUND) {
