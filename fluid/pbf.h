@@ -57,8 +57,8 @@ extern "C" {
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
 #define PBF_VERSION_MINOR 19
-#define PBF_VERSION_PATCH 2
-#define PBF_VERSION_STRING "0.19.2"
+#define PBF_VERSION_PATCH 3
+#define PBF_VERSION_STRING "0.19.3"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -258,7 +258,10 @@ const char *pbf_world_last_error(const pbf_world *world);
 const pbf_params *pbf_world_params(const pbf_world *world);
 /// Changes parameters between steps (validated; on error nothing changes). A new kernel
 /// radius rebuilds the grid, and the neighbour lists grow when the new parameters need
-/// longer ones (pbf_suggest_max_neighbours).
+/// longer ones (pbf_suggest_max_neighbours). A new particle_radius is refused while the
+/// world holds particles (their mass and lattice spacing come from it; the steps in flight
+/// are read first, so water a sink has just drained does not count): set it before adding
+/// water, or after pbf_world_clear.
 pbf_result pbf_world_set_params(pbf_world *world, const pbf_params *params);
 
 /// An axis-aligned container: floor, four walls and optionally a lid, as boundaries
@@ -295,10 +298,12 @@ void pbf_world_clear(pbf_world *world);
 typedef struct pbf_emitter_def {
     float position[3];    ///< m, centre of the nozzle, inside the domain
     float direction[3];   ///< direction of the jet (normalised here; not zero)
-    float speed;          ///< m/s, (0, 100]
+    float speed;          ///< m/s, (0, 100] and at most the world's max_speed (the solver's clamp)
     float rate;           ///< particles/s, [0, pbf_emitter_max_rate]
     float radius;         ///< m, nozzle radius, [particle_radius, 10 m], and a layer of at most
-                          ///< PBF_MAX_EMITTER_POINTS particles (about 578 spacings 2r)
+                          ///< PBF_MAX_EMITTER_POINTS particles (about 578 spacings 2r); the disc
+                          ///< across the jet must lie inside the domain (a particle radius over
+                          ///< is allowed: a nozzle set in a wall)
     bool enabled;         ///< off: emits nothing (and owes nothing)
 } pbf_emitter_def;
 pbf_emitter_def pbf_default_emitter_def(void);

@@ -170,6 +170,23 @@ static pbf_result check_emitter(pbf_world *w, const pbf_emitter_def *d, float di
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.rate must be in [0, %g] particles/s for speed %g m/s "
                         "and radius %g m (got %g; raise speed or radius for more)", (double)max_rate, (double)d->speed,
                         (double)d->radius, (double)d->rate);
+    // Layers leave one spacing apart at the jet's speed: a particle the solver slows to
+    // max_speed would be caught up by the next layers (the water piled to ten times rho0).
+    if (d->speed > w->params.max_speed)
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.speed %g m/s is over the solver's max_speed %g m/s: "
+                        "the solver would slow the jet and its layers pile up (a slower jet, or raise max_speed)",
+                        (double)d->speed, (double)w->params.max_speed);
+    // The disc across the jet: where it passes a wall its points would be moved onto the
+    // wall, on top of each other. A particle radius over is allowed (a nozzle in a wall).
+    for (int k = 0; k < 3; k++) {
+        float across = d->radius * sqrtf(fmaxf(0.0f, 1.0f - dir[k] * dir[k]));
+        float lo = d->position[k] - across, hi = d->position[k] + across;
+        if (lo < w->domain_min[k] - r || hi > w->domain_max[k] + r)
+            return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.radius %g m: the nozzle's disc around position.%c = %g "
+                            "spans %c in [%g, %g], which must lie inside the domain [%g, %g] (a smaller radius, or the "
+                            "nozzle moved in)", (double)d->radius, axis[k], (double)d->position[k], axis[k], (double)lo,
+                            (double)hi, (double)w->domain_min[k], (double)w->domain_max[k]);
+    }
     return PBF_OK;
 }
 

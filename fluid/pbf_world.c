@@ -407,6 +407,18 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_set_params");
     char err[256];
     if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
+    if (p->particle_radius != w->params.particle_radius && w->count > 0 && (pbf_count_settle(w), w->count > 0))
+        return pbf_fail(w, PBF_ERR_INVALID_ARG,
+                        "pbf_world_set_params: particle_radius %g differs from the world's %g while it holds %u "
+                        "particles: their mass and spacing come from it (set it before adding water, or once "
+                        "the world is empty)",
+                        (double)p->particle_radius, (double)w->params.particle_radius, w->count);
+    for (int i = 0; i < PBF_MAX_EMITTERS; i++)
+        if (w->emitters[i].used && w->emitters[i].def.speed > p->max_speed)
+            return pbf_fail(w, PBF_ERR_INVALID_ARG,
+                            "pbf_world_set_params: max_speed %g m/s is under the speed %g m/s of an emitter (the solver "
+                            "would slow its jet and its layers pile up): slow or remove the emitter first",
+                            (double)p->max_speed, (double)w->emitters[i].def.speed);
     bool regrid = p->kernel_radius != w->params.kernel_radius;
     uint32_t level_dims[4];
     float level_cell[3];

@@ -227,6 +227,61 @@ static void emitter_pours_its_rate(void **state)
     pbf_world_destroy(w);
 }
 
+/// A jet faster than the solver's speed clamp, or a nozzle whose disc passes a wall, would
+/// pile its particles up (layers caught up by the next ones; points moved onto the wall):
+/// both are refused with the fields named, on add and on set, and max_speed cannot be lowered
+/// under a live jet. A nozzle set in a wall (its disc a particle radius outside) still pours.
+static void an_emitter_that_would_pile_up_is_refused(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.6f, 0.6f, 0.6f };
+    pbf_world *w = make_world(0.01f, lo, hi, 20000);
+    pbf_emitter_def e = pbf_default_emitter_def();
+    e.position[0] = 0.3f;
+    e.position[1] = 0.5f;
+    e.position[2] = 0.3f;
+    e.speed = 21.0f; // max_speed 20
+    e.radius = 0.04f;
+    pbf_emitter_id id;
+    assert_int_equal(pbf_world_add_emitter(w, &e, &id), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_emitter_def.speed 21 m/s is over the solver's max_speed 20 m/s"));
+    e.speed = 2.0f;
+    e.radius = 0.35f; // around x = 0.3 across a vertical jet: [-0.05, 0.65]
+    assert_int_equal(pbf_world_add_emitter(w, &e, &id), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_emitter_def.radius 0.35 m: the nozzle's disc around position.x = 0.3 "
+                                                      "spans x in [-0.05, 0.65], which must lie inside the domain [0, 0.6]"));
+    // Along the jet the disc has no extent: a jet along x may sit at x = 0 with the same radius
+    // in y and z room, and one set in the wall (a particle radius over) is taken.
+    e.radius = 0.29f;
+    e.direction[0] = 1.0f, e.direction[1] = 0.0f, e.direction[2] = 0.0f;
+    e.position[0] = 0.0f;
+    e.position[1] = 0.3f;
+    e.position[2] = 0.3105f; // the disc spans z in [0.0205, 0.6005]: within a particle radius of the wall
+    e.rate = 100.0f;
+    assert_int_equal(pbf_world_add_emitter(w, &e, &id), PBF_OK);
+    e.position[2] = 0.33f; // [0.04, 0.62]: two particle radii past the wall
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "must lie inside the domain [0, 0.6]"));
+    e.position[2] = 0.3f;
+    e.speed = 25.0f;
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "is over the solver's max_speed 20 m/s"));
+    e.speed = 12.0f;
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_OK);
+    pbf_params p = *pbf_world_params(w);
+    p.max_speed = 10.0f;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "max_speed 10 m/s is under the speed 12 m/s of an emitter"));
+    p.max_speed = 30.0f;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    e.speed = 25.0f; // now within the clamp
+    assert_int_equal(pbf_world_set_emitter(w, id, &e), PBF_OK);
+    assert_int_equal(pbf_world_remove_emitter(w, id), PBF_OK);
+    p.max_speed = 5.0f; // no jet left to hold it up
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    pbf_world_destroy(w);
+}
+
 /// A sink removes exactly the particles that enter it; the rest are untouched.
 static void sink_removes_particles_that_enter_it(void **state)
 {
@@ -320,6 +375,39 @@ static void a_drained_world_takes_a_full_load_back_at_once(void **state)
     assert_int_equal(st[0].particles, 0);
     assert_int_equal(st[1].particles, 0);
     free(p);
+    pbf_world_destroy(w);
+}
+
+/// The particles' mass and lattice spacing come from particle_radius: a new radius is
+/// refused while the world holds water (the water would otherwise jump to a density of
+/// (r_new / r_old)^3 rho0 at once), and taken once a sink has drained it (no poll between).
+static void a_new_particle_radius_waits_for_an_empty_world(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.4f, 0.4f, 0.4f };
+    pbf_world *w = make_world(0.01f, lo, hi, 2000);
+    pbf_block_def b = pbf_default_block_def();
+    b.min[0] = b.min[1] = b.min[2] = 0.1f;
+    b.max[0] = b.max[1] = b.max[2] = 0.3f;
+    assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_OK);
+    pbf_params p = *pbf_world_params(w);
+    p.particle_radius = 0.005f;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "particle_radius 0.005 differs from the world's 0.01 while it holds 1000 particles"));
+    assert_true(pbf_world_params(w)->particle_radius == 0.01f); // nothing changed
+    p.particle_radius = 0.01f;
+    p.iterations = 3; // the other parameters change with water as before
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    pbf_sink_id sink;
+    assert_int_equal(pbf_world_add_sink(w, lo, hi, &sink), PBF_OK);
+    pbf_world_step(w, 1.0f / 60.0f);
+    assert_int_equal(pbf_world_remove_sink(w, sink), PBF_OK);
+    p.particle_radius = 0.005f;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    pbf_world_clear(w);
+    p.particle_radius = 0.02f;
+    p.kernel_radius = 0.08f;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
     pbf_world_destroy(w);
 }
 
@@ -713,8 +801,10 @@ int main(void)
         cmocka_unit_test(coarse_level_beside_a_two_way_body_warns),
         cmocka_unit_test(rest_lattice_in_a_closed_box_is_in_balance),
         cmocka_unit_test(emitter_pours_its_rate),
+        cmocka_unit_test(an_emitter_that_would_pile_up_is_refused),
         cmocka_unit_test(sink_removes_particles_that_enter_it),
         cmocka_unit_test(a_drained_world_takes_a_full_load_back_at_once),
+        cmocka_unit_test(a_new_particle_radius_waits_for_an_empty_world),
         cmocka_unit_test(same_scene_gives_the_same_state_hash),
         cmocka_unit_test(a_pile_in_one_cell_costs_what_a_block_costs),
         cmocka_unit_test(a_crowded_bucket_stops_the_search),

@@ -81,9 +81,10 @@ static pbf_world *fine_world(uint32_t capacity)
     pbf_world_def d = pbf_default_world_def();
     d.params.particle_radius = 0.0006f; // spacing 1.2 mm
     d.params.kernel_radius = 0.0024f;
+    d.params.max_speed = 100.0f; // the nozzles below are that fast
     d.max_neighbours = pbf_suggest_max_neighbours(&d.params);
     d.capacity = capacity;
-    for (int k = 0; k < 3; k++) d.domain_max[k] = 0.1f;
+    for (int k = 0; k < 3; k++) d.domain_max[k] = 1.5f; // room for a nozzle of 0.68 m
     char err[512];
     pbf_world *w = pbf_world_create(&d, err, sizeof err);
     if (!w) print_error("%s\n", err);
@@ -115,7 +116,7 @@ static void long_step_of_a_wide_fast_nozzle_fills_the_capacity(void **state)
     (void)state;
     pbf_world *w = fine_world(1000);
     pbf_emitter_def e = pbf_default_emitter_def();
-    e.position[0] = e.position[1] = e.position[2] = 0.05f;
+    e.position[0] = e.position[1] = e.position[2] = 0.75f;
     e.radius = 0.68f;
     e.speed = 100.0f;
     e.rate = pbf_emitter_max_rate(w, e.speed, e.radius);
