@@ -132,11 +132,47 @@ static void embed_example_builds_with_pkg_config_alone_and_runs_headless(void **
     assert_string_equal(line, "1");
 }
 
+// The coupling's libraries are static archives: `pkg-config --libs seiche-coupling` must
+// bring Bullet and the C++ runtime along for a plain (not --static) link of a C host.
+static void coupling_host_links_with_pkg_config_alone(void **state)
+{
+    fixture *f = *state;
+    char cmd[8192], line[512];
+    int st;
+    snprintf(cmd, sizeof cmd, "%s/cpl.c", f->prefix);
+    FILE *src = fopen(cmd, "w");
+    assert_non_null(src);
+    fputs("#include <stdio.h>\n#include \"fluid/bullet/coupling.h\"\n"
+          "int main(void) {\n"
+          "    phys_world_def wd = phys_default_world_def();\n"
+          "    phys_world *w = NULL;\n"
+          "    if (phys_world_create(&wd, &w) != PHYS_OK) return 1;\n"
+          "    cpl_def d = cpl_default_def();\n"
+          "    char err[256];\n"
+          "    if (cpl_def_check(&d, err, sizeof err) != CPL_OK) return 2;\n"
+          "    phys_world_destroy(w);\n"
+          "    puts(\"coupled\");\n"
+          "    return 0;\n"
+          "}\n", src);
+    fclose(src);
+    snprintf(cmd, sizeof cmd,
+             "export PKG_CONFIG_PATH='%s/lib/pkgconfig'; cc -std=c11 -Wall -Wextra -Werror -o '%s/cpl' '%s/cpl.c' "
+             "$(pkg-config --cflags --libs seiche-coupling) 2>&1",
+             f->prefix, f->prefix, f->prefix);
+    first_line(cmd, line, sizeof line, &st);
+    if (st != 0) fail_msg("a coupling host did not link with pkg-config --libs seiche-coupling: %s", line);
+    snprintf(cmd, sizeof cmd, "cd '%s' && LD_LIBRARY_PATH='%s/lib' ./cpl", f->prefix, f->prefix);
+    first_line(cmd, line, sizeof line, &st);
+    assert_int_equal(st, 0);
+    assert_string_equal(line, "coupled");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(installed_files_carry_one_version),
         cmocka_unit_test(embed_example_builds_with_pkg_config_alone_and_runs_headless),
+        cmocka_unit_test(coupling_host_links_with_pkg_config_alone),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -61,6 +61,7 @@ Libs: -L\${libdir} -lseiche_fluid
 Libs.private: -lm
 Cflags: -I\${includedir}
 EOF
+# Static archives: what they need (Bullet, the C++ runtime) is part of every link, not private.
 cat >"$lib/pkgconfig/seiche-coupling.pc" <<EOF
 prefix=$prefix
 libdir=\${prefix}/lib
@@ -69,10 +70,8 @@ includedir=\${prefix}/include/seiche
 Name: seiche-coupling
 Description: Seiche fluid two-way coupled with Bullet rigid bodies (static; C API over Bullet)
 Version: $version
-Requires: seiche-fluid = $version
-Requires.private: bullet
-Libs: -L\${libdir} -lseiche_coupling -lseiche_phys
-Libs.private: -lstdc++
+Requires: seiche-fluid = $version bullet
+Libs: -L\${libdir} -lseiche_coupling -lseiche_phys -lstdc++ -lm
 Cflags: -I\${includedir}
 EOF
 echo "installed seiche $version into $dest$prefix"
