@@ -90,7 +90,8 @@ build/fuzz/bin/fuzz_cli: tests/fuzz/fuzz_cli.c engine/app/app_args.c engine/rend
 FUZZ_OBJ_FLAGS = -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined,float-cast-overflow \
 	-fno-sanitize-recover=all -I. -I/usr/include/lua5.4 -I/usr/include/bullet -I/usr/include/stb -MMD -MP
 FUZZ_ENGINE_SOURCES = $(wildcard engine/core/*.c engine/gl/*.c engine/render/*.c engine/script/*.c) \
-	build/gen/shaders_render.c fluid/bullet/coupling.c fluid/bullet/coupling_settings.c $(FLUID_SOURCES)
+	build/gen/shaders_render.c fluid/bullet/coupling.c fluid/bullet/coupling_mesh.c fluid/bullet/coupling_settings.c \
+	$(FLUID_SOURCES)
 FUZZ_ENGINE_OBJECTS = $(patsubst %.c,build/fuzz/obj/%.o,$(FUZZ_ENGINE_SOURCES)) \
 	$(patsubst %.cpp,build/fuzz/obj/%.o,$(wildcard fluid/bullet/phys*.cpp))
 FUZZ_ENGINE_LIBS = -lepoxy -lEGL -lglfw -llua5.4 -lassimp -lBulletDynamics -lBulletCollision -lLinearMath -lcglm -lstb \

@@ -146,7 +146,8 @@ cpp_project("seiche_phys", "StaticLib")
    files { "fluid/bullet/phys*.cpp", "fluid/bullet/phys*.h" }
 
 c_project("seiche_coupling", "StaticLib")
-   files { "fluid/bullet/coupling.c", "fluid/bullet/coupling_settings.c", "fluid/bullet/coupling.h" }
+   files { "fluid/bullet/coupling.c", "fluid/bullet/coupling_mesh.c", "fluid/bullet/coupling_settings.c", "fluid/bullet/coupling.h",
+           "fluid/bullet/coupling_mesh.h" }
 
 c_project("seiche_engine", "StaticLib")
    files { "engine/**.c", "engine/**.h", "build/gen/shaders_render.c" }

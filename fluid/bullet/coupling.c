@@ -10,6 +10,7 @@
 // Bullet adds gravity at the start of its step and clears applied forces at the end, so
 // a force applied in the hook acts for exactly that substep.
 #include "fluid/bullet/coupling.h"
+#include "fluid/bullet/coupling_mesh.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -180,120 +181,6 @@ static body_entry *find_live(cpl_coupling *c, phys_body_id body, const char *fn)
     return e;
 }
 
-// ---- triangle meshes: a signed distance grid ----------------------------------------------
-
-typedef struct v3 {
-    double x, y, z;
-} v3;
-
-static v3 vsub(v3 a, v3 b) { return (v3){ a.x - b.x, a.y - b.y, a.z - b.z }; }
-static v3 vadd(v3 a, v3 b) { return (v3){ a.x + b.x, a.y + b.y, a.z + b.z }; }
-static v3 vmul(v3 a, double s) { return (v3){ a.x * s, a.y * s, a.z * s }; }
-static double vdot(v3 a, v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static v3 vcross(v3 a, v3 b) { return (v3){ a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x }; }
-static v3 from_phys(phys_vec3 p) { return (v3){ p.x, p.y, p.z }; }
-
-// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
-static v3 closest_on_triangle(v3 p, v3 a, v3 b, v3 c)
-{
-    v3 ab = vsub(b, a), ac = vsub(c, a), ap = vsub(p, a);
-    double d1 = vdot(ab, ap), d2 = vdot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return a;
-    v3 bp = vsub(p, b);
-    double d3 = vdot(ab, bp), d4 = vdot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return b;
-    double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return vadd(a, vmul(ab, d1 / (d1 - d3)));
-    v3 cp = vsub(p, c);
-    double d5 = vdot(ab, cp), d6 = vdot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return c;
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return vadd(a, vmul(ac, d2 / (d2 - d6)));
-    double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-        return vadd(b, vmul(vsub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
-    double denom = 1.0 / (va + vb + vc);
-    return vadd(a, vadd(vmul(ab, vb * denom), vmul(ac, vc * denom)));
-}
-
-// Bakes the mesh's signed distance (positive on the front side of the nearest triangle,
-// the side its counter-clockwise winding faces) into a grid with a margin of `margin`.
-static cpl_result bake_mesh(cpl_coupling *c, const phys_triangle_mesh *m, float margin, pbf_sdf_grid *grid,
-                            float **values_out)
-{
-    v3 lo = { INFINITY, INFINITY, INFINITY }, hi = { -INFINITY, -INFINITY, -INFINITY };
-    for (uint32_t t = 0; t < 3 * m->triangle_count; t++) {
-        v3 p = from_phys(m->vertices[m->indices[t]]);
-        lo = (v3){ fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z) };
-        hi = (v3){ fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z) };
-    }
-    double cell = c->def.mesh_cell;
-    double ext[3] = { hi.x - lo.x + 2 * margin, hi.y - lo.y + 2 * margin, hi.z - lo.z + 2 * margin };
-    double biggest = fmax(ext[0], fmax(ext[1], ext[2]));
-    if (biggest / cell > 127.0) {
-        double coarser = biggest / 127.0;
-        note(c, "cpl_add_body: triangle mesh of %.3g m baked at %.3g m spacing instead of cpl_def.mesh_cell %.3g m "
-             "(at most 128 samples per axis)", biggest, coarser, cell);
-        cell = coarser;
-    }
-    uint32_t dims[3];
-    for (int k = 0; k < 3; k++) dims[k] = (uint32_t)ceil(ext[k] / cell) + 1;
-    size_t n = (size_t)dims[0] * dims[1] * dims[2];
-    float *values = malloc(n * sizeof *values);
-    if (!values) return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory baking a triangle mesh");
-    v3 origin = { lo.x - margin, lo.y - margin, lo.z - margin };
-    // Triangles with their unit normals, gathered once.
-    size_t tc = m->triangle_count;
-    v3 *tri = malloc(tc * 4 * sizeof *tri);
-    if (!tri) {
-        free(values);
-        return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory baking a triangle mesh");
-    }
-    for (size_t t = 0; t < tc; t++) {
-        v3 a = from_phys(m->vertices[m->indices[3 * t]]);
-        v3 b = from_phys(m->vertices[m->indices[3 * t + 1]]);
-        v3 cc = from_phys(m->vertices[m->indices[3 * t + 2]]);
-        v3 nrm = vcross(vsub(b, a), vsub(cc, a));
-        double l = sqrt(vdot(nrm, nrm));
-        tri[4 * t] = a;
-        tri[4 * t + 1] = b;
-        tri[4 * t + 2] = cc;
-        tri[4 * t + 3] = l > 0 ? vmul(nrm, 1.0 / l) : (v3){ 0, 0, 0 };
-    }
-    for (uint32_t z = 0; z < dims[2]; z++)
-        for (uint32_t y = 0; y < dims[1]; y++)
-            for (uint32_t x = 0; x < dims[0]; x++) {
-                v3 p = { origin.x + x * cell, origin.y + y * cell, origin.z + z * cell };
-                double best = INFINITY, best_align = 0.0, sign = 1.0;
-                for (size_t t = 0; t < tc; t++) {
-                    v3 q = closest_on_triangle(p, tri[4 * t], tri[4 * t + 1], tri[4 * t + 2]);
-                    v3 dv = vsub(p, q);
-                    double d2 = vdot(dv, dv);
-                    if (d2 > best * (1.0 + 1e-9) + 1e-18) continue;
-                    double d = sqrt(d2);
-                    // Among (nearly) equally near triangles, the one whose normal is most
-                    // aligned with the direction to p decides the side (edges, corners).
-                    double along = d > 0 ? vdot(dv, tri[4 * t + 3]) / d : 0.0;
-                    if (d2 < best * (1.0 - 1e-9) - 1e-18 || fabs(along) > best_align) {
-                        best = d2;
-                        best_align = fabs(along);
-                        sign = along >= 0 ? 1.0 : -1.0;
-                    }
-                }
-                values[x + dims[0] * ((size_t)y + dims[1] * (size_t)z)] = (float)(sign * sqrt(best));
-            }
-    free(tri);
-    memset(grid, 0, sizeof *grid);
-    grid->values = values;
-    for (int k = 0; k < 3; k++) grid->dims[k] = dims[k];
-    grid->origin[0] = (float)origin.x;
-    grid->origin[1] = (float)origin.y;
-    grid->origin[2] = (float)origin.z;
-    grid->cell = (float)cell;
-    *values_out = values;
-    return CPL_OK;
-}
-
 // ---- bodies --------------------------------------------------------------------------------
 
 static cpl_result collider_from_shape(cpl_coupling *c, const phys_shape_desc *s, pbf_collider_def *d,
@@ -356,9 +243,15 @@ static cpl_result collider_from_shape(cpl_coupling *c, const phys_shape_desc *s,
         return CPL_OK;
     }
     case PHYS_SHAPE_TRIANGLE_MESH: {
-        float h = pbf_world_params(c->def.fluid)->kernel_radius;
-        cpl_result r = bake_mesh(c, &s->mesh, h + 2.0f * c->def.mesh_cell, &d->grid, grid_values);
-        if (r != CPL_OK) return r;
+        float h = pbf_world_params(c->def.fluid)->kernel_radius, cell = c->def.mesh_cell;
+        cpl_mesh_bake bake;
+        if (!cpl_bake_mesh(&s->mesh, h, &cell, &bake))
+            return fail(c, CPL_ERR_OUT_OF_MEMORY, "cpl_add_body: out of memory baking a triangle mesh");
+        if (cell != c->def.mesh_cell)
+            note(c, "cpl_add_body: triangle mesh of %.3g m baked at %.3g m spacing instead of cpl_def.mesh_cell %.3g m "
+                 "(at most 128 samples per axis)", (double)bake.extent, (double)cell, (double)c->def.mesh_cell);
+        d->grid = bake.grid;
+        *grid_values = bake.values;
         d->type = PBF_SHAPE_SDF;
         return CPL_OK;
     }
