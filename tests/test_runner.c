@@ -37,9 +37,10 @@ static void slurp(const char *path, char *buf, size_t size)
     fclose(f);
 }
 
-// Runs the runner with argv (NULL-terminated, without the program) and extra environment
-// "NAME=VALUE" (or NULL); kills it after 120 s.
-static void run(run_result *r, const char *env, const char *const *args)
+// Runs the runner with argv (NULL-terminated, without the program) and the environment
+// changed by `envs` (NULL, or NULL-terminated: "NAME=VALUE" sets, "-NAME" unsets); kills
+// it after 120 s.
+static void run_env(run_result *r, const char *const *envs, const char *const *args)
 {
     char exe[1024], dir[1024];
     support_bin_path("seiche", exe, sizeof exe);
@@ -53,9 +54,13 @@ static void run(run_result *r, const char *env, const char *const *args)
         int e = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(o, 1);
         dup2(e, 2);
-        if (env) {
+        for (const char *const *e = envs; e && *e; e++) {
+            const char *env = *e, *eq = strchr(env, '=');
             char name[128];
-            const char *eq = strchr(env, '=');
+            if (env[0] == '-') {
+                unsetenv(env + 1);
+                continue;
+            }
             snprintf(name, sizeof name, "%.*s", (int)(eq - env), env);
             setenv(name, eq + 1, 1);
         }
@@ -74,6 +79,21 @@ static void run(run_result *r, const char *env, const char *const *args)
     slurp(out_path, r->out, sizeof r->out);
     slurp(err_path, r->err, sizeof r->err);
     if (getenv("SEICHE_TEST_VERBOSE")) print_message("exit %d\nstdout: %s\nstderr: %s\n", r->status, r->out, r->err);
+}
+
+// Runs the runner with argv and one extra "NAME=VALUE" in its environment (or NULL).
+static void run(run_result *r, const char *env, const char *const *args)
+{
+    const char *envs[2] = { env, NULL };
+    run_env(r, envs, args);
+}
+
+// How often `needle` occurs in `s`.
+static int occurrences(const char *s, const char *needle)
+{
+    int n = 0;
+    for (const char *p = s; (p = strstr(p, needle)) != NULL; p += strlen(needle)) n++;
+    return n;
 }
 
 static int lines(const char *s)
@@ -159,14 +179,71 @@ static void no_script_is_a_usage_error(void **state)
     assert_non_null(strstr(r.err, "no script"));
 }
 
-static void missing_shader_directory_names_the_shader_file(void **state)
+// One message, naming the option and the path as given (once it was printed twice, the
+// second time as "no-such-shaders/render/mesh.vert", without --shaders or the leading '/').
+static void missing_shader_directory_is_one_message_naming_the_option_and_path(void **state)
 {
     (void)state;
     run_result r;
     run(&r, NULL, (const char *const[]){ "--headless", "--frames", "2", "--shaders", "/tmp/no-such-shaders", GOOD, NULL });
     assert_int_equal(r.status, 2);
-    assert_non_null(strstr(r.err, "no-such-shaders"));
-    assert_non_null(strstr(r.err, "cannot open"));
+    assert_non_null(strstr(r.err, "seiche: --shaders: cannot read the shader directory '/tmp/no-such-shaders': "
+                                  "No such file or directory"));
+    assert_int_equal(occurrences(r.err, "no-such-shaders"), 1);
+    // From the environment, the message names the variable.
+    run(&r, "SEICHE_SHADER_DIR=/tmp/no-such-shaders", (const char *const[]){ "--headless", "--frames", "2", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "SEICHE_SHADER_DIR: cannot read the shader directory '/tmp/no-such-shaders'"));
+}
+
+// A directory without the shaders: the renderer's error once (it was logged and printed),
+// naming the option and the directory.
+static void shader_missing_from_the_directory_is_one_message_naming_the_option(void **state)
+{
+    (void)state;
+    const char *dir = "/tmp/seiche_test_runner_empty_shaders";
+    mkdir(dir, 0755);
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "2", "--shaders", dir, GOOD, NULL });
+    rmdir(dir);
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "seiche: --shaders '/tmp/seiche_test_runner_empty_shaders': "));
+    assert_int_equal(occurrences(r.err, "cannot open shader file"), 1);
+}
+
+static void scalar_option_given_twice_is_refused_naming_it(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "3", "--frames", "5", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--frames may be given once (got '3' and '5')"));
+    run(&r, NULL, (const char *const[]){ "--headless", "--size", "160x120", "--render", "speed", "--size", "64x64", GOOD,
+                                        NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--size may be given once (got '160x120' and '64x64')"));
+}
+
+// strtol and strtod skip leading space and take '+' and hexadecimal: a number on the
+// command line is digits as typed, nothing around them.
+static void numbers_with_space_sign_or_hex_are_refused(void **state)
+{
+    (void)state;
+    const char *cases[][3] = { { "--frames", " 5", "--frames must be a whole number in [0, 100000000] (got ' 5')" },
+                               { "--frames", "5 ", "(got '5 ')" },
+                               { "--frames", "+5", "(got '+5')" },
+                               { "--dt", "\t0.01", "--dt must be a number of seconds" },
+                               { "--dt", "0x1p-7", "(got '0x1p-7')" },
+                               { "--budget", " 2", "--budget must be" },
+                               { "--size", " 16x16", "--size must be WxH" },
+                               { "--size", "16x 16", "--size must be WxH" },
+                               { "--set", "fluid.iterations= 4", "value must be a finite number (got ' 4')" } };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        run_result r;
+        run(&r, NULL, (const char *const[]){ "--headless", cases[i][0], cases[i][1], GOOD, NULL });
+        if (r.status != 2 || !strstr(r.err, cases[i][2]))
+            fail_msg("%s '%s': exit %d, stderr %s", cases[i][0], cases[i][1], r.status, r.err);
+    }
 }
 
 static void unknown_set_key_lists_the_known_ones(void **state)
@@ -206,6 +283,21 @@ static void no_compute_context_exits_3(void **state)
     assert_non_null(strstr(r.err, "4.3"));
 }
 
+// No display for a window is a machine without the GL context the run needs: status 3,
+// as with no GL, with a message that says to use --headless (it was status 2, a usage
+// error, which docs/runner.md keeps for bad command lines).
+static void no_display_without_headless_exits_3_suggesting_headless(void **state)
+{
+    (void)state;
+    run_result r;
+    run_env(&r, (const char *const[]){ "-DISPLAY", "-WAYLAND_DISPLAY", NULL },
+            (const char *const[]){ "--frames", "2", GOOD, NULL });
+    assert_int_equal(r.status, 3);
+    assert_non_null(strstr(r.err, "no display"));
+    assert_non_null(strstr(r.err, "--headless"));
+    assert_int_equal(lines(r.err), 1);
+}
+
 static void hash_is_printed_and_repeats(void **state)
 {
     (void)state;
@@ -241,6 +333,37 @@ static void metrics_and_screenshot_are_written(void **state)
     assert_int_equal(fread(sig, 1, 8, f), 8);
     fclose(f);
     assert_memory_equal(sig, "\x89PNG\r\n\x1a\n", 8);
+}
+
+// .jpg and .jpeg write a JPEG (once any name got a PNG); another extension is refused
+// before the run, naming the option, the value and what is allowed, and nothing is written.
+static void screenshot_format_follows_the_name_and_others_are_refused(void **state)
+{
+    (void)state;
+    const char *jpg = "/tmp/seiche_test_runner.jpg", *bmp = "/tmp/seiche_test_runner.bmp";
+    unlink(jpg);
+    unlink(bmp);
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "2", "--size", "160x120", "--screenshot", jpg, GOOD,
+                                        NULL });
+    assert_int_equal(r.status, 0);
+    unsigned char head[3] = { 0 };
+    FILE *f = fopen(jpg, "rb");
+    assert_non_null(f);
+    assert_int_equal(fread(head, 1, 3, f), 3);
+    fclose(f);
+    assert_memory_equal(head, "\xff\xd8\xff", 3); // a JPEG's SOI marker
+    int w = 0, h = 0, n = 0;
+    unsigned char *img = stbi_load(jpg, &w, &h, &n, 3);
+    assert_non_null(img);
+    stbi_image_free(img);
+    assert_int_equal(w, 160);
+    assert_int_equal(h, 120);
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "2", "--screenshot", bmp, GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--screenshot must name a file ending in .png, .jpg or .jpeg "
+                                  "(got '/tmp/seiche_test_runner.bmp')"));
+    assert_int_not_equal(access(bmp, F_OK), 0);
 }
 
 static void render_option_picks_the_water_look_and_names_the_modes(void **state)
@@ -341,6 +464,31 @@ static void record_writes_a_video(void **state)
     assert_memory_equal(head + 4, "ftyp", 4); // an MP4 (ISO base media) file
 }
 
+// --dt 0.03 is 100/3 frames per second, not 33: ten frames last 0.3 s.
+static void record_frame_rate_is_exactly_one_over_dt(void **state)
+{
+    (void)state;
+    support_skip_unless_on_path("ffmpeg");
+    support_skip_unless_on_path("ffprobe");
+    const char *mp4 = "/tmp/seiche_test_runner_rate.mp4";
+    unlink(mp4);
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "10", "--dt", "0.03", "--size", "160x120", "--record",
+                                        mp4, GOOD, NULL });
+    assert_int_equal(r.status, 0);
+    char cmd[512], out[256] = "";
+    snprintf(cmd, sizeof cmd, "ffprobe -v error -select_streams v -show_entries stream=r_frame_rate,nb_frames "
+                              "-show_entries format=duration -of csv=p=0 '%s'", mp4);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    pclose(p);
+    print_message("ffprobe: %s", out);
+    assert_non_null(strstr(out, "100/3,10"));
+    assert_non_null(strstr(out, "0.300000"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -351,17 +499,23 @@ int main(void)
         cmocka_unit_test(bad_dt_is_refused),
         cmocka_unit_test(missing_script_is_named),
         cmocka_unit_test(no_script_is_a_usage_error),
-        cmocka_unit_test(missing_shader_directory_names_the_shader_file),
+        cmocka_unit_test(missing_shader_directory_is_one_message_naming_the_option_and_path),
+        cmocka_unit_test(shader_missing_from_the_directory_is_one_message_naming_the_option),
+        cmocka_unit_test(scalar_option_given_twice_is_refused_naming_it),
+        cmocka_unit_test(numbers_with_space_sign_or_hex_are_refused),
         cmocka_unit_test(unknown_set_key_lists_the_known_ones),
         cmocka_unit_test(failed_check_exits_1_with_file_and_line),
         cmocka_unit_test(no_compute_context_exits_3),
+        cmocka_unit_test(no_display_without_headless_exits_3_suggesting_headless),
         cmocka_unit_test(hash_is_printed_and_repeats),
         cmocka_unit_test(metrics_and_screenshot_are_written),
+        cmocka_unit_test(screenshot_format_follows_the_name_and_others_are_refused),
         cmocka_unit_test(render_option_picks_the_water_look_and_names_the_modes),
         cmocka_unit_test(main_chunk_sees_dt_and_render_options),
         cmocka_unit_test(main_chunk_sees_set_options),
         cmocka_unit_test(hud_text_is_in_a_headless_screenshot),
         cmocka_unit_test(record_writes_a_video),
+        cmocka_unit_test(record_frame_rate_is_exactly_one_over_dt),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

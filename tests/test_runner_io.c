@@ -29,12 +29,13 @@ static int teardown(void **state)
     return system("rm -rf " TMP) == 0 ? 0 : -1;
 }
 
-// Runs the runner with `args` (already quoted for sh) from TMP; stderr into `err`.
-static int run(const char *args, char *err, size_t err_size)
+// Runs the runner with `args` (already quoted for sh) from TMP, with `env` (sh's
+// "NAME=VALUE ..." or "") in front; stderr into `err`.
+static int run_env(const char *env, const char *args, char *err, size_t err_size)
 {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "cd " TMP " && '%s' --headless --quiet %s 2>" TMP "/stderr.txt >" TMP "/stdout.txt",
-             exe, args);
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "cd " TMP " && %s '%s' --headless --quiet %s 2>" TMP "/stderr.txt >" TMP "/stdout.txt",
+             env, exe, args);
     int st = system(cmd);
     err[0] = 0;
     FILE *f = fopen(TMP "/stderr.txt", "r");
@@ -45,6 +46,8 @@ static int run(const char *args, char *err, size_t err_size)
     }
     return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
+
+static int run(const char *args, char *err, size_t err_size) { return run_env("", args, err, err_size); }
 
 static void record_path_reaches_no_shell(void **state)
 {
@@ -69,6 +72,147 @@ static void unwritable_outputs_exit_2_naming_the_flag(void **state)
     snprintf(args, sizeof args, "--frames 2 --metrics /dev/full '%s'", scene);
     assert_int_equal(run(args, err, sizeof err), 2);
     assert_non_null(strstr(err, "--metrics: writing '/dev/full' failed"));
+}
+
+static bool file_has(const char *path, const char *needle)
+{
+    char buf[16384] = "";
+    FILE *f = fopen(path, "r");
+    if (!f) return false;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = 0;
+    fclose(f);
+    return strstr(buf, needle) != NULL;
+}
+
+static int occurrences(const char *s, const char *needle)
+{
+    int n = 0;
+    for (const char *p = s; (p = strstr(p, needle)) != NULL; p += strlen(needle)) n++;
+    return n;
+}
+
+// A failed screenshot is one message (it was logged and printed: two lines).
+static void unwritable_screenshot_is_one_message(void **state)
+{
+    (void)state;
+    char args[2048], err[4096];
+    assert_int_equal(system("ln -sf /dev/full " TMP "/full.png"), 0);
+    snprintf(args, sizeof args, "--frames 2 --size 64x64 --screenshot full.png '%s'", scene);
+    assert_int_equal(run(args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "seiche: --screenshot: cannot write screenshot 'full.png': No space left on device"));
+    assert_int_equal(occurrences(err, "full.png"), 1);
+}
+
+// A fake ffmpeg in TMP/NAME/ffmpeg running the shell text `body` (its last argument is
+// file:PATH, the output).
+static void fake_ffmpeg(const char *name, const char *body)
+{
+    char path[256];
+    snprintf(path, sizeof path, TMP "/%s", name);
+    mkdir(path, 0755);
+    snprintf(path, sizeof path, TMP "/%s/ffmpeg", name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "#!/bin/sh\nfor a; do out=${a#file:}; done\n%s\n", body);
+    fclose(f);
+    chmod(path, 0755);
+}
+
+// Once the size and the name were ffmpeg's to refuse, after the run had started, leaving
+// a 0-byte file: now the command line is refused, nothing created, no ffmpeg needed.
+static void record_refuses_odd_sizes_and_unknown_formats_before_the_run(void **state)
+{
+    (void)state;
+    char args[2048], err[4096];
+    fake_ffmpeg("never", "touch " TMP "/ffmpeg-ran; exit 1");
+    snprintf(args, sizeof args, "--frames 2 --size 161x121 --record odd.mp4 '%s'", scene);
+    assert_int_equal(run_env("PATH=" TMP "/never:$PATH", args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "--record needs an even width and height for the video encoder (got --size 161x121)"));
+    assert_int_not_equal(access(TMP "/odd.mp4", F_OK), 0);
+    snprintf(args, sizeof args, "--frames 2 --record vid '%s'", scene);
+    assert_int_equal(run_env("PATH=" TMP "/never:$PATH", args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "--record must name a file ending in .mp4, .mkv, .mov, .webm or .avi"));
+    assert_non_null(strstr(err, "(got 'vid')"));
+    assert_int_not_equal(access(TMP "/vid", F_OK), 0);
+    snprintf(args, sizeof args, "--frames 2 --record clip.gif '%s'", scene);
+    assert_int_equal(run_env("PATH=" TMP "/never:$PATH", args, err, sizeof err), 2);
+    assert_int_not_equal(access(TMP "/ffmpeg-ran", F_OK), 0);
+}
+
+// ffmpeg failing mid-run leaves no file pretending to be a video, and the message says
+// so: whether it stopped reading (the frame write fails) or read everything and failed.
+static void record_failure_removes_the_incomplete_file(void **state)
+{
+    (void)state;
+    char args[2048], err[4096];
+    fake_ffmpeg("quits", "printf partial >\"$out\"; echo 'fake ffmpeg: gave up' >&2; exit 1");
+    fake_ffmpeg("fails", "cat >\"$out\"; exit 1");
+    snprintf(args, sizeof args, "--frames 4 --size 160x120 --record a.mp4 '%s'", scene);
+    assert_int_equal(run_env("PATH=" TMP "/quits:$PATH", args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "--record: ffmpeg stopped taking frames"));
+    assert_non_null(strstr(err, "'a.mp4' (ffmpeg: exit status 1); removed the incomplete file"));
+    assert_int_not_equal(access(TMP "/a.mp4", F_OK), 0);
+    snprintf(args, sizeof args, "--frames 4 --size 160x120 --record b.mkv '%s'", scene);
+    assert_int_equal(run_env("PATH=" TMP "/fails:$PATH", args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "--record: ffmpeg failed writing 'b.mkv' (ffmpeg: exit status 1); removed the incomplete"));
+    assert_int_not_equal(access(TMP "/b.mkv", F_OK), 0);
+    // A file that was there and that ffmpeg never touched stays.
+    fake_ffmpeg("refuses", "exit 1");
+    assert_int_equal(system("printf old >" TMP "/c.mp4 && touch -d 2020-01-01 " TMP "/c.mp4"), 0);
+    snprintf(args, sizeof args, "--frames 4 --size 160x120 --record c.mp4 '%s'", scene);
+    assert_int_equal(run_env("PATH=" TMP "/refuses:$PATH", args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "the file that was there is left as it was"));
+    struct stat st;
+    assert_int_equal(stat(TMP "/c.mp4", &st), 0);
+    assert_int_equal(st.st_size, 3);
+}
+
+// ffmpeg gets 1/dt as an exact fraction (it was rounded: --dt 0.03 gave 33 fps).
+static void record_gives_ffmpeg_the_exact_frame_rate(void **state)
+{
+    (void)state;
+    char args[2048], err[4096];
+    fake_ffmpeg("args", "echo \"$@\" >" TMP "/ffmpeg-args.txt; cat >\"$out\"");
+    const char *dt[][2] = { { "0.03", "-r 100/3 " }, { "0.016", "-r 125/2 " }, { "0.00001", "-r 100000/1 " },
+                            { "0.75", "-r 4/3 " } };
+    for (size_t i = 0; i < sizeof dt / sizeof dt[0]; i++) {
+        snprintf(args, sizeof args, "--frames 2 --size 64x64 --dt %s --record r.mp4 '%s'", dt[i][0], scene);
+        assert_int_equal(run_env("PATH=" TMP "/args:$PATH", args, err, sizeof err), 0);
+        assert_true(file_has(TMP "/ffmpeg-args.txt", dt[i][1]));
+    }
+    snprintf(args, sizeof args, "--frames 2 --size 64x64 --record r.mp4 '%s'", scene); // 1/60 s
+    assert_int_equal(run_env("PATH=" TMP "/args:$PATH", args, err, sizeof err), 0);
+    assert_true(file_has(TMP "/ffmpeg-args.txt", "-r 60/1 "));
+}
+
+// `--` ends the options, as in POSIX tools: the next argument is the script, even one
+// whose name starts with '-'; without it such a name is an unknown option.
+static void double_dash_ends_the_options(void **state)
+{
+    (void)state;
+    char copy[1400], err[4096];
+    snprintf(copy, sizeof copy, "cp '%s' " TMP "/-scene.lua", scene);
+    assert_int_equal(system(copy), 0);
+    assert_int_equal(run("--frames 1 -- -scene.lua", err, sizeof err), 0);
+    assert_int_equal(run("--frames 1 -scene.lua", err, sizeof err), 2);
+    assert_non_null(strstr(err, "unknown option '-scene.lua'"));
+    assert_int_equal(run("--frames 1 --", err, sizeof err), 2);
+    assert_non_null(strstr(err, "'--' must be followed by the script"));
+    assert_int_equal(run("--frames 1 -- -scene.lua --quiet", err, sizeof err), 2);
+    assert_non_null(strstr(err, "only one script may be given (got '-scene.lua' and '--quiet')"));
+}
+
+// More --set than the runner holds: the message says how many were given.
+static void too_many_sets_say_how_many(void **state)
+{
+    (void)state;
+    char args[4096], err[4096];
+    size_t n = 0;
+    for (int i = 0; i < 70; i++) n += (size_t)snprintf(args + n, sizeof args - n, "--set gravity.y=-9 ");
+    snprintf(args + n, sizeof args - n, "'%s'", scene);
+    assert_int_equal(run(args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "at most 64 --set options may be given (got 70)"));
 }
 
 static void output_over_the_script_or_another_output_is_refused(void **state)
@@ -134,16 +278,6 @@ static void radius_pair_is_accepted_in_either_order_and_the_kernel_follows(void 
     assert_non_null(strstr(err, "0.5"));
 }
 
-static bool file_has(const char *path, const char *needle)
-{
-    char buf[16384] = "";
-    FILE *f = fopen(path, "r");
-    if (!f) return false;
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    buf[n] = 0;
-    fclose(f);
-    return strstr(buf, needle) != NULL;
-}
 
 static void directory_runs_as_one_suite_with_junit_and_tap_and_late_checks_fail(void **state)
 {
@@ -179,6 +313,12 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(record_path_reaches_no_shell),
         cmocka_unit_test(unwritable_outputs_exit_2_naming_the_flag),
+        cmocka_unit_test(unwritable_screenshot_is_one_message),
+        cmocka_unit_test(record_refuses_odd_sizes_and_unknown_formats_before_the_run),
+        cmocka_unit_test(record_failure_removes_the_incomplete_file),
+        cmocka_unit_test(record_gives_ffmpeg_the_exact_frame_rate),
+        cmocka_unit_test(double_dash_ends_the_options),
+        cmocka_unit_test(too_many_sets_say_how_many),
         cmocka_unit_test(output_over_the_script_or_another_output_is_refused),
         cmocka_unit_test(numbers_out_of_range_name_the_flag_and_value),
         cmocka_unit_test(radius_pair_is_accepted_in_either_order_and_the_kernel_follows),

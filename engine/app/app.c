@@ -9,6 +9,7 @@
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -41,12 +42,45 @@ static double now_s(void)
 }
 
 // Finds the shaders: the option, then $SEICHE_SHADER_DIR (shader development), else the
-// copies embedded in the libraries ("" here).
-static void find_shader_dir(app *a)
+// copies embedded in the libraries ("" here). `*from` names where the directory came from,
+// for messages. False, with the one message printed, when it is no readable directory:
+// checked here, before a window opens, so that the error names the option and the path
+// as given rather than the first shader file that could not be opened.
+static bool find_shader_dir(app *a, const char **from)
 {
     const char *env = getenv("SEICHE_SHADER_DIR");
     const char *dir = a->opt->shader_dir ? a->opt->shader_dir : env ? env : "";
+    *from = a->opt->shader_dir ? "--shaders" : "SEICHE_SHADER_DIR";
+    a->shader_dir[0] = 0;
+    if (!dir[0]) return true;
+    if (strlen(dir) >= sizeof a->shader_dir) {
+        fprintf(stderr, "seiche: %s: the shader directory's name must be shorter than %zu bytes (got %zu)\n", *from,
+                sizeof a->shader_dir, strlen(dir));
+        return false;
+    }
+    DIR *d = opendir(dir);
+    if (!d) {
+        fprintf(stderr, "seiche: %s: cannot read the shader directory '%s': %s\n", *from, dir, strerror(errno));
+        return false;
+    }
+    closedir(d);
     snprintf(a->shader_dir, sizeof a->shader_dir, "%s", dir);
+    return true;
+}
+
+// The renderer's logger: the app's, except that while the renderer is being built its
+// errors are held back, because they come back in `err` too and are printed once, naming
+// the shader directory.
+typedef struct held_log {
+    eng_logger to;
+    bool hold_errors;
+} held_log;
+
+static void held_log_fn(void *user, eng_log_level level, const char *msg)
+{
+    held_log *h = user;
+    if (h->hold_errors && level >= ENG_LOG_ERROR) return;
+    eng_log(&h->to, level, "%s", msg);
 }
 
 // ---- errors ---------------------------------------------------------------------------
@@ -318,7 +352,8 @@ int eng_app_run(const eng_app_options *o)
     memset(a, 0, sizeof *a);
     a->opt = o;
     a->log = eng_default_logger();
-    find_shader_dir(a);
+    const char *shaders_from;
+    if (!find_shader_dir(a, &shaders_from)) return ENG_EXIT_USAGE;
 
     eng_context_def cd = eng_default_context_def();
     cd.mode = o->headless ? ENG_CONTEXT_HEADLESS : ENG_CONTEXT_WINDOW;
@@ -329,19 +364,28 @@ int eng_app_run(const eng_app_options *o)
     eng_context_status cst;
     char err[1024];
     a->ctx = eng_context_create(&cd, &cst, err, sizeof err);
-    if (!a->ctx) return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL ? ENG_EXIT_NO_COMPUTE : ENG_EXIT_USAGE;
+    // No display for a window is a machine without the GL context the run asks for, as is
+    // no GL at all (status 3); the message (eng_context_create's, already printed) says to
+    // use --headless. Anything else is a bad request (status 2).
+    if (!a->ctx)
+        return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL || cst == ENG_CONTEXT_NO_DISPLAY
+                   ? ENG_EXIT_NO_COMPUTE
+                   : ENG_EXIT_USAGE;
     a->input = eng_input_create(a->ctx);
     a->renderer_def = eng_default_renderer_def();
     a->renderer_def.shader_dir = a->shader_dir[0] ? a->shader_dir : NULL;
-    a->renderer_def.logger = a->log;
+    held_log renderer_log = { a->log, true }; // lives as long as the renderer: until the return below
+    a->renderer_def.logger = (eng_logger){ held_log_fn, &renderer_log, ENG_LOG_DEBUG };
     if (o->render && !eng_fluid_mode_parse(o->render, &a->renderer_def.fluid.mode)) {
         fprintf(stderr, "seiche: --render must be one of %s (got '%s')\n", eng_fluid_mode_names(), o->render);
         shutdown_app(a);
         return ENG_EXIT_USAGE;
     }
     a->renderer = eng_renderer_create(&a->renderer_def, err, sizeof err);
+    renderer_log.hold_errors = false;
     if (!a->renderer) {
-        fprintf(stderr, "seiche: %s\n", err);
+        if (a->shader_dir[0]) fprintf(stderr, "seiche: %s '%s': %s\n", shaders_from, a->shader_dir, err);
+        else fprintf(stderr, "seiche: %s\n", err);
         shutdown_app(a);
         return ENG_EXIT_USAGE;
     }

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "engine/gl/screenshot.h"
+#include "engine/gl/video.h"
 #include "engine/render/renderer.h"
 #include "fluid/pbf.h"
 
@@ -66,20 +68,53 @@ void eng_app_args_free(eng_app_args *args)
     args->error = NULL;
 }
 
+// A number as a person types it: it starts with a digit, '.' or '-' (no space, '+', "inf"
+// or "nan" in front) and holds no space and no hexadecimal 'x' (strtod and strtol would
+// take " 5", "+5" and "0x1p-3"); whether it parses whole is the caller's strto* check.
+static bool plain_number(const char *s)
+{
+    if (!((*s >= '0' && *s <= '9') || *s == '.' || *s == '-')) return false;
+    for (; *s; s++)
+        if (*s == ' ' || (*s >= '\t' && *s <= '\r') || *s == 'x' || *s == 'X') return false;
+    return true;
+}
+
+// The options that take one value and may be given once; --set is repeatable.
+static const char *const SCALAR_OPTIONS[] = { "--frames", "--dt",   "--metrics", "--screenshot", "--record", "--size",
+                                              "--shaders", "--budget", "--render", "--junit",     "--tap" };
+#define SCALAR_COUNT ((int)(sizeof SCALAR_OPTIONS / sizeof SCALAR_OPTIONS[0]))
+
+static int scalar_index(const char *a)
+{
+    for (int k = 0; k < SCALAR_COUNT; k++)
+        if (strcmp(a, SCALAR_OPTIONS[k]) == 0) return k;
+    return -1;
+}
+
 eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args *out)
 {
     memset(out, 0, sizeof *out);
     out->options = eng_default_app_options();
     eng_app_options *o = &out->options;
+    const char *given[SCALAR_COUNT] = { 0 }; // each scalar option's value, once given
+    int sets_given = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        bool takes = strcmp(a, "--frames") == 0 || strcmp(a, "--dt") == 0 || strcmp(a, "--set") == 0 ||
-                     strcmp(a, "--metrics") == 0 || strcmp(a, "--screenshot") == 0 || strcmp(a, "--record") == 0 ||
-                     strcmp(a, "--size") == 0 || strcmp(a, "--shaders") == 0 || strcmp(a, "--budget") == 0 ||
-                     strcmp(a, "--render") == 0 || strcmp(a, "--junit") == 0 || strcmp(a, "--tap") == 0;
+        int scalar = scalar_index(a);
+        bool takes = scalar >= 0 || strcmp(a, "--set") == 0;
         if (takes && !v) return bad(out, "option %s needs a value", a);
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+        if (scalar >= 0 && given[scalar])
+            return bad(out, "%s may be given once (got '%s' and '%s')", a, given[scalar], v);
+        if (scalar >= 0) given[scalar] = v;
+        if (strcmp(a, "--") == 0) {
+            // The end of the options: the next argument is the script, whatever it looks like.
+            if (i + 1 >= argc) return bad(out, "'--' must be followed by the script");
+            if (o->script) return bad(out, "only one script may be given (got '%s' and '%s')", o->script, argv[i + 1]);
+            o->script = argv[++i];
+            if (i + 1 < argc) return bad(out, "only one script may be given (got '%s' and '%s')", o->script, argv[i + 1]);
+            break;
+        } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             return ENG_APP_ARGS_HELP;
         } else if (strcmp(a, "--version") == 0) {
             return ENG_APP_ARGS_VERSION;
@@ -99,7 +134,7 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
             char *end;
             errno = 0;
             double b = strtod(v, &end);
-            if (*end || end == v || errno || !isfinite(b) || b <= 0.0 || b > 3600.0)
+            if (!plain_number(v) || *end || end == v || errno || !isfinite(b) || b <= 0.0 || b > 3600.0)
                 return bad(out, "--budget must be a number of seconds in (0, 3600] (got '%s')", v);
             o->budget_s = b;
             i++;
@@ -107,7 +142,7 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
             char *end;
             errno = 0;
             long n = strtol(v, &end, 10);
-            if (*end || end == v || errno || n < 0 || n > 100000000)
+            if (!plain_number(v) || *end || end == v || errno || n < 0 || n > 100000000)
                 return bad(out, "--frames must be a whole number in [0, 100000000] (got '%s')", v);
             o->frames = n;
             i++;
@@ -115,14 +150,14 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
             char *end;
             errno = 0;
             double dt = strtod(v, &end);
-            if (*end || end == v || errno || !isfinite(dt) || dt < 1e-5 || dt > 1.0)
+            if (!plain_number(v) || *end || end == v || errno || !isfinite(dt) || dt < 1e-5 || dt > 1.0)
                 return bad(out, "--dt must be a number of seconds in [0.00001, 1] (got '%s')", v);
             o->dt = dt;
             i++;
         } else if (strcmp(a, "--set") == 0) {
-            if (o->set_count >= ENG_APP_MAX_SETS) return bad(out, "at most 64 --set options");
             if (!strchr(v, '=')) return bad(out, "--set expects KEY=VALUE (got '%s')", v);
-            o->sets[o->set_count++] = v;
+            if (o->set_count < ENG_APP_MAX_SETS) o->sets[o->set_count++] = v;
+            sets_given++; // more than ENG_APP_MAX_SETS: refused below, saying how many
             i++;
         } else if (strcmp(a, "--junit") == 0) {
             out->junit = v;
@@ -146,15 +181,19 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
             o->render = v;
             i++;
         } else if (strcmp(a, "--shaders") == 0) {
+            if (!v[0]) return bad(out, "--shaders must name a directory (got '')");
             o->shader_dir = v;
             i++;
         } else if (strcmp(a, "--size") == 0) {
-            char *x, *end;
+            // Digits, 'x', digits: strtol alone would take " 16" and "+16".
+            const char *vx = strchr(v, 'x');
+            bool digits = v[0] >= '0' && v[0] <= '9' && vx && vx[1] >= '0' && vx[1] <= '9';
+            char *x = NULL, *end = NULL;
             errno = 0;
-            long w = strtol(v, &x, 10);
-            long h = *x == 'x' ? strtol(x + 1, &end, 10) : -1;
-            if (errno || x == v || *x != 'x' || end == x + 1 || *end || w < 16 || h < 16 || w > 16384 || h > 16384)
-                return bad(out, "--size must be WxH with each in [16, 16384] (got '%s')", v);
+            long w = digits ? strtol(v, &x, 10) : -1;
+            long h = digits && x == vx ? strtol(vx + 1, &end, 10) : -1;
+            if (!digits || errno || x != vx || !end || *end || w < 16 || h < 16 || w > 16384 || h > 16384)
+                return bad(out, "--size must be WxH with each a whole number in [16, 16384] (got '%s')", v);
             o->width = (int)w;
             o->height = (int)h;
             i++;
@@ -166,7 +205,19 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
             o->script = a;
         }
     }
+    if (sets_given > ENG_APP_MAX_SETS)
+        return bad(out, "at most %d --set options may be given (got %d)", ENG_APP_MAX_SETS, sets_given);
     if (!o->script) return bad(out, "no script given");
+    // Outputs whose names or sizes cannot work are refused here, before anything runs.
+    if (o->screenshot_path && eng_image_format_of(o->screenshot_path) == ENG_IMAGE_UNKNOWN)
+        return bad(out, "--screenshot must name a file ending in " ENG_SCREENSHOT_EXTENSIONS " (got '%s')",
+                   o->screenshot_path);
+    if (o->record_path && !eng_video_extension_ok(o->record_path))
+        return bad(out, "--record must name a file ending in " ENG_VIDEO_EXTENSIONS
+                   " (ffmpeg picks the format from it) (got '%s')", o->record_path);
+    if (o->record_path && (o->width % 2 || o->height % 2))
+        return bad(out, "--record needs an even width and height for the video encoder (got --size %dx%d)", o->width,
+                   o->height);
     return ENG_APP_ARGS_RUN;
 }
 
@@ -190,7 +241,7 @@ int eng_app_apply_sets(const eng_app_options *options, eng_scene_config *c, char
         char *end;
         errno = 0;
         double v = strtod(eq + 1, &end);
-        if (end == eq + 1 || *end || errno || !isfinite(v)) {
+        if (!plain_number(eq + 1) || end == eq + 1 || *end || errno || !isfinite(v)) {
             snprintf(err, err_size, "seiche: --set %s: value must be a finite number (got '%s')", key, eq + 1);
             return ENG_EXIT_USAGE;
         }

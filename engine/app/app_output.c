@@ -85,7 +85,7 @@ int app_record_frame(app *a)
 int app_open_video(app *a)
 {
     char err[1200];
-    a->video = eng_video_open(a->ctx, a->opt->record_path, (int)lround(1.0 / a->opt->dt), err, sizeof err);
+    a->video = eng_video_open(a->ctx, a->opt->record_path, a->opt->dt, err, sizeof err);
     if (!a->video) {
         fprintf(stderr, "seiche: %s\n", err);
         return ENG_EXIT_USAGE;
@@ -135,7 +135,7 @@ int app_write_screenshot(app *a)
 {
     char err[1024];
     a->screenshot_taken = true;
-    if (!eng_screenshot_write_png(a->ctx, a->opt->screenshot_path, err, sizeof err)) {
+    if (!eng_screenshot_write(a->ctx, a->opt->screenshot_path, err, sizeof err)) {
         fprintf(stderr, "seiche: --screenshot: %s\n", err);
         return ENG_EXIT_USAGE;
     }

@@ -1,4 +1,4 @@
-// Framebuffer read-back and PNG screenshots. See screenshot.h.
+// Framebuffer read-back and PNG / JPEG screenshots. See screenshot.h.
 #include "engine/gl/screenshot.h"
 
 #include <epoxy/gl.h>
@@ -61,15 +61,15 @@ bool eng_read_pixels(const eng_context *ctx, unsigned char *rgba, int width, int
     return true;
 }
 
-typedef struct png_sink {
+typedef struct file_sink {
     FILE *f;
     bool failed;
     int error;
-} png_sink;
+} file_sink;
 
-static void png_write(void *user, void *data, int size)
+static void sink_write(void *user, void *data, int size)
 {
-    png_sink *s = user;
+    file_sink *s = user;
     if (s->failed || size <= 0) return;
     if (fwrite(data, 1, (size_t)size, s->f) != (size_t)size) {
         s->failed = true;
@@ -82,11 +82,12 @@ static bool write_failed(const eng_context *ctx, char *err, size_t err_size, con
 {
     char msg[1200];
     snprintf(msg, sizeof msg, "cannot write screenshot '%s': %s", path, reason);
-    eng_log(eng_context_logger(ctx), ENG_LOG_ERROR, "%s", msg);
+    // One report: to the caller when it takes the message, else to the log.
+    if (!err || err_size == 0) eng_log(eng_context_logger(ctx), ENG_LOG_ERROR, "%s", msg);
     return say(err, err_size, msg);
 }
 
-bool eng_screenshot_write_png(const eng_context *ctx, const char *path, char *err, size_t err_size)
+static bool write_image(const eng_context *ctx, const char *path, eng_image_format format, char *err, size_t err_size)
 {
     if (!path || !path[0]) return write_failed(ctx, err, err_size, "", "path must be a file name (got an empty path)");
     int w, h;
@@ -105,17 +106,37 @@ bool eng_screenshot_write_png(const eng_context *ctx, const char *path, char *er
         rgb[i * 3 + 1] = rgba[i * 4 + 1];
         rgb[i * 3 + 2] = rgba[i * 4 + 2];
     }
-    png_sink sink = { fopen(path, "wb"), false, 0 };
+    file_sink sink = { fopen(path, "wb"), false, 0 };
     if (!sink.f) {
         int e = errno;
         free(rgba);
         return write_failed(ctx, err, err_size, path, strerror(e));
     }
-    int ok = stbi_write_png_to_func(png_write, &sink, w, h, 3, rgb, w * 3);
+    int ok = format == ENG_IMAGE_JPEG ? stbi_write_jpg_to_func(sink_write, &sink, w, h, 3, rgb, 95)
+                                      : stbi_write_png_to_func(sink_write, &sink, w, h, 3, rgb, w * 3);
     free(rgba);
     int close_err = fclose(sink.f) != 0 ? errno : 0;
-    if (!ok) return write_failed(ctx, err, err_size, path, "PNG encoding failed");
+    if (!ok)
+        return write_failed(ctx, err, err_size, path,
+                            format == ENG_IMAGE_JPEG ? "JPEG encoding failed" : "PNG encoding failed");
     if (sink.failed) return write_failed(ctx, err, err_size, path, strerror(sink.error));
     if (close_err) return write_failed(ctx, err, err_size, path, strerror(close_err));
     return true;
+}
+
+bool eng_screenshot_write_png(const eng_context *ctx, const char *path, char *err, size_t err_size)
+{
+    return write_image(ctx, path, ENG_IMAGE_PNG, err, err_size);
+}
+
+bool eng_screenshot_write(const eng_context *ctx, const char *path, char *err, size_t err_size)
+{
+    eng_image_format format = eng_image_format_of(path);
+    if (format == ENG_IMAGE_UNKNOWN) {
+        char msg[1200];
+        snprintf(msg, sizeof msg, "screenshot '%s' must end in " ENG_SCREENSHOT_EXTENSIONS, path ? path : "");
+        if (!err || err_size == 0) eng_log(eng_context_logger(ctx), ENG_LOG_ERROR, "%s", msg);
+        return say(err, err_size, msg);
+    }
+    return write_image(ctx, path, format, err, err_size);
 }

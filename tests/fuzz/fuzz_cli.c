@@ -11,7 +11,10 @@
 //   [0, 100000000] or the default, dt in [0.00001, 1], budget in (0, 3600] or the default,
 //   size each in [16, 16384], at most 64 --set, each with '=', --render a known mode);
 // - every string the options keep is an element of argv, at the place the documented
-//   grammar puts it (a value right after its option, the script in an option's place);
+//   grammar puts it (a value right after its option, the script in an option's place or
+//   right after a "--" there, which ends the options);
+// - an option that takes one value is accepted at most once (--set repeats), and --frames,
+//   --dt, --budget and --size only as plain numbers (no space, '+' or hexadecimal);
 // - an option that takes a value, given last, is an error; --help, -h and --version are
 //   answered only where they stand as options; an error always comes with a message;
 // - eng_app_apply_sets accepts only a capacity in [1, 67108864], gravity in [-1000, 1000],
@@ -172,13 +175,18 @@ static bool takes_value(const char *a)
 }
 
 // The documented grammar's reading of argv: role[i] is 'o' for an option (or a script) at
-// an option's place, 'v' for the value of the option before it. Returns false when an
-// option that takes a value is last.
+// an option's place, 'v' for the value of the option before it, 's' for the argument after
+// a "--" in an option's place (the script, whatever it looks like) and 'x' for any after
+// that. Returns false when an option that takes a value is last.
 static bool roles(const argv_buf *b, char *role)
 {
     role[0] = 'p';
     for (int i = 1; i < b->argc; i++) {
         role[i] = 'o';
+        if (!strcmp(b->argv[i], "--")) {
+            for (int k = i + 1; k < b->argc; k++) role[k] = k == i + 1 ? 's' : 'x';
+            return true;
+        }
         if (takes_value(b->argv[i])) {
             if (i + 1 >= b->argc) return false;
             role[++i] = 'v';
@@ -284,11 +292,31 @@ static void check(const argv_buf *b, eng_app_args_action action, const eng_app_a
         check_value(b, role, o->sets[i], "--set");
         if (!strchr(o->sets[i], '=')) fail(b, "a --set without '=' accepted");
     }
-    // The script: an argument in an option's place that is no option.
-    bool found = false;
-    for (int k = 1; k < b->argc && !found; k++) found = b->argv[k] == o->script && role[k] == 'o';
-    if (!found) fail(b, "the script is not an argument in an option's place");
-    if (o->script[0] == '-' && o->script[1]) fail(b, "an option taken for the script");
+    // The script: an argument in an option's place that is no option, or the one after "--".
+    int script_at = 0;
+    for (int k = 1; k < b->argc && !script_at; k++)
+        if (b->argv[k] == o->script && (role[k] == 'o' || role[k] == 's')) script_at = k;
+    if (!script_at) fail(b, "the script is not an argument in an option's place or after '--'");
+    if (role[script_at] == 'o' && o->script[0] == '-' && o->script[1]) fail(b, "an option taken for the script");
+    for (int k = 1; k < b->argc; k++)
+        if (role[k] == 'x') fail(b, "accepted with an argument after the script that follows '--'");
+    // Each option that takes one value at most once; numbers plain.
+    for (size_t n = 0; n < COUNT(VALUE_OPTIONS); n++) {
+        if (!strcmp(VALUE_OPTIONS[n], "--set")) continue;
+        int times = 0;
+        for (int k = 1; k < b->argc; k++) times += role[k] == 'o' && !strcmp(b->argv[k], VALUE_OPTIONS[n]);
+        if (times > 1) fail(b, "an option that takes one value accepted twice");
+    }
+    for (int k = 2; k < b->argc; k++) {
+        if (role[k] != 'v') continue;
+        const char *opt = b->argv[k - 1], *v = b->argv[k];
+        bool number = !strcmp(opt, "--frames") || !strcmp(opt, "--dt") || !strcmp(opt, "--budget") ||
+                      !strcmp(opt, "--size");
+        if (number && (strpbrk(v, " \t\n\v\f\r+xX") != NULL) && strcmp(opt, "--size") != 0)
+            fail(b, "a number with a space, '+' or hexadecimal accepted");
+        if (number && !strcmp(opt, "--size") && strpbrk(v, " \t\n\v\f\r+") != NULL)
+            fail(b, "a --size with a space or '+' accepted");
+    }
     // Flags seen as options are set.
     if (appears_as_option(b, role, "--headless", b->argc) != o->headless) fail(b, "--headless not as given");
     if (appears_as_option(b, role, "--trusted", b->argc) != o->trusted) fail(b, "--trusted not as given");
