@@ -183,7 +183,7 @@ static void bad_arguments_name_function_argument_value_and_rule(void **state)
         { "seiche.scene{capacity = 1.5}", "seiche.scene: field 'capacity' must be a whole number in [1, 67108864] particles (got 1.5)" },
         { "seiche.scene{capacity = 1e12}", "(got 1000000000000)" },
         { "seiche.scene{container = {min = {0, 0, 0}, max = {1, 1, 1}, lid = true}}", "seiche.scene: container: unknown field \"lid\" (known: min, max, closed_top)" },
-        { "seiche.scene{fluid = {iterations = 0}}", "seiche.scene: fluid.iterations: pbf_params.iterations must be in [1, 100] (got 0)" },
+        { "seiche.scene{fluid = {iterations = 0}}", "seiche.scene: fluid: field 'iterations' must be in [1, 100] (got 0)" },
         { "seiche.scene{fluid = {viscocity = 0.1}}", "seiche.scene: fluid: unknown field \"viscocity\"" },
         { "seiche.scene{gravity = {0, 0/0, 0}}", "seiche.scene: field 'gravity'.y must be a number in [-1000, 1000] m/s^2 (got nan)" },
         { "seiche.scene{camera = {eye = {1, 1, 1}, target = {1, 1, 1}}}", "seiche.scene: camera eye and target must differ" },
@@ -195,7 +195,7 @@ static void bad_arguments_name_function_argument_value_and_rule(void **state)
         { "seiche.scene{name = ''}", "seiche.scene: field 'name' must be a string of 1 to 63 characters (got \"\")" },
         { "seiche.scene{}; seiche.scene{}", "seiche.scene: called twice (the first call was at case.lua:1)" },
         { "seiche.scene{domain = {min = {0, 0, 0}, max = {1, 1, 1}}, container = {min = {0, 0, 0}, max = {2, 1, 1}}}", "the container's x range [0, 2] must lie inside the domain's [0, 1]" },
-        { "seiche.after(1)", "seiche.after: argument #2 'callback' must be a function (got no value)" },
+        { "seiche.after(1)", "seiche.after: argument #2 'callback' must be a function or a table with a __call metamethod (got no value)" },
         { "seiche.every(0/0, print)", "seiche.every: argument #1 'period' must be a number in (0, 1000000000] s (got nan)" },
         { "seiche.set_param('iterations', '3')", "seiche.set_param: argument #2 'value' (iterations) must be a whole number in [1, 100] (got \"3\")" },
         { "seiche.set_param(3, 3)", "seiche.set_param: argument #1 'name' must be a fluid parameter name (one of particle_radius, kernel_radius" },
@@ -228,25 +228,25 @@ static void method_arguments_are_checked_like_functions(void **state)
         "local e = seiche.emitter{position = {0, 0, 0}}\n"
         "local t = seiche.after(1, print)\n";
     static const char *const cases[][2] = {
-        { "b.position()", "body:position: argument #1 'self' must be a body (got no value); call methods with a colon: x:position(...)" },
-        { "b.position(e)", "body:position: argument #1 'self' must be a body (got seiche.emitter)" },
-        { "e.set(b, {})", "emitter:set: argument #1 'self' must be an emitter (got seiche.body)" },
+        { "b.position()", "body:position: 'self' must be a body (got no value); call methods with a colon: x:position(...)" },
+        { "b.position(e)", "body:position: 'self' must be a body (got seiche.emitter)" },
+        { "e.set(b, {})", "emitter:set: 'self' must be an emitter (got seiche.body)" },
         { "e:set{rate = -1}", "emitter:set: field 'rate' must be a number >= 0" },
         { "e:set{colour = 1}", "emitter:set: field 'colour' must be a colour {r, g, b} with each in [0, 1], or false for none (got 1)" },
-        { "e:set{color = {1, 0, 0}}", "emitter:set: unknown field \"color\"" },
+        { "e:set{color = {1, 0, 0}, colour = {1, 0, 0}}", "emitter:set: give 'colour' or 'color' (two spellings of one field), not both" },
         { "e:set_enabled('on')", "emitter:set_enabled: argument #1 'on' must be true or false (got \"on\")" },
-        { "b:apply_force({1, 2, 0/0})", "body:apply_force: argument #2 'force'.z must be a number in [-1000000000, 1000000000] N (got nan)" },
-        { "b:apply_torque()", "body:apply_torque: argument #2 'torque' must be a table of 3 numbers {x, y, z} in N m (got no value)" },
-        { "b:set_velocity({0, 0, math.huge})", "body:set_velocity: argument #2 'velocity'.z must be a number" },
+        { "b:apply_force({1, 2, 0/0})", "body:apply_force: argument #1 'force'.z must be a number in [-1000000000, 1000000000] N (got nan)" },
+        { "b:apply_torque()", "body:apply_torque: argument #1 'torque' must be a table of 3 numbers {x, y, z} in N m (got no value)" },
+        { "b:set_velocity({0, 0, math.huge})", "body:set_velocity: argument #1 'velocity'.z must be a number" },
         { "b:teleport({0, 0, 0}, {1, 1, 1, 1})", "body:teleport: argument #2: field 'rotation' must be a unit quaternion {x, y, z, w} (length 1; got length 2)" },
         { "b:move_to({0, 0, 0})", "body:move_to: the body is dynamic: move_to drives kinematic bodies" },
         { "k:apply_impulse({0, 1, 0})", "body:apply_impulse: the body is kinematic: forces and impulses move dynamic bodies only" },
         { "k:grab({0, 0, 0})", "body:grab: the body is kinematic: only dynamic bodies can be grabbed" },
-        { "b:velocity_at('here')", "body:velocity_at: argument #2 'point' must be a table of 3 numbers {x, y, z} in m (got \"here\")" },
+        { "b:velocity_at('here')", "body:velocity_at: argument #1 'point' must be a table of 3 numbers {x, y, z} in m (got \"here\")" },
         { "b:set_visible(nil)", "body:set_visible: argument #1 'visible' must be true or false (got nil)" },
         { "b.apply_force = nil", "seiche.body: 'apply_force' is a method and cannot be assigned" },
-        { "t.cancel(b)", "timer:cancel: argument #1 'self' must be a timer (got seiche.body)" },
-        { "local g = b:grab({0, 0, 0}); g:move({0, 0/0, 0})", "grab:move: argument #2 'point'.y must be a number in [-100000, 100000] m (got nan)" },
+        { "t.cancel(b)", "timer:cancel: 'self' must be a timer (got seiche.body)" },
+        { "local g = b:grab({0, 0, 0}); g:move({0, 0/0, 0})", "grab:move: argument #1 'point'.y must be a number in [-100000, 100000] m (got nan)" },
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char code[1024];
@@ -325,6 +325,170 @@ static void removed_handles_raise_attempt_to_use_a_destroyed_object(void **state
             fail_msg("%s\n  want: case.lua:3: %s\n  got:  %s", code, cases[i][2], err);
         eng_script_destroy(s);
     }
+}
+
+// ---- the review of the Lua API: indices, integers, callables, spellings --------------------
+
+// Runs `code` (a main chunk) and fails with its message unless it runs clean.
+static void expect_ok(const char *code)
+{
+    eng_script *s = script();
+    if (run_chunk(s, code) != ENG_SCRIPT_OK) fail_msg("%s\n  refused: %s", code, eng_script_error(s));
+    eng_script_destroy(s);
+}
+
+// Runs `code` and wants an error at case.lua:LINE holding `want`.
+static void expect_error_at(const char *code, int line, const char *want)
+{
+    eng_script *s = script();
+    if (run_chunk(s, code) == ENG_SCRIPT_OK) fail_msg("accepted: %s", code);
+    char where[32];
+    snprintf(where, sizeof where, "case.lua:%d: ", line);
+    const char *err = eng_script_error(s);
+    if (strncmp(err, where, strlen(where)) != 0 || !strstr(err, want))
+        fail_msg("%s\n  want: %s...%s\n  got:  %s", code, where, want, err);
+    eng_script_destroy(s);
+}
+
+static void whole_numbers_come_back_as_integers(void **state)
+{
+    (void)state;
+    expect_ok("local function int(v, what) seiche.check(math.type(v) == 'integer', what .. ' is ' .. tostring(v)) end\n"
+              "local function float(v, what) seiche.check(math.type(v) == 'float', what .. ' is ' .. tostring(v)) end\n"
+              "int(seiche.param('iterations'), 'param iterations')\n"
+              "int(seiche.params().iterations, 'params().iterations')\n"
+              "float(seiche.param('particle_radius'), 'param particle_radius')\n"
+              "float(seiche.params().viscosity, 'params().viscosity')\n"
+              "seiche.set_param('iterations', 3)\n"
+              "seiche.check(seiche.param('iterations') == 3 and math.type(seiche.param('iterations')) == 'integer', 'set')\n"
+              "local c = seiche.coupling()\n"
+              "int(c.force_latency, 'coupling().force_latency')\n"
+              "local st = seiche.stats()\n"
+              "for _, k in ipairs{'particles', 'capacity', 'nan', 'outside', 'overflow', 'step', 'substeps'} do\n"
+              "  int(st[k], 'stats().' .. k)\n"
+              "end\n"
+              "seiche.check(st.step == -1, 'step before the first is -1')\n"
+              "float(st.rho0, 'stats().rho0')\n"
+              "int(seiche.capacity(), 'capacity()')\n"
+              "int(seiche.particle_count(), 'particle_count()')\n");
+}
+
+static void methods_count_their_arguments_without_self(void **state)
+{
+    (void)state;
+    static const char *const setup = "local b = seiche.body{shape = 'box', size = {0.1, 0.1, 0.1}}\n"
+                                     "local e = seiche.emitter{position = {0, 0, 0}}\n";
+    static const char *const cases[][2] = {
+        { "b:apply_force({1, 0})", "body:apply_force: argument #1 'force' must be a table of 3 numbers" },
+        { "b:apply_impulse({0, 0, 1}, {0/0, 0, 0})", "body:apply_impulse: argument #2 'point'.x must be a number" },
+        { "b:grab({0, 0, 0}, -1)", "body:grab: argument #2 'max_force' must be a number in (0, 1000000000] N (got -1)" },
+        { "b:grab('here')", "body:grab: argument #1 'point' must be a table of 3 numbers" },
+        { "b:teleport('there')", "body:teleport: argument #1 'position' must be a table of 3 numbers" },
+        { "b:set_color({1, 1, 2})", "body:set_color: argument #1 'color'.z must be a number in [0, 1] (got 2)" },
+        { "b:set_colour({1, 1, 2})", "body:set_colour: argument #1 'colour'.z must be a number in [0, 1] (got 2)" },
+        { "e:set(5)", "emitter:set: argument #1 must be a table {position, direction" },
+        { "b.position(5)", "body:position: 'self' must be a body (got 5); call methods with a colon" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char code[1024];
+        snprintf(code, sizeof code, "%s%s", setup, cases[i][0]);
+        expect_error_at(code, 3, cases[i][1]);
+    }
+    // seiche.render's density range counts from 1, as Lua does.
+    expect_error_at("seiche.render{density_range = {1.0, 0.9}}", 1,
+                    "seiche.render: field 'density_range'[2] must be greater than density_range[1] (got {1, 0.9})");
+}
+
+static void timers_take_callable_tables_like_callbacks(void **state)
+{
+    (void)state;
+    expect_ok("local callable = setmetatable({}, {__call = function(self, t) end})\n"
+              "local a = seiche.after(1, callable)\n"
+              "local e = seiche.every(0.5, callable)\n"
+              "seiche.check(a:is_valid() and e:is_valid(), 'timers made')\n");
+    expect_error_at("seiche.every(1, {})", 1,
+                    "seiche.every: argument #2 'callback' must be a function or a table with a __call metamethod (got table)");
+    expect_error_at("seiche.after(1, 'later')", 1,
+                    "seiche.after: argument #2 'callback' must be a function or a table with a __call metamethod (got \"later\")");
+}
+
+static void colour_fields_take_both_spellings(void **state)
+{
+    (void)state;
+    expect_ok("local a = seiche.body{shape = 'sphere', radius = 0.1, color = {1, 0, 0}}\n"
+              "local b = seiche.body{shape = 'sphere', radius = 0.1, colour = {0, 1, 0}}\n"
+              "a:set_colour({0, 0, 1}); b:set_color({1, 1, 0})\n"
+              "local e = seiche.emitter{position = {0, 0, 0}, color = {1, 0, 0}}\n"
+              "e:set{colour = {0, 1, 0}}\n"
+              "local g = e:get(); seiche.check(g.colour[2] == 1 and g.color[2] == 1, 'emitter:get gives both')\n"
+              "e:set{color = false}\n"
+              "seiche.colour{min = {0, 0, 0}, max = {1, 1, 1}, color = {1, 0, 0}}\n"
+              "seiche.color{min = {0, 0, 0}, max = {1, 1, 1}, colour = false}\n"
+              "seiche.set_look{light = {colour = {1, 1, 1}}}\n"
+              "seiche.set_look{light = {color = {1, 0.5, 1}}}\n"
+              "seiche.check(seiche.look().light.colour[2] == 0.5 and seiche.look().light.color[2] == 0.5, 'look')\n");
+    static const char *const cases[][2] = {
+        { "seiche.body{shape = 'sphere', radius = 0.1, color = {1, 0, 0}, colour = {1, 0, 0}}",
+          "seiche.body: give 'colour' or 'color' (two spellings of one field), not both" },
+        { "seiche.body{shape = 'sphere', radius = 0.1, colour = {1, 0, 2}}", "seiche.body: field 'colour'.z must be a number in [0, 1] (got 2)" },
+        { "seiche.emitter{position = {0, 0, 0}, color = 1}", "seiche.emitter: field 'color' must be a colour {r, g, b} with each in [0, 1], or false for none (got 1)" },
+        { "seiche.color{min = {0, 0, 0}, max = {1, 1, 1}}", "seiche.color: field 'colour' is required" },
+        { "seiche.colour{min = {0, 0, 0}, max = {1, 1, 1}, color = false, colour = false}", "seiche.colour: give 'colour' or 'color'" },
+        { "seiche.set_look{light = {color = {1, 1, 1}, colour = {1, 1, 1}}}", "seiche.set_look: light: give 'colour' or 'color'" },
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) expect_error_at(cases[i][0], 1, cases[i][1]);
+}
+
+static void particle_lists_are_counted_per_position(void **state)
+{
+    (void)state;
+    expect_error_at("seiche.particles{positions = {{0.1, 0.1, 0.1}, {0.2, 0.1, 0.1}}, velocities = {}}", 1,
+                    "seiche.particles: field 'velocities' must hold one velocity per position (2) (got 0)");
+    expect_error_at("seiche.particles{positions = {{0.1, 0.1, 0.1}}, velocities = {{0, 0, 0}, {0, 0, 0}}}", 1,
+                    "seiche.particles: field 'velocities' must hold one velocity per position (1) (got 2)");
+    expect_error_at("seiche.particles{positions = {{0.1, 0.1, 0.1}}, velocities = {{0, 0/0, 0}}}", 1,
+                    "seiche.particles: field 'velocities'[1].y must be a number");
+}
+
+// A hull the fluid cannot take (more than 256 faces) is refused at the call, with its line.
+static void a_hull_of_too_many_faces_is_refused_at_the_call(void **state)
+{
+    (void)state;
+    // 400 points spread over a sphere: their hull has hundreds of triangles.
+    expect_error_at("local p = {}\n"
+                    "for i = 0, 399 do\n"
+                    "  local y = 1 - 2 * (i + 0.5) / 400; local r = math.sqrt(1 - y * y); local a = i * 2.399963\n"
+                    "  p[#p + 1] = {r * math.cos(a), y, r * math.sin(a)}\n"
+                    "end\n"
+                    "seiche.body{shape = 'hull', points = p}\n", 6,
+                    "seiche.body: field 'points' makes a convex hull of ");
+    expect_error_at("seiche.body{shape = 'hull', points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}}}", 1,
+                    "seiche.body: field 'points': ");
+    // A cube's 8 corners: 6 faces, taken.
+    expect_ok("seiche.body{shape = 'hull', points = {{0,0,0},{1,0,0},{0,1,0},{1,1,0},{0,0,1},{1,0,1},{0,1,1},{1,1,1}}}");
+}
+
+// Lua raises a memory error itself (no message handler runs): the error still starts with the
+// line that asked for the memory.
+static void a_memory_error_lua_raises_has_a_line(void **state)
+{
+    (void)state;
+    eng_script_def d = eng_default_script_def();
+    d.log.min_level = ENG_LOG_ERROR;
+    d.budget_s = 120.0;
+    eng_script *s = eng_script_create(&d);
+    assert_non_null(s);
+    // 200 MiB, then one concatenation of 600 MiB: the allocator refuses it inside the VM.
+    eng_script_status st = run_chunk(s, "local a = string.rep('x', 200 << 20)\n"
+                                        "local b = 1\n"
+                                        "local c = a .. a .. a\n");
+    char err[600];
+    snprintf(err, sizeof err, "%s", eng_script_error(s));
+    eng_script_destroy(s);
+    assert_int_equal(st, ENG_SCRIPT_ERROR);
+    static const char want[] = "case.lua:3: the script's main chunk used more than the script's 512 MiB of memory";
+    if (strncmp(err, want, sizeof want - 1) != 0)
+        fail_msg("want case.lua:3: the script's main chunk used more than ...\n  got:  %s", err);
 }
 
 // ---- the scene description and the queue ------------------------------------------------
@@ -487,6 +651,13 @@ int main(void)
         cmocka_unit_test(method_arguments_are_checked_like_functions),
         cmocka_unit_test(junk_arguments_never_crash_and_name_the_callee),
         cmocka_unit_test(removed_handles_raise_attempt_to_use_a_destroyed_object),
+        cmocka_unit_test(whole_numbers_come_back_as_integers),
+        cmocka_unit_test(methods_count_their_arguments_without_self),
+        cmocka_unit_test(timers_take_callable_tables_like_callbacks),
+        cmocka_unit_test(colour_fields_take_both_spellings),
+        cmocka_unit_test(particle_lists_are_counted_per_position),
+        cmocka_unit_test(a_hull_of_too_many_faces_is_refused_at_the_call),
+        cmocka_unit_test(a_memory_error_lua_raises_has_a_line),
         cmocka_unit_test(main_chunk_describes_the_scene_and_queues_its_edits),
         cmocka_unit_test(parameter_panel_changes_are_checked),
         cmocka_unit_test(missing_file_is_named),

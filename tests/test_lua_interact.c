@@ -98,8 +98,8 @@ static void joint_methods_are_checked(void **state)
         "local r = seiche.joint{kind = 'slider', a = d, axis = {1, 0, 0}}\n"
         "local f = seiche.joint{kind = 'fixed', a = d}\n";
     static const char *const cases[][2] = {
-        { "h.angle()", "joint:angle: argument #1 'self' must be a joint (got no value); call methods with a colon: x:angle(...)" },
-        { "h.angle(d)", "joint:angle: argument #1 'self' must be a joint (got seiche.body)" },
+        { "h.angle()", "joint:angle: 'self' must be a joint (got no value); call methods with a colon: x:angle(...)" },
+        { "h.angle(d)", "joint:angle: 'self' must be a joint (got seiche.body)" },
         { "r:angle()", "joint:angle: the joint is a slider: angle() measures hinges (position() measures sliders)" },
         { "h:position()", "joint:position: the joint is a hinge: position() measures sliders (angle() measures hinges)" },
         { "f:set_motor{speed = 1, max_torque = 1}", "joint:set_motor: the joint is a fixed: only hinges and sliders have a motor" },
@@ -207,13 +207,13 @@ static void mesh_files_are_found_in_the_scene_folder_only(void **state)
     char dir[256];
     make_scene_folder(dir, sizeof dir);
     static const char *const cases[][2] = {
-        { "seiche.body{mesh = '../x_outside.obj'}", "seiche.body: field 'mesh' names a path through '..': \"../x_outside.obj\" (mesh files are found from the folder of the script that names them, in the scene's folder or below" },
-        { "seiche.body{mesh = 'assets/sub/../cube.obj'}", "field 'mesh' names a path through '..'" },
-        { "seiche.body{mesh = '/etc/passwd'}", "seiche.body: field 'mesh' names an absolute path: a scene names its files relative to its own file: \"/etc/passwd\"" },
-        { "seiche.body{mesh = 'assets/missing.obj'}", "seiche.body: field 'mesh' names missing: \"assets/missing.obj\"" },
-        { "seiche.body{mesh = 'assets/link.obj'}", "seiche.body: field 'mesh' names outside the scene's folder (a link?): \"assets/link.obj\"" },
-        { "seiche.body{mesh = 'assets/sub'}", "seiche.body: field 'mesh' names not a regular file: \"assets/sub\"" },
-        { "seiche.body{mesh = ''}", "seiche.body: field 'mesh' names an empty path" },
+        { "seiche.body{mesh = '../x_outside.obj'}", "seiche.body: field 'mesh': \"../x_outside.obj\" is a path through '..' (mesh files are found from the folder of the script that names them, in the scene's folder or below" },
+        { "seiche.body{mesh = 'assets/sub/../cube.obj'}", "field 'mesh': \"assets/sub/../cube.obj\" is a path through '..'" },
+        { "seiche.body{mesh = '/etc/passwd'}", "seiche.body: field 'mesh': \"/etc/passwd\" is an absolute path: a scene names its files relative to its own file" },
+        { "seiche.body{mesh = 'assets/missing.obj'}", "seiche.body: field 'mesh': \"assets/missing.obj\" does not exist" },
+        { "seiche.body{mesh = 'assets/link.obj'}", "seiche.body: field 'mesh': \"assets/link.obj\" lies outside the scene's folder (a link?)" },
+        { "seiche.body{mesh = 'assets/sub'}", "seiche.body: field 'mesh': \"assets/sub\" is not a regular file" },
+        { "seiche.body{mesh = ''}", "seiche.body: field 'mesh': \"\" is an empty path" },
         { "seiche.body{mesh = 5}", "seiche.body: field 'mesh' must be a file name, e.g. \"assets/boat.obj\" (got 5)" },
         { "seiche.body{mesh = 'assets/not_a_mesh.txt'}", "seiche.body: mesh file '" },
         { "seiche.body{mesh = 'assets/cube.obj', shape = 'box'}", "seiche.body: give 'shape' or 'mesh', not both" },
@@ -223,6 +223,7 @@ static void mesh_files_are_found_in_the_scene_folder_only(void **state)
         { "seiche.body{mesh = 'assets/cube.obj', scale = 0}", "seiche.body: field 'scale' must be a number in (0, 1000000] (metres per file unit) (got 0)" },
         { "seiche.body{mesh = 'assets/cube.obj', centre = 'middle'}", "seiche.body: field 'centre' must be one of \"origin\", \"bounds\", \"base\" (got \"middle\")" },
         { "seiche.body{shape = 'box', size = {1, 1, 1}, scale = 2}", "seiche.body: field 'scale' applies to meshes from files only (give mesh = \"file.obj\")" },
+        { "seiche.fill{mesh = 'assets/missing.obj'}", "seiche.fill: field 'mesh': \"assets/missing.obj\" does not exist" },
         { "seiche.fill{}", "seiche.fill: field 'mesh' is required: the file of a closed mesh whose inside to fill" },
         { "seiche.fill{mesh = 'assets/open_box.obj'}", "seiche.fill: mesh 'assets/open_box.obj' has 4 open edges (edges of one triangle only: holes): it has no inside to fill" },
         { "seiche.fill{mesh = 'assets/cube.obj', clearance = -1}", "seiche.fill: field 'clearance' must be a number in [0, 1000] m (got -1)" },

@@ -191,6 +191,14 @@ static int hook_interval(const eng_script *s)
     return used < ((size_t)8 << 20) ? 1000 : used < ((size_t)64 << 20) ? 100 : used < ((size_t)256 << 20) ? 10 : 1;
 }
 
+// The hook's events: the count, and from 64 MiB on every new line too, so that the line of a
+// memory error Lua raises itself is known (budget_hook). Below 64 MiB one allocation would have
+// to ask for most of the limit at once; the count hook's line stands in for it then.
+static int hook_mask(const eng_script *s)
+{
+    return s->memory + s->c_memory < ((size_t)64 << 20) ? LUA_MASKCOUNT : LUA_MASKCOUNT | LUA_MASKLINE;
+}
+
 const char *scr_where(lua_State *L, char *buf, size_t size)
 {
     lua_Debug ar;
@@ -252,11 +260,18 @@ static void check_limits(lua_State *L, eng_script *s)
 
 static void budget_hook(lua_State *L, lua_Debug *ar)
 {
-    (void)ar;
     eng_script *s = scr_state_script(L);
+    // Where the script is, for a memory error Lua raises itself: Lua runs no message handler
+    // for those, and the stack is unwound when the host's pcall returns. The hook runs at
+    // every instruction once the script holds 256 MiB (hook_interval), and at the instruction
+    // after every 4 MiB allocated (limited_alloc), so near the limit this is the line that
+    // asked for the memory.
+    if (lua_getinfo(L, "Sl", ar) && ar->currentline > 0)
+        snprintf(s->hook_where, sizeof s->hook_where, "%s:%d: ", ar->short_src, ar->currentline);
+    if (ar->event == LUA_HOOKLINE) return; // a new line: noted; the count checks the limits
     check_limits(L, s);
-    int want = hook_interval(s);
-    if (lua_gethookcount(L) != want) lua_sethook(L, budget_hook, LUA_MASKCOUNT, want);
+    int want = hook_interval(s), mask = hook_mask(s);
+    if (lua_gethookcount(L) != want || lua_gethookmask(L) != mask) lua_sethook(L, budget_hook, mask, want);
 }
 
 void scr_tick(lua_State *L, eng_script *s, size_t units)
@@ -357,6 +372,7 @@ static eng_script_status run(eng_script *s, int nargs, const char *what)
     s->ticks = 0;
     s->allocated = 0;
     s->thread_depth = 0;
+    s->hook_where[0] = 0;
     int rc = lua_pcall(L, nargs, 0, base);
     s->thread_depth = 0;
     s->frame_used += now_s() - start;
@@ -368,7 +384,12 @@ static eng_script_status run(eng_script *s, int nargs, const char *what)
         snprintf(s->error, sizeof s->error, "%s", same ? msg : s->stop);
         st = s->stop_kind == STOP_CHECK ? ENG_SCRIPT_CHECK_FAILED : ENG_SCRIPT_ERROR;
     } else if (rc == LUA_ERRMEM || (rc != LUA_OK && s->out_of_memory)) {
-        snprintf(s->error, sizeof s->error, "%s: %s used more than the script's %d MiB of memory (%s)", s->path, what,
+        // The line the budget hook saw last (every error's first line is file:line); only an
+        // allocation before the call's first hook has none, and names the file.
+        char where[340];
+        if (s->hook_where[0]) snprintf(where, sizeof where, "%s", s->hook_where);
+        else snprintf(where, sizeof where, "%.300s: ", s->path);
+        snprintf(s->error, sizeof s->error, "%s%s used more than the script's %d MiB of memory (%s)", where, what,
                  (int)(SCR_MEMORY_LIMIT >> 20), msg ? msg : "not enough memory");
     } else if (rc != LUA_OK) {
         if (!msg) msg = "(no message)";
@@ -381,7 +402,7 @@ static eng_script_status run(eng_script *s, int nargs, const char *what)
     s->stop_kind = STOP_NONE;
     s->stop[0] = 0;
     s->out_of_memory = false;
-    lua_sethook(L, budget_hook, LUA_MASKCOUNT, hook_interval(s));
+    lua_sethook(L, budget_hook, hook_mask(s), hook_interval(s));
     return st;
 }
 
@@ -458,6 +479,7 @@ void eng_script_destroy(eng_script *s)
     free(s->events);
     free(s->contacts);
     free(s->hits);
+    if (s->hull_world) phys_world_destroy(s->hull_world);
     free(s);
 }
 

@@ -60,13 +60,44 @@ void scr_clear_commands(eng_script *s)
 
 eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, ...)
 {
-    char msg[2048];
+    char msg[2048], lua[2048];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    snprintf(s->error, sizeof s->error, "%s%s: %s", c->where, c->fn, msg);
+    // Refusals often carry the C API's message: the script reads its own names.
+    snprintf(s->error, sizeof s->error, "%s%s: %s", c->where, c->fn, scr_lua_wording(msg, lua, sizeof lua));
     return ENG_SCRIPT_ERROR;
+}
+
+// A point the fluid would refuse for lying outside its domain, in the script's words ("field
+// 'max'.x must be in [0, 1] m, inside the domain (got 5)"): the bindings check it when the world
+// exists, and applying checks it again (an edit queued by the main chunk meets the domain here).
+// s->config's domain is the world's once it is built (the app writes it back).
+bool scr_domain_check(const eng_script *s, const float p[3], const char *what, char *msg, size_t size)
+{
+    static const char axis[] = "xyz";
+    const eng_scene_config *c = &s->config;
+    for (int k = 0; k < 3; k++)
+        if (!(p[k] >= c->domain_min[k] && p[k] <= c->domain_max[k])) {
+            char a[32], b[32], v[32];
+            snprintf(msg, size, "%s.%c must be in [%s, %s] m, inside the domain (got %s)", what, axis[k],
+                     scr_fmt_number(c->domain_min[k], a, sizeof a), scr_fmt_number(c->domain_max[k], b, sizeof b),
+                     scr_fmt_number(p[k], v, sizeof v));
+            return false;
+        }
+    return true;
+}
+
+bool scr_points_domain_check(const eng_script *s, const float *points, uint32_t n, const char *field, char *msg,
+                             size_t size)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        char what[96];
+        snprintf(what, sizeof what, "field '%s'[%u]", field, i + 1); // Lua counts from 1
+        if (!scr_domain_check(s, points + 3 * (size_t)i, what, msg, size)) return false;
+    }
+    return true;
 }
 
 static eng_script_status apply_body_add(eng_script *s, const command *c, obj *o)
@@ -256,9 +287,14 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     phys_world *pw = s->host.phys;
     obj *o = c->slot || c->gen ? scr_obj_at(s, c->slot, c->gen) : NULL;
     switch (c->type) {
-    case CMD_BLOCK:
+    case CMD_BLOCK: {
+        char msg[256];
+        if (!scr_domain_check(s, c->u.block.min, "field 'min'", msg, sizeof msg) ||
+            !scr_domain_check(s, c->u.block.max, "field 'max'", msg, sizeof msg))
+            return scr_refuse(s, c, "%s", msg);
         if (pbf_world_add_block(fw, &c->u.block, NULL) != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
+    }
     case CMD_SPHERE: {
         const pbf_params *p = pbf_world_params(fw);
         float sp = 2.0f * p->particle_radius, r = c->u.sphere.radius;
@@ -299,11 +335,15 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         if (pr != PBF_OK) return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
     }
-    case CMD_PARTICLES:
+    case CMD_PARTICLES: {
+        char msg[256];
+        if (!scr_points_domain_check(s, c->u.particles.pos, c->u.particles.n, "positions", msg, sizeof msg))
+            return scr_refuse(s, c, "%s", msg);
         if (c->u.particles.n &&
             pbf_world_add_particles(fw, c->u.particles.pos, c->u.particles.vel, c->u.particles.n) != PBF_OK)
             return scr_refuse(s, c, "%s", pbf_world_last_error(fw));
         break;
+    }
     case CMD_EMITTER_ADD:
     case CMD_EMITTER_SET: {
         if (!o) break; // removed before it was applied
@@ -311,10 +351,12 @@ static eng_script_status apply_one(eng_script *s, const command *c)
         const pbf_emitter_def *d = &full;
         float max_rate = pbf_emitter_max_rate(fw, d->speed, d->radius);
         if (c->full_rate) full.rate = max_rate;
-        if (d->rate > max_rate * 1.0001f)
-            return scr_refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %g); %g is the most a nozzle "
+        char msg[256], got[32];
+        if (!scr_domain_check(s, d->position, "field 'position'", msg, sizeof msg)) return scr_refuse(s, c, "%s", msg);
+        if (d->rate > max_rate * 1.0001f) // worded as the binding's own check (wrap_emitter.c)
+            return scr_refuse(s, c, "field 'rate' must be a number in [0, %g] particles/s (got %s); %g is the most a nozzle "
                           "of radius %g m pours at speed %g m/s: raise speed or radius for more", (double)max_rate,
-                          (double)d->rate, (double)max_rate, (double)d->radius, (double)d->speed);
+                          scr_fmt_number(d->rate, got, sizeof got), (double)max_rate, (double)d->radius, (double)d->speed);
         pbf_result r = c->type == CMD_EMITTER_ADD ? pbf_world_add_emitter(fw, d, &o->u.emitter.id)
                                                   : pbf_world_set_emitter(fw, o->u.emitter.id, d);
         if (r == PBF_OK) r = pbf_world_set_emitter_tint(fw, o->u.emitter.id, c->tinted ? c->tint : NULL);

@@ -38,7 +38,7 @@ int scr_raise(lua_State *L, const char *fmt, ...)
 // Every message names the function, the field or argument, the value given and what is
 // allowed: "seiche.emitter: field 'rate' must be a number in [0, 1e+06] particles/s (got -5)".
 
-static const char *fmt_number(double v, char *buf, size_t size)
+const char *scr_fmt_number(double v, char *buf, size_t size)
 {
     if (isnan(v)) snprintf(buf, size, "nan");
     else if (isinf(v)) snprintf(buf, size, v > 0 ? "inf" : "-inf");
@@ -55,7 +55,7 @@ const char *scr_describe(lua_State *L, int idx, char *buf, size_t size)
     int t = lua_type(L, idx);
     if (t == LUA_TNUMBER) {
         if (lua_isinteger(L, idx)) snprintf(buf, size, "%lld", (long long)lua_tointeger(L, idx));
-        else fmt_number(lua_tonumber(L, idx), buf, size);
+        else scr_fmt_number(lua_tonumber(L, idx), buf, size);
     } else if (t == LUA_TSTRING) {
         snprintf(buf, size, "\"%.40s%s\"", lua_tostring(L, idx), lua_rawlen(L, idx) > 40 ? "..." : "");
     } else if (t == LUA_TBOOLEAN) {
@@ -75,8 +75,8 @@ static const char *range_text(double lo, double hi, int flags, const char *unit,
     char a[32], b[32];
     const char *kind = flags & WHOLE ? "a whole number" : "a number";
     if (lo <= -1e30 && hi >= 1e30) snprintf(buf, size, "a finite number%s%s%s", unit && *unit ? " (" : "", unit ? unit : "", unit && *unit ? ")" : "");
-    else snprintf(buf, size, "%s in %c%s, %s%c%s%s", kind, flags & OPEN_LO ? '(' : '[', fmt_number(lo, a, sizeof a),
-                  fmt_number(hi, b, sizeof b), flags & OPEN_HI ? ')' : ']', unit && *unit ? " " : "", unit ? unit : "");
+    else snprintf(buf, size, "%s in %c%s, %s%c%s%s", kind, flags & OPEN_LO ? '(' : '[', scr_fmt_number(lo, a, sizeof a),
+                  scr_fmt_number(hi, b, sizeof b), flags & OPEN_HI ? ')' : ']', unit && *unit ? " " : "", unit ? unit : "");
     return buf;
 }
 
@@ -132,11 +132,20 @@ double scr_req_number(lua_State *L, int t, const char *fn, const char *field, do
     return v;
 }
 
+// The number a message gives argument `idx` of `fn`: Lua's convention, as luaL_argerror
+// follows it, counts a method's arguments without self ("body:grab": stack index 2 is #1).
+int scr_arg_position(const char *fn, int idx)
+{
+    size_t name = strcspn(fn, " ");                          // "body:grab", not "seiche.scene: domain"
+    const char *colon = memchr(fn, ':', name);
+    return colon && colon + 1 < fn + name ? idx - 1 : idx;
+}
+
 double scr_arg_number(lua_State *L, int idx, const char *fn, const char *name, double lo, double hi, int flags,
                       const char *unit)
 {
     char what[96];
-    snprintf(what, sizeof what, "argument #%d '%s'", idx, name);
+    snprintf(what, sizeof what, "argument #%d '%s'", scr_arg_position(fn, idx), name);
     return scr_check_number_at(L, idx, fn, what, lo, hi, flags, unit);
 }
 
@@ -194,7 +203,7 @@ void scr_arg_vec(lua_State *L, int idx, const char *fn, const char *name, double
                  float out[3])
 {
     char what[96];
-    snprintf(what, sizeof what, "argument #%d '%s'", idx, name);
+    snprintf(what, sizeof what, "argument #%d '%s'", scr_arg_position(fn, idx), name);
     scr_check_vec_at(L, idx, fn, what, 3, lo, hi, 0, unit, out);
 }
 
@@ -211,6 +220,20 @@ bool scr_opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *
 bool scr_opt_color(lua_State *L, int t, const char *fn, const char *field, float out[3])
 {
     return scr_opt_vec(L, t, fn, field, 3, 0.0, 1.0, 0, "", out);
+}
+
+// Which spelling of a colour field table t gives: "colour", "color" (the same field), or NULL
+// for neither; a table that gives both is refused.
+const char *scr_colour_field(lua_State *L, int t, const char *fn)
+{
+    lua_getfield(L, t, "colour");
+    bool british = !lua_isnil(L, -1);
+    lua_getfield(L, t, "color");
+    bool american = !lua_isnil(L, -1);
+    lua_pop(L, 2);
+    if (british && american)
+        scr_raise(L, "%s: give 'colour' or 'color' (two spellings of one field), not both", fn);
+    return british ? "colour" : american ? "color" : NULL;
 }
 
 // A water tint: {r, g, b} each in [0, 1] (*tinted = true) or false (no tint: the height
@@ -255,7 +278,8 @@ void scr_check_table_arg(lua_State *L, int idx, const char *fn, const char *fiel
 {
     char got[64];
     if (!lua_istable(L, idx))
-        scr_raise(L, "%s: argument #%d must be a table {%s} (got %s)", fn, idx, fields, scr_describe(L, idx, got, sizeof got));
+        scr_raise(L, "%s: argument #%d must be a table {%s} (got %s)", fn, scr_arg_position(fn, idx), fields,
+                  scr_describe(L, idx, got, sizeof got));
 }
 
 // A field that must hold a table: "fn: field 'name' must be a table {fields} (got ...)".
@@ -370,6 +394,38 @@ float *scr_read_point_list(lua_State *L, int t, const char *fn, const char *fiel
     return out;
 }
 
+// A message of the C API (pbf_, cpl_, phys_) in the script's words: a leading C function or
+// struct name ("pbf_world_add_particles: ", "cpl_add_body: ") is dropped and a struct field
+// ("pbf_params.iterations", "pbf_emitter_def.radius") becomes the Lua field ("field 'radius'").
+const char *scr_lua_wording(const char *msg, char *out, size_t size)
+{
+    static const char *const prefixes[] = { "pbf_", "cpl_", "phys_" };
+    size_t n = 0;
+    const char *p = msg;
+    for (int i = 0; i < 3; i++) { // a leading "name: "
+        size_t len = strlen(prefixes[i]);
+        if (strncmp(p, prefixes[i], len) != 0) continue;
+        size_t id = strspn(p, "abcdefghijklmnopqrstuvwxyz_0123456789");
+        if (p[id] == ':' && p[id + 1] == ' ') p += id + 2;
+    }
+    while (*p && n + 1 < size) {
+        bool at_word = p == msg || !(p[-1] == '_' || (p[-1] >= 'a' && p[-1] <= 'z'));
+        size_t id = at_word && (strncmp(p, "pbf_", 4) == 0 || strncmp(p, "cpl_", 4) == 0 || strncmp(p, "phys_", 5) == 0)
+                        ? strspn(p, "abcdefghijklmnopqrstuvwxyz_0123456789")
+                        : 0;
+        size_t field = id && p[id] == '.' ? strspn(p + id + 1, "abcdefghijklmnopqrstuvwxyz_0123456789") : 0;
+        if (field > 1) { // "pbf_block_def.velocity" -> "field 'velocity'" (one letter is an axis, not a field)
+            n += (size_t)snprintf(out + n, size - n, "field '%.*s'", (int)field, p + id + 1);
+            if (n >= size) n = size - 1;
+            p += id + 1 + field;
+            continue;
+        }
+        out[n++] = *p++;
+    }
+    out[n] = 0;
+    return out;
+}
+
 // ---- small vector and quaternion helpers ------------------------------------------------
 
 void scr_quat_mul(const float a[4], const float b[4], float out[4])
@@ -423,6 +479,18 @@ void scr_set_num(lua_State *L, const char *k, double v)
 {
     lua_pushnumber(L, v);
     lua_setfield(L, -2, k);
+}
+
+void scr_set_int(lua_State *L, const char *k, lua_Integer v)
+{
+    lua_pushinteger(L, v);
+    lua_setfield(L, -2, k);
+}
+
+void scr_push_value(lua_State *L, double v, bool whole)
+{
+    if (whole && v == floor(v) && fabs(v) < 9.0e15) lua_pushinteger(L, (lua_Integer)v);
+    else lua_pushnumber(L, v);
 }
 
 // ---- objects and handles --------------------------------------------------------------
@@ -528,7 +596,7 @@ obj *scr_check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_
     handle *h = luaL_testudata(L, 1, scr_kind_meta[kind]);
     if (!h) {
         char got[64];
-        scr_raise(L, "%s: argument #1 'self' must be %s %s (got %s); call methods with a colon: x:%s(...)", fn,
+        scr_raise(L, "%s: 'self' must be %s %s (got %s); call methods with a colon: x:%s(...)", fn,
                   kind == OBJ_EMITTER ? "an" : "a", scr_kind_name[kind], scr_describe(L, 1, got, sizeof got), strchr(fn, ':') + 1);
     }
     obj *o = scr_obj_at(s, h->slot, h->generation);

@@ -283,6 +283,12 @@ struct eng_script {
     // seiche.text (wrap_look.c): what the HUD shows this frame (ENG_SCRIPT_MAX_TEXTS at most).
     eng_script_text *texts;
     int text_count;
+    // A Bullet world of no bodies where seiche.body builds a hull to count its faces before the
+    // scene's world exists (wrap_body.c); made on first use.
+    phys_world *hull_world;
+    // "file:line: " of the instruction the budget hook last ran at (script.c): where a memory
+    // error that Lua raises itself (no message handler runs for it) happened.
+    char hook_where[320];
 };
 
 // ---- registration (script.c) -----------------------------------------------------------
@@ -397,6 +403,10 @@ int scr_raise(lua_State *L, const char *fmt, ...)
 #endif
     ;
 const char *scr_describe(lua_State *L, int idx, char *buf, size_t size);
+/// A number as messages write it: whole numbers in full ("1000000000"), others in %g style.
+const char *scr_fmt_number(double v, char *buf, size_t size);
+/// The number messages give argument `idx` of `fn`: a method ("body:grab") does not count self.
+int scr_arg_position(const char *fn, int idx);
 double scr_check_number_at(lua_State *L, int idx, const char *fn, const char *what, double lo, double hi, int flags,
                            const char *unit);
 bool scr_field_present(lua_State *L, int t, const char *field);
@@ -416,6 +426,9 @@ void scr_arg_vec(lua_State *L, int idx, const char *fn, const char *name, double
                  float out[3]);
 bool scr_opt_bool(lua_State *L, int t, const char *fn, const char *field, bool *out);
 bool scr_opt_color(lua_State *L, int t, const char *fn, const char *field, float out[3]);
+/// "colour" or "color" (both spellings name one field), whichever table t gives, or NULL;
+/// raises when it gives both.
+const char *scr_colour_field(lua_State *L, int t, const char *fn);
 bool scr_opt_tint(lua_State *L, int t, const char *fn, const char *field, bool *tinted, float rgb[3]);
 int scr_opt_enum(lua_State *L, int t, const char *fn, const char *field, const char *const *names, int n);
 void scr_check_table_arg(lua_State *L, int idx, const char *fn, const char *fields);
@@ -426,6 +439,10 @@ void scr_read_box(lua_State *L, int t, const char *fn, float mn[3], float mx[3])
 float *scr_read_point_list(lua_State *L, int t, const char *fn, const char *field, double lo, double hi,
                            const char *unit, uint32_t *n_out, uint32_t min_n, uint32_t max_n);
 
+/// A C API message (pbf_, cpl_, phys_) in the script's words: no leading C function name, struct
+/// fields as Lua fields ("pbf_emitter_def.radius" -> "field 'radius'"). Returns out.
+const char *scr_lua_wording(const char *msg, char *out, size_t size);
+
 void scr_quat_mul(const float a[4], const float b[4], float out[4]);
 void scr_quat_rotate(const float q[4], const float v[3], float out[3]);
 static inline phys_vec3 scr_pv(const float v[3]) { return (phys_vec3){ v[0], v[1], v[2] }; }
@@ -433,6 +450,10 @@ static inline phys_quat scr_pq(const float q[4]) { return (phys_quat){ q[0], q[1
 void scr_push_vec3(lua_State *L, double x, double y, double z);
 void scr_push_quat(lua_State *L, const float q[4]);
 void scr_set_num(lua_State *L, const char *k, double v);
+/// A count or other whole number: a Lua integer (2, not 2.0).
+void scr_set_int(lua_State *L, const char *k, lua_Integer v);
+/// Pushes v as an integer when `whole` (an integer-valued setting), else as a float.
+void scr_push_value(lua_State *L, double v, bool whole);
 
 obj *scr_obj_at(eng_script *s, uint32_t slot, uint32_t gen);
 uint32_t scr_obj_new(lua_State *L, eng_script *s, obj_kind kind);
@@ -461,6 +482,13 @@ eng_script_status scr_refuse(eng_script *s, const command *c, const char *fmt, .
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+/// Whether point p lies inside the world's domain; else "WHAT.x must be in [a, b] m, inside the
+/// domain (got v)" into msg. scr_points_domain_check: each of n points, named "field 'FIELD'[i]"
+/// with Lua's 1-based i.
+bool scr_domain_check(const eng_script *s, const float p[3], const char *what, char *msg, size_t size);
+bool scr_points_domain_check(const eng_script *s, const float *points, uint32_t n, const char *field, char *msg,
+                             size_t size);
 
 // ---- events (wrap_events.c) ------------------------------------------------------------------
 

@@ -38,9 +38,36 @@ static double shape_volume(const body_rec *b)
 static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", "normal", "offset", "points", "vertices",
                                            "indices", "kind", "density", "mass", "position", "rotation", "velocity",
                                            "angular_velocity", "friction", "restitution", "linear_damping",
-                                           "angular_damping", "two_way", "measure_force", "color", "visible", "parts",
+                                           "angular_damping", "two_way", "measure_force", "colour", "color", "visible",
+                                           "parts",
                                            "linear_factor", "angular_factor", "axle", "mesh", "scale", "centre",
                                            "hull_points", NULL };
+
+// A hull is checked at the call, so that its error carries the call's line: Bullet builds it (in
+// the scene's world, or before that exists in a world of its own) and the fluid's hull collider
+// takes at most PBF_MAX_HULL_PLANES faces (cpl_add_body would refuse it when applied).
+static void check_hull(lua_State *L, eng_script *s, const float *pts, uint32_t n)
+{
+    phys_world *w = s->host.phys;
+    if (!w) {
+        if (!s->hull_world) {
+            phys_world_def d = phys_default_world_def();
+            if (phys_world_create(&d, &s->hull_world) != PHYS_OK) return; // then applying says what is wrong
+        }
+        w = s->hull_world;
+    }
+    phys_convex_hull h = { (const phys_vec3 *)pts, n };
+    phys_shape_id id;
+    char lua[512];
+    if (phys_shape_create_convex_hull(w, &h, &id) != PHYS_OK)
+        scr_raise(L, "seiche.body: field 'points': %s", scr_lua_wording(phys_world_last_error(w), lua, sizeof lua));
+    phys_shape_desc d;
+    uint32_t faces = phys_shape_get_desc(w, id, &d) == PHYS_OK ? d.hull.plane_count : 0;
+    phys_shape_destroy(w, id);
+    if (faces > PBF_MAX_HULL_PLANES)
+        scr_raise(L, "seiche.body: field 'points' makes a convex hull of %u faces; the fluid takes at most %d (give fewer "
+                  "points, or points on fewer faces)", faces, PBF_MAX_HULL_PLANES);
+}
 
 // The fields each shape takes (besides the common ones).
 static void check_shape_fields(lua_State *L, body_shape shape)
@@ -199,7 +226,7 @@ static int l_body(lua_State *L)
 
     // Common fields.
     double v;
-    bool has_mass = scr_opt_number(L, 1, fn, "mass", 0, 1e9, OPEN_LO, "kg", &v);
+    bool has_mass = scr_opt_number(L, 1, fn, "mass", 0, PHYS_MAX_MASS, OPEN_LO, "kg", &v);
     if (has_mass) b.def.mass = (float)v;
     bool has_density = scr_opt_number(L, 1, fn, "density", 0, 1e6, OPEN_LO, "kg/m^3", &v);
     if (has_density) b.def.density = (float)v;
@@ -247,7 +274,8 @@ static int l_body(lua_State *L)
     if (b.has_factors && kind != PHYS_BODY_DYNAMIC)
         scr_raise(L, "seiche.body: fields 'axle', 'linear_factor' and 'angular_factor' apply to dynamic bodies only (this "
                   "one is %s)", scr_body_kind_name[kind]);
-    bool has_color = scr_opt_color(L, 1, fn, "color", b.color);
+    const char *colour = scr_colour_field(L, 1, fn);
+    bool has_color = colour && scr_opt_color(L, 1, fn, colour, b.color);
     scr_opt_bool(L, 1, fn, "visible", &b.visible);
 
     // The shape. Point lists stay in garbage-collected userdata until everything is checked.
@@ -276,6 +304,7 @@ static int l_body(lua_State *L)
         const char *field = b.shape == SHAPE_HULL ? "points" : "vertices";
         pts = scr_read_point_list(L, 1, fn, field, -MAX_COORD, MAX_COORD, "m", &b.point_count, b.shape == SHAPE_HULL ? 4 : 3,
                                   65536);
+        if (b.shape == SHAPE_HULL) check_hull(L, s, pts, b.point_count);
         if (b.shape == SHAPE_MESH) {
             if (!scr_field_present(L, 1, "indices"))
                 scr_raise(L, "seiche.body: field 'indices' is required for a mesh: vertex numbers (1-based), three per triangle");
@@ -304,9 +333,10 @@ static int l_body(lua_State *L)
     }
     if (kind == PHYS_BODY_DYNAMIC && !has_mass && b.shape != SHAPE_HULL) {
         double m = shape_volume(&b) * b.def.density;
-        if (!(m > 0.0 && m <= 1e9))
-            scr_raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside (0, 1e9] kg",
-                      (double)b.def.density, shape_volume(&b), m);
+        if (!(m > 0.0 && m <= PHYS_MAX_MASS))
+            scr_raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside (0, %g] kg "
+                      "(Bullet lets heavier bodies fall through static ones)",
+                      (double)b.def.density, shape_volume(&b), m, (double)PHYS_MAX_MASS);
     }
 
     // The shape's data counts against the script's memory: refused before anything is made.
@@ -632,20 +662,23 @@ static int m_body_teleport(lua_State *L)
     return 0;
 }
 
-static int m_body_set_color(lua_State *L)
+// body:set_colour and body:set_color: one method, two spellings (as the field).
+static int set_colour(lua_State *L, const char *fn, const char *what)
 {
     eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = scr_check_self(L, OBJ_BODY, "body:set_color", &slot);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot);
     float c3[3];
-    char what[] = "argument #1 'color'";
-    scr_check_vec_at(L, 2, "body:set_color", what, 3, 0.0, 1.0, 0, "", c3);
+    scr_check_vec_at(L, 2, fn, what, 3, 0.0, 1.0, 0, "", c3);
     memcpy(o->u.body.color, c3, sizeof c3);
-    command *c = scr_push_command(L, s, CMD_BODY_LOOK, "body:set_color");
+    command *c = scr_push_command(L, s, CMD_BODY_LOOK, fn);
     c->slot = slot;
     c->gen = o->generation;
     return 0;
 }
+
+static int m_body_set_color(lua_State *L) { return set_colour(L, "body:set_color", "argument #1 'color'"); }
+static int m_body_set_colour(lua_State *L) { return set_colour(L, "body:set_colour", "argument #1 'colour'"); }
 
 static int m_body_set_visible(lua_State *L)
 {
@@ -853,7 +886,7 @@ static const luaL_Reg body_methods[] = {
     { "apply_impulse", m_body_apply_impulse }, { "apply_angular_impulse", m_body_apply_angular_impulse },
     { "set_velocity", m_body_set_velocity }, { "set_angular_velocity", m_body_set_angular_velocity },
     { "move_to", m_body_move_to }, { "teleport", m_body_teleport }, { "set_color", m_body_set_color },
-    { "set_visible", m_body_set_visible }, { "grab", m_body_grab }, { "destroy", m_body_destroy },
+    { "set_colour", m_body_set_colour }, { "set_visible", m_body_set_visible }, { "grab", m_body_grab }, { "destroy", m_body_destroy },
     { "is_valid", scr_is_valid }, { NULL, NULL },
 };
 

@@ -12,10 +12,14 @@
 static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf_emitter_def *d, bool full_rate,
                          bool *tinted, float tint[3])
 {
-    static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", "colour", NULL };
+    static const char *const known[] = { "position", "direction", "speed", "rate", "radius", "enabled", "colour", "color", NULL };
     scr_check_fields(L, t, fn, known);
-    scr_opt_tint(L, t, fn, "colour", tinted, tint);
+    const char *colour = scr_colour_field(L, t, fn);
+    if (colour) scr_opt_tint(L, t, fn, colour, tinted, tint);
     scr_opt_position(L, t, fn, "position", d->position);
+    char msg[256];
+    if (s->host.world && !scr_domain_check(s, d->position, "field 'position'", msg, sizeof msg))
+        scr_raise(L, "%s: %s", fn, msg);
     float dir[3];
     if (scr_opt_vec(L, t, fn, "direction", 3, -1e6, 1e6, 0, "", dir)) {
         if (!(fabsf(dir[0]) + fabsf(dir[1]) + fabsf(dir[2]) > 0.0f))
@@ -45,8 +49,10 @@ static bool read_emitter(lua_State *L, eng_script *s, int t, const char *fn, pbf
         return true;
     } else if (!full_rate && s->host.world && d->rate > pbf_emitter_max_rate(s->host.world, d->speed, d->radius) * 1.0001) {
         double max_rate = pbf_emitter_max_rate(s->host.world, d->speed, d->radius);
-        scr_raise(L, "%s: the rate %g particles/s is more than a nozzle of radius %g m pours at speed %g m/s (at most %g); "
-                  "raise speed or radius, or lower rate", fn, (double)d->rate, (double)d->radius, (double)d->speed, max_rate);
+        char got[32];
+        scr_raise(L, "%s: the rate %s particles/s is more than a nozzle of radius %g m pours at speed %g m/s (at most %g); "
+                  "raise speed or radius, or lower rate", fn, scr_fmt_number(d->rate, got, sizeof got), (double)d->radius,
+                  (double)d->speed, max_rate);
     }
     scr_opt_bool(L, t, fn, "enabled", &d->enabled);
     return false;
@@ -137,7 +143,9 @@ static int m_emitter_get(lua_State *L)
     lua_setfield(L, -2, "enabled");
     if (o->u.emitter.tinted) scr_push_vec3(L, o->u.emitter.tint[0], o->u.emitter.tint[1], o->u.emitter.tint[2]);
     else lua_pushboolean(L, false);
-    lua_setfield(L, -2, "colour");
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, "colour");
+    lua_setfield(L, -2, "color"); // both spellings, as the fields take them
     return 1;
 }
 

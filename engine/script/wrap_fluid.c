@@ -35,7 +35,9 @@ static int l_set_param(lua_State *L)
     double v = scr_check_number_at(L, 2, fn, what, info->min, info->max, info->is_int ? WHOLE : 0, info->unit);
     pbf_params p = *scr_current_params(s);
     char err[512];
-    if (pbf_params_set(&p, info->name, v, err, sizeof err) != PBF_OK) scr_raise(L, "%s: %s", fn, err);
+    char lua[512];
+    if (pbf_params_set(&p, info->name, v, err, sizeof err) != PBF_OK)
+        scr_raise(L, "%s: %s", fn, scr_lua_wording(err, lua, sizeof lua));
     if (!s->host.world) { // main chunk: part of the scene description
         s->config.params = p;
         return 0;
@@ -51,7 +53,7 @@ static int l_param(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
     const pbf_param_info *info = check_param_name(L, 1, "seiche.param");
-    lua_pushnumber(L, pbf_params_get(scr_current_params(s), info));
+    scr_push_value(L, pbf_params_get(scr_current_params(s), info), info->is_int);
     return 1;
 }
 
@@ -62,7 +64,10 @@ static int l_params(lua_State *L)
     const pbf_param_info *tab = pbf_param_table(&n);
     const pbf_params *p = scr_current_params(s);
     lua_createtable(L, 0, n);
-    for (int i = 0; i < n; i++) scr_set_num(L, tab[i].name, pbf_params_get(p, &tab[i]));
+    for (int i = 0; i < n; i++) {
+        scr_push_value(L, pbf_params_get(p, &tab[i]), tab[i].is_int);
+        lua_setfield(L, -2, tab[i].name);
+    }
     return 1;
 }
 
@@ -120,7 +125,9 @@ static int l_coupling(lua_State *L)
             int flags = (tab[i].is_int ? WHOLE : 0) | (tab[i].open_min ? OPEN_LO : 0);
             if (!scr_opt_number(L, 1, fn, tab[i].name, tab[i].min, tab[i].max, flags, tab[i].unit, &v)) continue;
             char err[256];
-            if (cpl_def_set(&d, tab[i].name, v, err, sizeof err) != CPL_OK) scr_raise(L, "%s: %s", fn, err);
+            char lua[256];
+            if (cpl_def_set(&d, tab[i].name, v, err, sizeof err) != CPL_OK)
+                scr_raise(L, "%s: %s", fn, scr_lua_wording(err, lua, sizeof lua));
         }
         s->config.coupling = d;
         return 0;
@@ -130,7 +137,10 @@ static int l_coupling(lua_State *L)
     const cpl_def *d = s->host.coupling && cpl_get_def(s->host.coupling, &live) == CPL_OK ? &live
                                                                                         : &scr_config_view(s)->coupling;
     lua_createtable(L, 0, n);
-    for (int i = 0; i < n; i++) scr_set_num(L, tab[i].name, cpl_def_get(d, &tab[i]));
+    for (int i = 0; i < n; i++) {
+        scr_push_value(L, cpl_def_get(d, &tab[i]), tab[i].is_int);
+        lua_setfield(L, -2, tab[i].name);
+    }
     return 1;
 }
 
@@ -150,6 +160,10 @@ static int l_block(lua_State *L)
     pbf_block_def b = pbf_default_block_def();
     scr_read_box(L, 1, "seiche.block", b.min, b.max);
     check_velocity_field(L, 1, "seiche.block", "velocity", b.velocity);
+    char msg[256];
+    if (s->host.world && (!scr_domain_check(s, b.min, "field 'min'", msg, sizeof msg) ||
+                          !scr_domain_check(s, b.max, "field 'max'", msg, sizeof msg)))
+        scr_raise(L, "seiche.block: %s", msg);
     command *c = scr_push_command(L, s, CMD_BLOCK, "seiche.block");
     c->u.block = b;
     return 0;
@@ -186,11 +200,20 @@ static int l_particles(lua_State *L)
     lua_getfield(L, 1, "velocities");
     bool has_list = !lua_isnil(L, -1);
     lua_pop(L, 1);
+    char msg[256];
+    if (s->host.world && !scr_points_domain_check(s, pos, n, "positions", msg, sizeof msg))
+        scr_raise(L, "seiche.particles: %s", msg);
     if (has_list) {
         lua_getfield(L, 1, "velocity");
         bool both = !lua_isnil(L, -1);
         lua_pop(L, 1);
         if (both) scr_raise(L, "seiche.particles: give either 'velocities' (one per point) or 'velocity' (one for all), not both");
+        lua_getfield(L, 1, "velocities");
+        lua_Integer nv_given = lua_istable(L, -1) ? luaL_len(L, -1) : -1;
+        lua_pop(L, 1);
+        if (nv_given >= 0 && nv_given != (lua_Integer)n)
+            scr_raise(L, "seiche.particles: field 'velocities' must hold one velocity per position (%u) (got %lld)", n,
+                      (long long)nv_given);
         vel = scr_read_point_list(L, 1, "seiche.particles", "velocities", -MAX_SPEED, MAX_SPEED, "m/s", &nv, n, n);
     } else {
         check_velocity_field(L, 1, "seiche.particles", "velocity", v);

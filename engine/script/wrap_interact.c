@@ -14,9 +14,16 @@ static int new_timer(lua_State *L, const char *fn, bool repeat)
 {
     eng_script *s = scr_get_script(L);
     double d = scr_arg_number(L, 1, fn, repeat ? "period" : "delay", repeat ? 0 : 0, 1e9, repeat ? OPEN_LO : 0, "s");
+    // As the runner's callbacks (script.c, call_callback): a function, or a value with __call.
     char got[64];
-    if (!lua_isfunction(L, 2))
-        scr_raise(L, "%s: argument #2 'callback' must be a function (got %s)", fn, scr_describe(L, 2, got, sizeof got));
+    bool callable = lua_isfunction(L, 2);
+    if (!callable && luaL_getmetafield(L, 2, "__call") != LUA_TNIL) {
+        lua_pop(L, 1);
+        callable = true;
+    }
+    if (!callable)
+        scr_raise(L, "%s: argument #2 'callback' must be a function or a table with a __call metamethod (got %s)", fn,
+                  scr_describe(L, 2, got, sizeof got));
     scr_timer_reserve(L, s);
     uint32_t slot = scr_obj_new(L, s, OBJ_TIMER);
     obj *o = &s->objs[slot];

@@ -43,15 +43,20 @@ static int l_text(lua_State *L)
     eng_script_text t = { .x = (float)x, .y = (float)y, .size = 20.0f, .colour = { 1, 1, 1, 1 } };
     if (!lua_isnoneornil(L, 4)) {
         scr_check_table_arg(L, 4, fn, "size, colour");
-        static const char *const known[] = { "size", "colour", NULL };
+        static const char *const known[] = { "size", "colour", "color", NULL };
         scr_check_fields(L, 4, fn, known);
         double v;
         if (scr_opt_number(L, 4, fn, "size", 4.0, 256.0, 0, "pixels", &v)) t.size = (float)v;
-        if (scr_field_present(L, 4, "colour")) {
+        const char *colour = scr_colour_field(L, 4, fn);
+        if (colour) {
+            lua_getfield(L, 4, colour);
             int n = lua_istable(L, -1) ? (int)lua_rawlen(L, -1) : 0;
+            if (n != 3 && n != 4)
+                scr_raise(L, "%s: field '%s' must be a colour {r, g, b} or {r, g, b, a} (alpha), each a number in [0, 1] "
+                          "(got %s)", fn, colour, lua_istable(L, -1) ? (n ? "a table of another length" : "an empty table or named fields")
+                                                                 : scr_describe(L, -1, got, sizeof got));
             lua_pop(L, 1);
-            if (n == 4) scr_opt_vec(L, 4, fn, "colour", 4, 0.0, 1.0, 0, "", t.colour);
-            else scr_opt_color(L, 4, fn, "colour", t.colour); // names {r, g, b} in its message
+            scr_opt_vec(L, 4, fn, colour, n, 0.0, 1.0, 0, "", t.colour);
         }
     }
     memcpy(t.text, str, len + 1);
@@ -74,17 +79,17 @@ static int l_text(lua_State *L)
 
 // seiche.colour{min =, max =, colour = {r, g, b} | false}: tints the particles in the box
 // now (queued like every edit: applied before the next step, to the particles there then).
-static int l_colour(lua_State *L)
+static int tint_box(lua_State *L, const char *fn)
 {
     eng_script *s = scr_get_script(L);
-    const char *fn = "seiche.colour";
     scr_check_table_arg(L, 1, fn, "min = {x, y, z}, max = {x, y, z}, colour = {r, g, b} or false");
-    static const char *const known[] = { "min", "max", "colour", NULL };
+    static const char *const known[] = { "min", "max", "colour", "color", NULL };
     scr_check_fields(L, 1, fn, known);
     float mn[3], mx[3], rgb[3] = { 0, 0, 0 };
     scr_read_box(L, 1, fn, mn, mx);
     bool tinted = false;
-    if (!scr_opt_tint(L, 1, fn, "colour", &tinted, rgb))
+    const char *colour = scr_colour_field(L, 1, fn);
+    if (!colour || !scr_opt_tint(L, 1, fn, colour, &tinted, rgb))
         scr_raise(L, "%s: field 'colour' is required: a colour {r, g, b} with each in [0, 1], or false for none (got nil)",
                   fn);
     command *c = scr_push_command(L, s, CMD_TINT, fn);
@@ -95,9 +100,14 @@ static int l_colour(lua_State *L)
     return 0;
 }
 
+// seiche.colour and seiche.color: one function, two spellings (as its field).
+static int l_colour(lua_State *L) { return tint_box(L, "seiche.colour"); }
+static int l_color(lua_State *L) { return tint_box(L, "seiche.color"); }
+
 static const luaL_Reg functions[] = {
     { "text", l_text },
     { "colour", l_colour },
+    { "color", l_color },
     { NULL, NULL },
 };
 

@@ -178,7 +178,7 @@ static int l_region_stats(lua_State *L)
     pbf_region_stats r;
     pbf_region_stats_of(pos, vel, rho, n, pbf_world_particle_mass(s->host.world), mn, mx, &r);
     lua_createtable(L, 0, 10);
-    scr_set_num(L, "particles", r.particles);
+    scr_set_int(L, "particles", r.particles);
     scr_set_num(L, "mass", r.mass);
     scr_set_num(L, "rho_avg", r.density_avg);
     scr_set_num(L, "rho_max", r.density_max);

@@ -34,9 +34,14 @@ bool scr_read_mesh_fields(lua_State *L, eng_script *s, int t, const char *fn, bo
     const char *rel = lua_tostring(L, -1);
     snprintf(out->name, sizeof out->name, "%s", rel);
     const char *why = scr_scene_file(L, s, rel, out->path, sizeof out->path);
-    if (why)
-        scr_raise(L, "%s: field 'mesh' names %s: \"%.200s\" (mesh files are found from the folder of the script that "
-                  "names them, in the scene's folder or below; docs/lua-api.md, seiche.body)", fn, why, rel);
+    if (why) // scr_scene_file's reasons are phrases ("missing", "a path through '..'"): made a sentence
+        scr_raise(L, "%s: field 'mesh': \"%.200s\" %s%s (mesh files are found from the folder of the script that names "
+                  "them, in the scene's folder or below; docs/lua-api.md, seiche.body)", fn, rel,
+                  strcmp(why, "missing") == 0      ? "does not exist"
+                  : strcmp(why, "unreadable") == 0 ? "cannot be read"
+                  : strncmp(why, "outside", 7) == 0 ? "lies "
+                                                    : "is ",
+                  strcmp(why, "missing") == 0 || strcmp(why, "unreadable") == 0 ? "" : why);
     lua_pop(L, 1);
     double v;
     if (scr_opt_number(L, t, fn, "scale", 0, 1e6, OPEN_LO, "(metres per file unit)", &v)) out->options.scale = (float)v;

@@ -87,7 +87,10 @@ static int l_render(lua_State *L)
     opt_float(L, "spray", 0.0, 1.0, 0, "", &k.spray);
     opt_float(L, "spray_speed", 0.0, 1000.0, OPEN_LO, "m/s", &k.spray_speed);
     opt_float(L, "resolution", 0.25, 1.0, 0, "", &k.resolution);
-    scr_opt_vec(L, 1, fn, "density_range", 2, 1e-3, 10.0, 0, "rho/rho0", k.density_range);
+    if (scr_opt_vec(L, 1, fn, "density_range", 2, 1e-3, 10.0, 0, "rho/rho0", k.density_range) &&
+        !(k.density_range[1] > k.density_range[0])) // Lua's 1-based indices (the C check counts from 0)
+        scr_raise(L, "%s: field 'density_range'[2] must be greater than density_range[1] (got {%g, %g})", fn,
+                  (double)k.density_range[0], (double)k.density_range[1]);
     opt_float(L, "speed_max", 0.0, 1000.0, OPEN_LO, "m/s", &k.speed_max);
     scr_opt_bool(L, 1, fn, "shadows", &k.shadows);
     // What one field cannot tell (density_range[1] above [0]).

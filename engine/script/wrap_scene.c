@@ -29,13 +29,9 @@ static void read_fluid(lua_State *L, int t, pbf_params *p)
     }
     char err[512];
     if (pbf_params_apply(p, names, values, given, err, sizeof err) != PBF_OK) {
-        // "pbf_params.NAME must be ...": name the field the way the table spells it.
-        const char *f = strstr(err, "pbf_params.");
-        int len = 0;
-        if (f)
-            while (f[11 + len] == '_' || (f[11 + len] >= 'a' && f[11 + len] <= 'z')) len++;
-        if (len > 0) scr_raise(L, "seiche.scene: fluid.%.*s: %s", len, f + 11, err);
-        scr_raise(L, "seiche.scene: fluid: %s", err);
+        // "pbf_params.NAME must be ...": "field 'NAME' must be ...", as the table spells it.
+        char lua[512];
+        scr_raise(L, "seiche.scene: fluid: %s", scr_lua_wording(err, lua, sizeof lua));
     }
 }
 
@@ -72,8 +68,8 @@ static void read_look(lua_State *L, int t, const char *fn, eng_look *k)
     if (scr_field_present(L, t, "light")) {
         int l = lua_gettop(L);
         snprintf(sub, sizeof sub, "%s: light", fn);
-        scr_check_table_field(L, l, fn, "light", "direction, color, ambient");
-        static const char *const lk[] = { "direction", "color", "ambient", NULL };
+        scr_check_table_field(L, l, fn, "light", "direction, colour, ambient");
+        static const char *const lk[] = { "direction", "colour", "color", "ambient", NULL };
         scr_check_fields(L, l, sub, lk);
         float d[3];
         if (scr_opt_vec(L, l, sub, "direction", 3, -1e6, 1e6, 0, "", d)) {
@@ -81,7 +77,8 @@ static void read_look(lua_State *L, int t, const char *fn, eng_look *k)
                 scr_raise(L, "%s: field 'direction' must not be zero (it points from the scene towards the light)", sub);
             memcpy(k->light.direction, d, sizeof d);
         }
-        scr_opt_vec(L, l, sub, "color", 3, 0.0, 4.0, 0, "", k->light.color);
+        const char *colour = scr_colour_field(L, l, sub);
+        if (colour) scr_opt_vec(L, l, sub, colour, 3, 0.0, 4.0, 0, "", k->light.color);
         scr_opt_color(L, l, sub, "ambient", k->light.ambient);
         lua_pop(L, 1);
     }
@@ -234,7 +231,9 @@ static int l_look(lua_State *L)
     scr_push_vec3(L, k->light.direction[0], k->light.direction[1], k->light.direction[2]);
     lua_setfield(L, -2, "direction");
     push_color(L, k->light.color);
-    lua_setfield(L, -2, "color");
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, "colour");
+    lua_setfield(L, -2, "color"); // both spellings, as the field takes them
     push_color(L, k->light.ambient);
     lua_setfield(L, -2, "ambient");
     lua_setfield(L, -2, "light");

@@ -38,11 +38,13 @@ local cases = {
     { "seiche.body{shape = 'sphere', radius = 0.1, density = -1}", "field 'density' must be a number in (0, 1000000] kg/m^3 (got -1)" },
     { "seiche.body{shape = 'sphere', radius = 0.1, rotation = {0, 0, 0, 2}}", "field 'rotation' must be a unit quaternion {x, y, z, w} (length 1; got length 2)" },
     { "seiche.body{shape = 'sphere', radius = 0.1, velocity = {0/0, 0, 0}}", "field 'velocity'.x must be a number in [-10000, 10000] m/s (got nan)" },
+    { "seiche.body{shape = 'box', size = {0.1, 0.1, 0.1}, mass = 1e8}", "seiche.body: field 'mass' must be a number in (0, 1000000] kg (got 100000000)" },
+    { "seiche.body{shape = 'box', size = {1.1, 1, 1}, density = 1e6}", "gives mass 1.1e+06 kg, outside (0, 1e+06] kg (Bullet lets heavier bodies fall through static ones)" },
     { "seiche.body{shape = 'hull', points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}", "field 'points' must hold 4 to 65536 points (got 3)" },
     { "seiche.body{shape = 'mesh', vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, indices = {1, 2, 4}}", "field 'indices'[3] must be a whole number in [1, 3] (a vertex number) (got 4)" },
     { "seiche.after(-1, print)", "seiche.after: argument #1 'delay' must be a number in [0, 1000000000] s (got -1)" },
     { "seiche.every(0, print)", "seiche.every: argument #1 'period' must be a number in (0, 1000000000] s (got 0)" },
-    { "seiche.after(1, 'later')", "seiche.after: argument #2 'callback' must be a function (got \"later\")" },
+    { "seiche.after(1, 'later')", "seiche.after: argument #2 'callback' must be a function or a table with a __call metamethod (got \"later\")" },
     { "seiche.set_param('iterations', 2.5)", "seiche.set_param: argument #2 'value' (iterations) must be a whole number in [1, 100] (got 2.5)" },
     { "seiche.set_param('speed', 1)", "seiche.set_param: argument #1 'name' must be a fluid parameter name" },
     { "seiche.set_param('viscosity', 0/0)", "(got nan)" },
@@ -73,12 +75,12 @@ function on_start()
     -- Methods: the handle, then the arguments.
     local b = seiche.body { shape = "box", size = { 0.1, 0.1, 0.1 }, position = { 0.2, 0.3, 0.2 } }
     local method_cases = {
-        { function() b.position() end, "body:position: argument #1 'self' must be a body (got no value); call methods with a colon" },
-        { function() b:apply_force({ 1, 0 }) end, "body:apply_force: argument #2 'force' must be a table of 3 numbers {x, y, z} (got a table of 2)" },
-        { function() b:apply_impulse({ 0, 0, 1 }, { 0 / 0, 0, 0 }) end, "body:apply_impulse: argument #3 'point'.x must be a number in [-100000, 100000] m (got nan)" },
+        { function() b.position() end, "body:position: 'self' must be a body (got no value); call methods with a colon" },
+        { function() b:apply_force({ 1, 0 }) end, "body:apply_force: argument #1 'force' must be a table of 3 numbers {x, y, z} (got a table of 2)" },
+        { function() b:apply_impulse({ 0, 0, 1 }, { 0 / 0, 0, 0 }) end, "body:apply_impulse: argument #2 'point'.x must be a number in [-100000, 100000] m (got nan)" },
         { function() b:move_to({ 0, 0, 0 }) end, "body:move_to: the body is dynamic: move_to drives kinematic bodies" },
         { function() b:set_color({ 1, 1, 2 }) end, "body:set_color: argument #1 'color'.z must be a number in [0, 1] (got 2)" },
-        { function() b:grab({ 0, 0, 0 }, -1) end, "body:grab: argument #3 'max_force' must be a number in (0, 1000000000] N (got -1)" },
+        { function() b:grab({ 0, 0, 0 }, -1) end, "body:grab: argument #2 'max_force' must be a number in (0, 1000000000] N (got -1)" },
         { function() b.destroy = 1 end, "'destroy' is a method and cannot be assigned" },
     }
     for i, c in ipairs(method_cases) do

@@ -30,7 +30,8 @@ refused("seiche.colour: field 'colour' is required", seiche.colour, { min = { 0,
 refused("seiche.colour: field 'colour'", seiche.colour, { min = { 0, 0, 0 }, max = { 1, 1, 1 }, colour = { 2, 0, 0 } })
 refused("seiche.colour: max.x must be greater than min.x", seiche.colour,
         { min = { 1, 0, 0 }, max = { 0, 1, 1 }, colour = { 1, 0, 0 } })
-refused('seiche.colour: unknown field "color"', seiche.colour, { min = { 0, 0, 0 }, max = { 1, 1, 1 }, color = { 1, 0, 0 } })
+refused("seiche.colour: give 'colour' or 'color' (two spellings of one field), not both", seiche.colour,
+        { min = { 0, 0, 0 }, max = { 1, 1, 1 }, color = { 1, 0, 0 }, colour = { 1, 0, 0 } })
 refused("seiche.emitter: field 'colour'", seiche.emitter, { position = { 0, 1, 0 }, colour = "red" })
 refused("seiche.text: call it from a callback", seiche.text, 10, 10, "too early")
 

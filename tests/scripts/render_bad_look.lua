@@ -2,7 +2,7 @@
 -- caller's line: exit status 2.
 -- expect-exit: 2
 -- expect-stderr: render_bad_look.lua:11:
--- expect-stderr: seiche.render.density_range[1] must be > density_range[0] and <= 10 (got 0.9)
+-- expect-stderr: seiche.render: field 'density_range'[2] must be greater than density_range[1] (got {1.1, 0.9})
 seiche.scene {
     fluid = { particle_radius = 0.02, kernel_radius = 0.08 },
     capacity = 100,
