@@ -28,8 +28,9 @@ static void usage(FILE *f)
             "                        step_ms, <stage>_ms ..., nan, outside, overflow, rho_err_avg,\n"
             "                        kinetic_energy, speed_max, com_x, com_y, com_z, momentum_x,\n"
             "                        momentum_y, momentum_z, substeps\n"
-            "  --screenshot FILE.png the last frame\n"
-            "  --record FILE.mp4     frames to video through ffmpeg\n"
+            "  --screenshot FILE.png the last frame (.png, or .jpg / .jpeg)\n"
+            "  --record FILE.mp4     frames to video through ffmpeg (.mp4, .mkv, .mov, .webm or .avi;\n"
+            "                        an even --size), at exactly 1/dt frames per second\n"
             "  --junit FILE.xml      a JUnit XML report: each seiche.check call site and the run\n"
             "  --tap FILE            the same report as TAP version 13\n"
             "  --hash                print a hash of the final simulation state\n"
@@ -48,12 +49,15 @@ static void usage(FILE *f)
             "  --quiet               no summary line\n"
             "  --version             print the version and exit\n"
             "  --help                this text\n"
+            "  --                    the end of the options: the next argument is the script\n"
+            "an option that takes a value may be given once (--set repeats); numbers are plain\n"
             "keys in a window: space pause, n single step, r reset, F5 reload (on_reload), c camera\n"
             "mode, v water look (surface, spheres, density, speed), F1 panel, Esc quit; orbit with\n"
             "the left mouse button, zoom with the wheel.\n"
             "Saving the script reloads it. The Lua API: docs/lua-api.md; this command: docs/runner.md.\n"
             "exit status: 0 ok, 1 a check in the script failed, 2 usage or script error,\n"
-            "             3 no OpenGL 4.3 compute context, 4 the solver diverged,\n"
+            "             3 no OpenGL 4.3 compute context (or no display without --headless),\n"
+            "             4 the solver diverged,\n"
             "             5 a GL error or synchronisation hazard (a bug in Seiche)\n");
 }
 
