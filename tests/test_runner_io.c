@@ -104,6 +104,22 @@ static void unwritable_screenshot_is_one_message(void **state)
     assert_int_equal(occurrences(err, "full.png"), 1);
 }
 
+// A screenshot cut short (here by a file-size limit of 4 KiB, whose signal the shell ignores
+// so the write fails with EFBIG) is not left behind as a broken image.
+static void a_screenshot_cut_short_leaves_no_file(void **state)
+{
+    (void)state;
+    char args[2048], err[4096];
+    unlink(TMP "/cut.png");
+    snprintf(args, sizeof args, "--frames 2 --size 256x256 --screenshot cut.png '%s'", scene);
+    assert_int_equal(run_env("trap '' XFSZ; ulimit -f 8;", args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "--screenshot: cannot write screenshot 'cut.png': File too large (the incomplete file was removed)"));
+    assert_int_not_equal(access(TMP "/cut.png", F_OK), 0);
+    // Without the limit the same image is written whole.
+    assert_int_equal(run(args, err, sizeof err), 0);
+    assert_int_equal(access(TMP "/cut.png", F_OK), 0);
+}
+
 // A fake ffmpeg in TMP/NAME/ffmpeg running the shell text `body` (its last argument is
 // file:PATH, the output).
 static void fake_ffmpeg(const char *name, const char *body)
@@ -314,6 +330,7 @@ int main(void)
         cmocka_unit_test(record_path_reaches_no_shell),
         cmocka_unit_test(unwritable_outputs_exit_2_naming_the_flag),
         cmocka_unit_test(unwritable_screenshot_is_one_message),
+        cmocka_unit_test(a_screenshot_cut_short_leaves_no_file),
         cmocka_unit_test(record_refuses_odd_sizes_and_unknown_formats_before_the_run),
         cmocka_unit_test(record_failure_removes_the_incomplete_file),
         cmocka_unit_test(record_gives_ffmpeg_the_exact_frame_rate),

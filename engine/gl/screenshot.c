@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <stb/stb_image_write.h>
 
@@ -116,12 +117,20 @@ static bool write_image(const eng_context *ctx, const char *path, eng_image_form
                                       : stbi_write_png_to_func(sink_write, &sink, w, h, 3, rgb, w * 3);
     free(rgba);
     int close_err = fclose(sink.f) != 0 ? errno : 0;
-    if (!ok)
-        return write_failed(ctx, err, err_size, path,
-                            format == ENG_IMAGE_JPEG ? "JPEG encoding failed" : "PNG encoding failed");
-    if (sink.failed) return write_failed(ctx, err, err_size, path, strerror(sink.error));
-    if (close_err) return write_failed(ctx, err, err_size, path, strerror(close_err));
-    return true;
+    const char *reason = !ok ? (format == ENG_IMAGE_JPEG ? "JPEG encoding failed" : "PNG encoding failed")
+                         : sink.failed ? strerror(sink.error)
+                         : close_err   ? strerror(close_err)
+                                       : NULL;
+    if (!reason) return true;
+    // No part of an image left behind as if it were one: a plain file this call wrote is
+    // removed (a device or a pipe the name leads to is left alone).
+    struct stat st;
+    char why[512];
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode) && remove(path) == 0) {
+        snprintf(why, sizeof why, "%s (the incomplete file was removed)", reason);
+        reason = why;
+    }
+    return write_failed(ctx, err, err_size, path, reason);
 }
 
 bool eng_screenshot_write_png(const eng_context *ctx, const char *path, char *err, size_t err_size)
