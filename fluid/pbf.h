@@ -18,8 +18,11 @@
 // (pbf_world_last_error) names the field, the value given and what is allowed. A NULL
 // world or a NULL pointer where one is needed gives PBF_ERR_INVALID_ARG (functions that
 // return a value give 0, NULL or false); sizes are computed in 64 bits and checked.
-// pbf_world_step and the calls that add particles or change parameters refuse to run from
-// inside a step's substep hook.
+// Inside a step's substep hook (pbf_world_step_with) a host may set collider poses and
+// strengths, add and remove colliders, sinks and emitters, and read; pbf_world_step, the
+// calls that add particles or change parameters, pbf_world_tint_box, and pbf_world_clear,
+// pbf_world_remove_container and pbf_world_destroy refuse (the last three return nothing:
+// they are ignored, with the reason in pbf_world_last_error and the world's log).
 //
 // GL state and synchronisation (the contract; docs/architecture.md has the reasons):
 // - Calls that issue GL commands (create, destroy, set_params, set_container, add_*,
@@ -254,6 +257,12 @@ uint64_t pbf_world_def_memory(const pbf_world_def *def);
 pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size);
 void pbf_world_destroy(pbf_world *world);
 
+/// A number no other world of this process has had or will have (0 for NULL or a world
+/// already destroyed), and whether the world that had it is still alive: for a holder that
+/// does not own the world and may outlive it (the Bullet coupling keeps both).
+uint64_t pbf_world_serial(const pbf_world *world);
+bool pbf_world_alive(const pbf_world *world, uint64_t serial);
+
 const char *pbf_world_last_error(const pbf_world *world);
 const pbf_params *pbf_world_params(const pbf_world *world);
 /// Changes parameters between steps (validated; on error nothing changes). A new kernel
@@ -286,7 +295,7 @@ pbf_result pbf_world_add_block(pbf_world *world, const pbf_block_def *block, uin
 /// Adds particles at given positions (xyz triples, m) and velocities (may be NULL).
 pbf_result pbf_world_add_particles(pbf_world *world, const float *positions, const float *velocities,
                                    uint32_t count);
-/// Removes every particle (capacity and parameters stay).
+/// Removes every particle (capacity and parameters stay). Ignored inside a substep hook.
 void pbf_world_clear(pbf_world *world);
 
 /// ---- emitters and sinks -----------------------------------------------------------
@@ -317,6 +326,9 @@ typedef struct pbf_emitter_id {
 
 /// The most particles per second an emitter of this speed and radius can pour.
 float pbf_emitter_max_rate(const pbf_world *world, float speed, float radius);
+/// At most 16 emitters at once (PBF_ERR_CAPACITY beyond). pbf_default_emitter_def has rate 0
+/// (pours nothing, as the most depends on the world's spacing) and sits at the origin: set
+/// position, direction, speed, radius and rate (at most pbf_emitter_max_rate).
 pbf_result pbf_world_add_emitter(pbf_world *world, const pbf_emitter_def *def, pbf_emitter_id *out);
 /// Changes an emitter (position, direction, speed, rate, radius, on/off).
 pbf_result pbf_world_set_emitter(pbf_world *world, pbf_emitter_id id, const pbf_emitter_def *def);
@@ -332,8 +344,9 @@ bool pbf_emitter_is_valid(const pbf_world *world, pbf_emitter_id id);
 /// for a world that never tints (no ABI change: new functions only).
 /// The w of a tint of rgb (each in [0, 1], clamped; rounded to 8 bits).
 float pbf_tint_encode(const float rgb[3]);
-/// True when w is a tint (w <= -1), with its colour in rgb (may be NULL); false otherwise
-/// (w is the height parameter; rgb untouched).
+/// True when w is a tint (-1 - 0xFFFFFF <= w <= -1, the range pbf_tint_encode writes), with
+/// its colour in rgb (may be NULL); false otherwise (w is the height parameter, or below that
+/// range: not a tint; rgb untouched).
 bool pbf_tint_decode(float w, float rgb[3]);
 /// Tints every live particle inside the box [min, max] (m): rgb each in [0, 1]; NULL gives
 /// the particles back their height parameter. A compute pass over the particles on the
@@ -350,6 +363,7 @@ typedef struct pbf_sink_id {
     uint16_t index1;
     uint16_t generation;
 } pbf_sink_id;
+/// At most 8 sinks at once (PBF_ERR_CAPACITY beyond); `out` must not be NULL.
 pbf_result pbf_world_add_sink(pbf_world *world, const float min[3], const float max[3], pbf_sink_id *out);
 pbf_result pbf_world_remove_sink(pbf_world *world, pbf_sink_id id);
 bool pbf_sink_is_valid(const pbf_world *world, pbf_sink_id id);
@@ -429,6 +443,8 @@ typedef struct pbf_collider_def {
 #define PBF_MAX_HULL_PLANES 256
 pbf_collider_def pbf_default_collider_def(void);
 
+/// At most 64 colliders at once, the container's included (PBF_ERR_CAPACITY beyond); `out`
+/// must not be NULL.
 pbf_result pbf_world_add_collider(pbf_world *world, const pbf_collider_def *def, pbf_collider_id *out);
 pbf_result pbf_world_remove_collider(pbf_world *world, pbf_collider_id id);
 bool pbf_collider_is_valid(const pbf_world *world, pbf_collider_id id);
@@ -494,9 +510,11 @@ typedef struct pbf_step_stats {
                               ///< time-step guard: params.cfl)
 } pbf_step_stats;
 
-/// Returns up to `max` completed step records, oldest first, each once (a step whose slot
-/// was needed again while the GPU had not finished it 10 s later is skipped: its record
-/// is dropped, docs/architecture.md rule 3). With `wait`, waits
+/// Returns up to `max` completed step records, oldest first, each once. The world keeps the
+/// records of the latest 8 steps: a host that steps more than 8 times between polls gets the
+/// latest 8 (each record's `step` says which), and a step whose slot was needed again while
+/// the GPU had not finished it 10 s later is skipped (its record is dropped,
+/// docs/architecture.md rule 3). With `wait`, waits
 /// for every step issued so far (use at the end of a run); otherwise never blocks.
 int pbf_world_poll_stats(pbf_world *world, pbf_step_stats *out, int max, bool wait);
 

@@ -5,6 +5,7 @@
 
 #include <epoxy/gl.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -222,4 +223,70 @@ pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32
     uint64_t c = w->known_count + (w->appended_total - w->known_appended);
     w->count = c > w->capacity ? w->capacity : (uint32_t)c;
     return PBF_OK;
+}
+
+// ---- the worlds alive -----------------------------------------------------------------
+//
+// Each world made gets a serial no other will have; a holder that may outlive the world (a
+// coupling) keeps the pair and asks before touching it. A world's memory may be reused for
+// the next one, so the pointer alone would not tell.
+
+typedef struct live_world {
+    const pbf_world *world;
+    uint64_t serial;
+} live_world;
+
+static pthread_mutex_t live_lock = PTHREAD_MUTEX_INITIALIZER;
+static live_world *live;
+static size_t live_count, live_cap;
+static uint64_t live_next = 1;
+
+bool pbf_live_add(const pbf_world *w)
+{
+    pthread_mutex_lock(&live_lock);
+    bool ok = true;
+    if (live_count == live_cap) {
+        size_t cap = live_cap ? 2 * live_cap : 16;
+        live_world *grown = realloc(live, cap * sizeof *grown);
+        if (grown) {
+            live = grown;
+            live_cap = cap;
+        } else {
+            ok = false;
+        }
+    }
+    if (ok) live[live_count++] = (live_world){ w, live_next++ };
+    pthread_mutex_unlock(&live_lock);
+    return ok;
+}
+
+void pbf_live_remove(const pbf_world *w)
+{
+    pthread_mutex_lock(&live_lock);
+    for (size_t i = 0; i < live_count; i++)
+        if (live[i].world == w) {
+            live[i] = live[--live_count];
+            break;
+        }
+    if (live_count == 0) { // the last world gone: nothing left for a leak check to find
+        free(live);
+        live = NULL;
+        live_cap = 0;
+    }
+    pthread_mutex_unlock(&live_lock);
+}
+
+uint64_t pbf_world_serial(const pbf_world *w)
+{
+    uint64_t serial = 0;
+    pthread_mutex_lock(&live_lock);
+    for (size_t i = 0; i < live_count && w; i++)
+        if (live[i].world == w) serial = live[i].serial;
+    pthread_mutex_unlock(&live_lock);
+    return serial;
+}
+
+bool pbf_world_alive(const pbf_world *w, uint64_t serial)
+{
+    return w && serial && pbf_world_serial(w) == serial;
 }

@@ -77,7 +77,8 @@ static pbf_result check_hull(pbf_world *w, const pbf_collider_def *d)
         const float *p = d->planes + 4 * k;
         if (!finite_n(p, 4) || fabsf(len3(p) - 1.0f) > 1e-3f)
             return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.planes[%u] must be finite with a unit normal "
-                            "(got normal length %g)", k, (double)len3(p));
+                            "(got normal (%g, %g, %g), length %g, offset %g)", k, (double)p[0], (double)p[1],
+                            (double)p[2], (double)len3(p), (double)p[3]);
     }
     if (!(d->size[0] > 0.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size[0] (the hull's bounding radius about its origin) "
@@ -125,8 +126,9 @@ pbf_result pbf_world_add_collider(pbf_world *w, const pbf_collider_def *d, pbf_c
 {
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!d) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_collider: def must not be NULL");
-    if (out) *out = (pbf_collider_id){ 0, 0 };
-    if (!d) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_collider: def must not be NULL");
+    // Without the id the collider could never be moved or removed: its slot would be lost.
+    if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_collider: out must not be NULL");
+    *out = (pbf_collider_id){ 0, 0 };
     if ((unsigned)d->type > PBF_SHAPE_SDF)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.type must be a pbf_collider_type 0..6 (got %d)", (int)d->type);
     if (!finite_n(d->size, 4))

@@ -205,7 +205,8 @@ static pbf_result check_collider(pbf_cpu_world *w, const pbf_collider_def *d)
             const float *p = d->planes + 4 * k;
             if (!finite_n(p, 4) || fabsf(len3f(p) - 1.0f) > 1e-3f)
                 return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.planes[%u] must be finite with a unit normal "
-                            "(got normal length %g)", k, (double)len3f(p));
+                            "(got normal (%g, %g, %g), length %g, offset %g)", k, (double)p[0], (double)p[1],
+                            (double)p[2], (double)len3f(p), (double)p[3]);
         }
         if (!(d->size[0] > 0.0f))
             return pbf_cpu_fail(w, PBF_ERR_INVALID_ARG, "pbf_collider_def.size[0] (the hull's bounding radius about its "

@@ -98,7 +98,7 @@ pbf_emitter_def pbf_default_emitter_def(void)
     memset(&d, 0, sizeof d);
     d.direction[1] = -1.0f;
     d.speed = 1.0f;
-    d.rate = 1000.0f;
+    d.rate = 0.0f; // the most depends on the world's spacing: pbf_emitter_max_rate
     d.radius = 0.05f;
     d.enabled = true;
     return d;
@@ -150,7 +150,9 @@ static pbf_result check_emitter(pbf_world *w, const pbf_emitter_def *d, float di
     }
     float len = sqrtf(d->direction[0] * d->direction[0] + d->direction[1] * d->direction[1] +
                       d->direction[2] * d->direction[2]);
-    if (!(len > 1e-6f)) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.direction must not be zero");
+    if (!(len > 1e-6f))
+        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.direction must have a length over 1e-6 (got (%g, %g, %g))",
+                        (double)d->direction[0], (double)d->direction[1], (double)d->direction[2]);
     for (int k = 0; k < 3; k++) dir[k] = d->direction[k] / len;
     if (!(isfinite(d->speed) && d->speed > 0.0f && d->speed <= 100.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_emitter_def.speed must be in (0, 100] m/s (got %g)", (double)d->speed);
@@ -399,7 +401,9 @@ pbf_result pbf_world_add_sink(pbf_world *w, const float min[3], const float max[
     if (!min || !max)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_sink: %s must not be NULL", !min ? "min" : "max");
     static const char *const axis = "xyz";
-    if (out) *out = (pbf_sink_id){ 0, 0 };
+    // Without the id the sink could never be removed: its slot would be lost.
+    if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_sink: out must not be NULL");
+    *out = (pbf_sink_id){ 0, 0 };
     for (int k = 0; k < 3; k++)
         if (!isfinite(min[k]) || !isfinite(max[k]) || !(max[k] > min[k]))
             return pbf_fail(w, PBF_ERR_INVALID_ARG, "sink max.%c must be finite and greater than min.%c (got min %g, max %g)",

@@ -226,6 +226,9 @@ bool pbf_step_done(pbf_world *w, const stats_slot *r, bool wait);
 /// flight (true when one was read); a pending record read now and kept for the next poll;
 /// the fastest particle speed of a finished step (-1 when its record is gone).
 bool pbf_count_settle(pbf_world *w);
+/// The registry of worlds alive (pbf_base.c): false when out of memory.
+bool pbf_live_add(const pbf_world *w);
+void pbf_live_remove(const pbf_world *w);
 void pbf_read_early(pbf_world *w, stats_slot *slot);
 float pbf_speed_of_step(pbf_world *w, uint64_t step);
 /// Colliders (pbf_colliders.c): upload before a step, read forces after.

@@ -100,7 +100,8 @@ pbf_result pbf_region_stats_of(const float *positions, const float *velocities, 
 pbf_result pbf_world_region_stats(pbf_world *w, const float box_min[3], const float box_max[3], pbf_region_stats *out)
 {
     if (out) memset(out, 0, sizeof *out);
-    if (!w || !out) return PBF_ERR_INVALID_ARG;
+    if (!w) return PBF_ERR_INVALID_ARG;
+    if (!out) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_region_stats: out must not be NULL");
     uint32_t n = w->count, got = 0;
     float *f = malloc((size_t)(n ? n : 1) * 7 * sizeof(float));
     if (!f) return pbf_fail(w, PBF_ERR_OUT_OF_MEMORY, "pbf_world_region_stats: no memory for %u particles", n);

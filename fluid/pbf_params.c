@@ -494,7 +494,11 @@ pbf_result pbf_params_set(pbf_params *p, const char *name, double value, char *e
 pbf_result pbf_params_apply(pbf_params *p, const char *const *names, const double *values, int count, char *err,
                             size_t err_size)
 {
-    if (!p || (count > 0 && (!names || !values)) || count < 0) {
+    if (count < 0) {
+        if (err && err_size) snprintf(err, err_size, "pbf_params_apply: count must be >= 0 (got %d)", count);
+        return PBF_ERR_INVALID_ARG;
+    }
+    if (!p || (count > 0 && (!names || !values))) {
         if (err && err_size) snprintf(err, err_size, "pbf_params_apply: params, names and values must not be NULL");
         return PBF_ERR_INVALID_ARG;
     }

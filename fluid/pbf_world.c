@@ -369,12 +369,22 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
         pbf_world_destroy(w);
         return NULL;
     }
+    if (!pbf_live_add(w)) {
+        snprintf(err, err_size, "pbf_world_create: out of memory");
+        pbf_world_destroy(w);
+        return NULL;
+    }
     return w;
 }
 
 void pbf_world_destroy(pbf_world *w)
 {
     if (!w) return;
+    if (w->in_step) { // the step goes on with the world after the hook returns
+        pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_destroy: called from inside a step (the substep hook): ignored");
+        return;
+    }
+    pbf_live_remove(w);
     for (int i = 0; i < PROG_COUNT; i++)
         if (w->programs[i]) glDeleteProgram(w->programs[i]);
     GLuint bufs[] = { w->pos[0], w->pos[1], w->vel[0], w->vel[1], w->pred[0], w->pred[1],
@@ -467,7 +477,11 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
 
 void pbf_world_clear(pbf_world *w)
 {
-    if (!w || w->in_step) return; // inside a step: documented as ignored
+    if (!w) return;
+    if (w->in_step) {
+        pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_clear: called from inside a step (the substep hook): ignored");
+        return;
+    }
     w->compression = (pbf_guard_state){ 0, 0 }; // the compression guard starts afresh with the water
     // Wait for the steps in flight: their stats would describe particles now gone.
     pbf_world_poll_stats(w, NULL, 0, true);
@@ -501,7 +515,10 @@ pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float
 
 void pbf_world_remove_container(pbf_world *w)
 {
-    if (w) w->plane_count = 0;
+    if (w && w->in_step)
+        pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_remove_container: called from inside a step (the substep hook): ignored");
+    else if (w)
+        w->plane_count = 0;
 }
 
 // ---- the step -----------------------------------------------------------------------------

@@ -120,6 +120,16 @@ static void null_pointers_are_refused_naming_the_argument(void **state)
     assert_int_equal(pbf_world_add_sink(w, NULL, v3, NULL), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_add_sink(w, v3, NULL, NULL), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_add_collider(w, NULL, &cid), PBF_ERR_INVALID_ARG);
+    // Without the id an object could never be removed: refused, no slot taken.
+    pbf_collider_def box = pbf_default_collider_def();
+    assert_int_equal(pbf_world_add_collider(w, &box, NULL), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_world_add_collider: out must not be NULL"));
+    const float lo3[3] = { 0.0f, 0.0f, 0.0f };
+    assert_int_equal(pbf_world_add_sink(w, lo3, v3, NULL), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_world_add_sink: out must not be NULL"));
+    assert_int_equal(pbf_world_set_params(w, NULL), PBF_ERR_INVALID_ARG); // a message the next must replace
+    assert_int_equal(pbf_world_region_stats(w, lo3, v3, NULL), PBF_ERR_INVALID_ARG);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_world_region_stats: out must not be NULL"));
     assert_int_equal(pbf_world_set_collider_pose(w, cid, NULL, NULL, NULL, NULL, NULL), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_collider_force(w, cid, NULL, NULL), PBF_ERR_INVALID_ARG);
     assert_int_equal(pbf_world_collider_report(w, cid, 1, false, NULL), PBF_ERR_INVALID_ARG);
@@ -158,6 +168,41 @@ static void step_from_inside_a_step_is_refused(void **state)
     assert_non_null(strstr(pbf_world_last_error(f->world), "inside"));
     // And the world still steps afterwards.
     assert_int_equal(pbf_world_step(f->world, 0.01f), PBF_OK);
+}
+
+static void destroy_from_hook(void *user, pbf_world *w, int substep, float dt)
+{
+    (void)user;
+    (void)substep;
+    (void)dt;
+    pbf_world_destroy(w); // the step goes on with it: ignored
+    pbf_world_clear(w);
+}
+
+// pbf_world_destroy and pbf_world_clear return nothing: inside a hook they are ignored and say
+// so (the step went on with a freed world before 0.19.3).
+static void destroy_and_clear_from_a_hook_are_ignored(void **state)
+{
+    fixture *f = *state;
+    uint64_t serial = pbf_world_serial(f->world);
+    assert_true(serial != 0);
+    assert_true(pbf_world_alive(f->world, serial));
+    assert_false(pbf_world_alive(f->world, serial + 1));
+    assert_int_equal(pbf_world_step_with(f->world, 0.01f, destroy_from_hook, NULL), PBF_OK);
+    assert_non_null(strstr(pbf_world_last_error(f->world), "pbf_world_clear: called from inside a step (the substep hook): ignored"));
+    assert_true(pbf_world_alive(f->world, serial));
+    assert_int_equal(pbf_world_step(f->world, 0.01f), PBF_OK);
+    // A world destroyed is no longer alive, and a new one never takes its serial.
+    pbf_world_def d = pbf_default_world_def();
+    d.capacity = 64;
+    char err[256];
+    pbf_world *other = pbf_world_create(&d, err, sizeof err);
+    assert_non_null(other);
+    uint64_t other_serial = pbf_world_serial(other);
+    assert_true(other_serial > serial);
+    pbf_world_destroy(other);
+    assert_false(pbf_world_alive(other, other_serial));
+    assert_int_equal(pbf_world_serial(other), 0);
 }
 
 // A collider's strength outside [0, 1] (or not a number) is refused naming the value; a
@@ -220,6 +265,7 @@ int main(void)
         cmocka_unit_test(null_world_is_refused_by_every_function),
         cmocka_unit_test(null_pointers_are_refused_naming_the_argument),
         cmocka_unit_test(step_from_inside_a_step_is_refused),
+        cmocka_unit_test(destroy_and_clear_from_a_hook_are_ignored),
         cmocka_unit_test(collider_strength_is_checked),
         cmocka_unit_test(coarse_level_beyond_its_grid_is_refused),
     };

@@ -133,6 +133,33 @@ static phys_body_id add_wheel(scene *s)
     return body;
 }
 
+// A step too short for Bullet (1e-6 s a substep, up to max_substeps of them) is refused
+// before either world moves, so they stay in lockstep; a fluid world destroyed before the
+// coupling is said so by every call, and cpl_destroy then frees only the coupling.
+static void a_step_too_short_or_a_fluid_world_gone_is_refused(void **state)
+{
+    scene s;
+    scene_def sd = default_scene_def();
+    scene_create(*state, &s, &sd);
+    float half[3] = { 0.05f, 0.05f, 0.05f }, at[3] = { 0.2f, 0.2f, 0.2f };
+    add_box(&s, PHYS_BODY_DYNAMIC, half, at, 500.0f, NULL);
+    assert_int_equal(cpl_step(s.cpl, 2e-6f), CPL_ERR_INVALID_ARG);
+    assert_contains(cpl_last_error(s.cpl), "cpl_step: dt must be in [3.2e-05, 1] s");
+    assert_int_equal(cpl_step_count(s.cpl), 0);
+    pbf_step_stats st[4];
+    assert_int_equal(pbf_world_poll_stats(s.fluid, st, 4, true), 0); // the fluid did not step either
+    assert_int_equal(cpl_step(s.cpl, 1.0f / 60.0f), CPL_OK);
+    cpl_def got;
+    assert_int_equal(cpl_get_def(s.cpl, NULL), CPL_ERR_INVALID_ARG);
+    assert_contains(cpl_last_error(s.cpl), "cpl_get_def: out must not be NULL");
+    assert_int_equal(cpl_get_def(s.cpl, &got), CPL_OK);
+    pbf_world_destroy(s.fluid);
+    assert_int_equal(cpl_step(s.cpl, 1.0f / 60.0f), CPL_ERR_FLUID);
+    assert_contains(cpl_last_error(s.cpl), "cpl_step: the fluid world (cpl_def.fluid) was destroyed before the coupling");
+    cpl_destroy(s.cpl); // read the freed world before 0.19.3 (AddressSanitizer: make sanitize)
+    phys_world_destroy(s.phys);
+}
+
 static void paddle_wheel_under_a_stream_turns_the_way_the_water_pushes(void **state)
 {
     fixture *f = *state;
@@ -251,6 +278,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bad_input_is_rejected_with_the_field_named),
+        cmocka_unit_test(a_step_too_short_or_a_fluid_world_gone_is_refused),
         cmocka_unit_test(paddle_wheel_under_a_stream_turns_the_way_the_water_pushes),
         cmocka_unit_test(paddle_wheel_without_water_stays_still),
         cmocka_unit_test(compound_beyond_the_collider_limit_is_refused),

@@ -62,6 +62,32 @@ static void test_mass_over_the_limit_is_refused_and_the_limit_rests(void **state
     assert_near(position_of(f->world, light).y, 0.05, 0.002);
 }
 
+// A C caller may store any int in an enum field: refused by value, with no undefined
+// behaviour on the C++ side (UBSan, make sanitize, reported the load of 7 before 0.19.3).
+static void test_enum_out_of_range_is_refused_naming_the_value(void **state) {
+    fixture *f = *state;
+    phys_body_def def = phys_default_body_def();
+    def.shape = make_sphere(f->world, 1);
+    int seven = 7;
+    memcpy(&def.type, &seven, sizeof seven);
+    phys_body_id id = {0, 0, 0};
+    assert_int_equal(phys_body_create(f->world, &def, &id), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "phys_body_def.type must be PHYS_BODY_STATIC, PHYS_BODY_KINEMATIC or PHYS_BODY_DYNAMIC (got 7)");
+    phys_compound_part part;
+    memset(&part, 0, sizeof part);
+    part.rotation.w = 1;
+    int seventy_seven = 77;
+    memcpy(&part.type, &seventy_seven, sizeof seventy_seven);
+    phys_compound c;
+    memset(&c, 0, sizeof c);
+    c.parts = &part;
+    c.part_count = 1;
+    phys_shape_id shape = {0, 0, 0};
+    assert_int_equal(phys_shape_create_compound(f->world, &c, &shape), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), ".type must be PHYS_SHAPE_BOX");
+    assert_contains(phys_world_last_error(f->world), "(got 77)");
+}
+
 static void test_zero_size_box_is_rejected_naming_the_field(void **state) {
     fixture *f = *state;
     phys_box box = {{1, 0, 1}};
@@ -333,6 +359,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_negative_mass_is_rejected_naming_the_field, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mass_over_the_limit_is_refused_and_the_limit_rests, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_enum_out_of_range_is_refused_naming_the_value, setup, teardown),
         cmocka_unit_test_setup_teardown(test_zero_size_box_is_rejected_naming_the_field, setup, teardown),
         cmocka_unit_test_setup_teardown(test_nan_pose_is_rejected_naming_the_field, setup, teardown),
         cmocka_unit_test_setup_teardown(test_stale_id_is_rejected_after_destroy, setup, teardown),

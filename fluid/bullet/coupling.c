@@ -59,6 +59,7 @@ typedef struct body_entry {
 
 struct cpl_coupling {
     cpl_def def; // as created (checked by cpl_def_check); cpl_get_def gives it back
+    uint64_t fluid_serial; // pbf_world_serial of def.fluid: a fluid world destroyed first is not touched
     char error[512];
     body_entry bodies[CPL_MAX_BODIES];
     pbf_collider_id single[CPL_MAX_BODIES]; // the collider of single-shape body i
@@ -137,12 +138,23 @@ cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size)
         return NULL;
     }
     c->def = *def;
+    c->fluid_serial = pbf_world_serial(def->fluid);
     return c;
+}
+
+// True (with the error set) when the fluid world was destroyed before the coupling.
+static bool fluid_gone(cpl_coupling *c, const char *fn)
+{
+    if (pbf_world_alive(c->def.fluid, c->fluid_serial)) return false;
+    fail(c, CPL_ERR_FLUID, "%s: the fluid world (cpl_def.fluid) was destroyed before the coupling: destroy the "
+         "coupling first", fn);
+    return true;
 }
 
 cpl_result cpl_get_def(const cpl_coupling *c, cpl_def *out)
 {
-    if (!c || !out) return CPL_ERR_INVALID_ARG;
+    if (!c) return CPL_ERR_INVALID_ARG;
+    if (!out) return fail((cpl_coupling *)c, CPL_ERR_INVALID_ARG, "cpl_get_def: out must not be NULL");
     *out = c->def;
     return CPL_OK;
 }
@@ -150,8 +162,10 @@ cpl_result cpl_get_def(const cpl_coupling *c, cpl_def *out)
 void cpl_destroy(cpl_coupling *c)
 {
     if (!c) return;
-    for (int i = 0; i < CPL_MAX_BODIES; i++)
-        if (c->bodies[i].used) drop(c, &c->bodies[i]);
+    // The colliders go with the fluid world when it went first.
+    if (pbf_world_alive(c->def.fluid, c->fluid_serial))
+        for (int i = 0; i < CPL_MAX_BODIES; i++)
+            if (c->bodies[i].used) drop(c, &c->bodies[i]);
     free(c);
 }
 
@@ -350,6 +364,7 @@ static cpl_result add_collider(cpl_coupling *c, const phys_shape_desc *shape, co
 cpl_result cpl_add_body(cpl_coupling *c, phys_body_id body, const cpl_body_def *def)
 {
     if (!c) return CPL_ERR_INVALID_ARG;
+    if (fluid_gone(c, "cpl_add_body")) return CPL_ERR_FLUID;
     if (!phys_body_is_valid(c->def.phys, body))
         return fail(c, CPL_ERR_STALE_ID, "cpl_add_body: body (index1 %u, generation %u) is null or was destroyed: "
                     "attempt to use a destroyed body", body.index1, body.generation);
@@ -455,6 +470,7 @@ static void drop(cpl_coupling *c, body_entry *e)
 cpl_result cpl_remove_body(cpl_coupling *c, phys_body_id body)
 {
     if (!c) return CPL_ERR_INVALID_ARG;
+    if (fluid_gone(c, "cpl_remove_body")) return CPL_ERR_FLUID;
     body_entry *e = find(c, body);
     if (!e)
         return fail(c, CPL_ERR_STALE_ID, "cpl_remove_body: body (index1 %u, generation %u) is not coupled", body.index1,
@@ -478,6 +494,7 @@ cpl_result cpl_body_collider(cpl_coupling *c, phys_body_id body, pbf_collider_id
 cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 position, phys_quat orientation)
 {
     if (!c) return CPL_ERR_INVALID_ARG;
+    if (fluid_gone(c, "cpl_teleport_body")) return CPL_ERR_FLUID;
     const float v[7] = { position.x, position.y, position.z, orientation.x, orientation.y, orientation.z, orientation.w };
     static const char *const names[7] = { "position.x", "position.y", "position.z", "orientation.x",
                                           "orientation.y", "orientation.z", "orientation.w" };
@@ -744,7 +761,13 @@ static void hook(void *user, pbf_world *fluid, int substep, float dt)
 cpl_result cpl_step(cpl_coupling *c, float dt)
 {
     if (!c) return CPL_ERR_INVALID_ARG;
-    if (!(dt > 0.0f && dt <= 1.0f)) return fail(c, CPL_ERR_INVALID_ARG, "cpl_step: dt must be in (0, 1] s (got %g)", (double)dt);
+    if (fluid_gone(c, "cpl_step")) return CPL_ERR_FLUID;
+    const pbf_params *fp = pbf_world_params(c->def.fluid);
+    int most = fp->max_substeps > fp->substeps ? fp->max_substeps : fp->substeps;
+    float shortest = CPL_MIN_SUBSTEP_DT * (float)most;
+    if (!(dt >= shortest && dt <= 1.0f))
+        return fail(c, CPL_ERR_INVALID_ARG, "cpl_step: dt must be in [%g, 1] s (Bullet's shortest step, %g s, times the "
+                    "%d substeps the fluid may take) (got %g)", (double)shortest, (double)CPL_MIN_SUBSTEP_DT, most, (double)dt);
     // Bodies destroyed behind the coupling's back are uncoupled.
     for (int i = 0; i < CPL_MAX_BODIES; i++) {
         body_entry *e = &c->bodies[i];

@@ -132,11 +132,16 @@ double cpl_def_get(const cpl_def *def, const cpl_setting_info *info);
 /// message naming the setting, the value and the range.
 cpl_result cpl_def_check(const cpl_def *def, char *err, size_t err_size);
 
-/// Creates a coupling. Returns NULL and a message naming the field on bad input.
+/// Creates a coupling. Returns NULL and a message naming the field on bad input. A body
+/// belongs to one coupling at most: two couplings of the same worlds must not share a body
+/// (not checked: each would add the fluid's force).
 cpl_coupling *cpl_create(const cpl_def *def, char *err, size_t err_size);
 /// The def a coupling was created with (worlds, settings, log). CPL_ERR_INVALID_ARG on NULL.
 cpl_result cpl_get_def(const cpl_coupling *coupling, cpl_def *out);
 /// Removes the colliders the coupling made; bodies and worlds stay. NULL does nothing.
+/// Destroy the coupling before the fluid world; where the fluid world went first its
+/// colliders went with it, cpl_destroy only frees the coupling, and every other call refuses
+/// with CPL_ERR_FLUID (pbf_world_alive tells).
 void cpl_destroy(cpl_coupling *coupling);
 
 /// Message of the most recent failed call ("" if none). Never NULL.
@@ -172,11 +177,16 @@ cpl_result cpl_body_collider(cpl_coupling *coupling, phys_body_id body, pbf_coll
 /// finite): the body and its collider jump there without sweeping fluid along the way.
 cpl_result cpl_teleport_body(cpl_coupling *coupling, phys_body_id body, phys_vec3 position, phys_quat orientation);
 
-/// Advances both worlds by dt seconds ((0, 1]): the fluid in its params.substeps
+/// Advances both worlds by dt seconds (in [CPL_MIN_SUBSTEP_DT x n, 1], n the larger of the
+/// fluid's substeps and max_substeps: 3.2e-5 s at the defaults): the fluid in its params.substeps
 /// substeps, Bullet by one step per substep, forces and poses exchanged between them as
 /// described at the top. Bodies destroyed in the phys_world since the last step are
 /// uncoupled here (and logged). Use this instead of pbf_world_step and phys_world_step.
 cpl_result cpl_step(cpl_coupling *coupling, float dt);
+/// Bullet's shortest step, s (phys_world_step): a coupled step as short as that per substep
+/// the fluid may take (its time-step guard may go up to max_substeps) is refused before
+/// either world moves, so the two never fall out of lockstep.
+#define CPL_MIN_SUBSTEP_DT 1e-6f
 
 /// What the coupling did to one body in the latest cpl_step. A two-way body's force is
 /// that of `force_latency` steps ago; a measured one-way body's of max(force_latency, 2)

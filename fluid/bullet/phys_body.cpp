@@ -4,6 +4,7 @@
 #include "phys_internal.hpp"
 
 #include <cmath>
+#include <cstring>
 
 using namespace phys_internal;
 
@@ -124,12 +125,16 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
         CHECK(check_ptr(w, fn, "def", def));
         CHECK(check_ptr(w, fn, "out", out));
         const phys_body_def& d = *def;
-        if (d.type != PHYS_BODY_STATIC && d.type != PHYS_BODY_KINEMATIC &&
-            d.type != PHYS_BODY_DYNAMIC) {
+        // A C caller may store any int in the enum: read it as one (loading an enum object
+        // that holds no enumerator is undefined in C++).
+        int type_value;
+        std::memcpy(&type_value, &d.type, sizeof type_value);
+        if (type_value != PHYS_BODY_STATIC && type_value != PHYS_BODY_KINEMATIC &&
+            type_value != PHYS_BODY_DYNAMIC) {
             return fail(w, PHYS_ERR_INVALID_ARG,
                         "%s: phys_body_def.type must be PHYS_BODY_STATIC, PHYS_BODY_KINEMATIC or "
                         "PHYS_BODY_DYNAMIC (got %d)",
-                        fn, (int)d.type);
+                        fn, type_value);
         }
         uint32_t shape_slot = 0;
         CHECK(lookup(w, fn, "phys_body_def.shape", "shape", w->shapes, d.shape, &shape_slot));

@@ -43,6 +43,8 @@
 
 static_assert(sizeof(phys_vec3) == 3 * sizeof(float), "phys_vec3 must be tightly packed");
 static_assert(sizeof(btScalar) == sizeof(float), "this wrapper expects single-precision Bullet");
+static_assert(sizeof(phys_body_type) == sizeof(int) && sizeof(phys_shape_type) == sizeof(int),
+              "a C enum of the API is read as an int where a caller may have stored any value");
 
 namespace phys_internal {
 

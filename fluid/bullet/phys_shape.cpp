@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 
 using namespace phys_internal;
@@ -316,7 +317,9 @@ static phys_result build_compound(phys_world* w, const char* fn, const void* in,
         poses[i] = btTransform(q, to_bt(p.position));
         phys_result (*build)(phys_world*, const char*, const void*, ShapeSlot*) = nullptr;
         const void* geometry = nullptr;
-        switch (p.type) {
+        int part_type; // read as an int: the C caller may store any (see phys_body_create)
+        std::memcpy(&part_type, &p.type, sizeof part_type);
+        switch (part_type) {
         case PHYS_SHAPE_BOX: build = build_box; geometry = &p.box; break;
         case PHYS_SHAPE_SPHERE: build = build_sphere; geometry = &p.sphere; break;
         case PHYS_SHAPE_CAPSULE: build = build_capsule; geometry = &p.capsule; break;
@@ -326,8 +329,9 @@ static phys_result build_compound(phys_world* w, const char* fn, const void* in,
             return fail(w, PHYS_ERR_INVALID_ARG,
                         "%s: phys_compound.parts[%u].type must be PHYS_SHAPE_BOX, PHYS_SHAPE_SPHERE, "
                         "PHYS_SHAPE_CAPSULE, PHYS_SHAPE_CYLINDER or PHYS_SHAPE_CONVEX_HULL (got %d%s%s)",
-                        fn, (unsigned)i, (int)p.type, p.type >= PHYS_SHAPE_PLANE && p.type <= PHYS_SHAPE_COMPOUND ? ", " : "",
-                        p.type >= PHYS_SHAPE_PLANE && p.type <= PHYS_SHAPE_COMPOUND ? shape_name(p.type) : "");
+                        fn, (unsigned)i, part_type, part_type >= PHYS_SHAPE_PLANE && part_type <= PHYS_SHAPE_COMPOUND ? ", " : "",
+                        part_type >= PHYS_SHAPE_PLANE && part_type <= PHYS_SHAPE_COMPOUND
+                            ? shape_name((phys_shape_type)part_type) : "");
         }
         auto child = std::make_unique<ShapeSlot>();
         CHECK(build(w, where, geometry, child.get()));
