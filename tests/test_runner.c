@@ -116,6 +116,74 @@ static void good_run_exits_0_and_prints_a_summary(void **state)
     assert_non_null(strstr(r.out, "particles"));
 }
 
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+// A script that pauses headless (seiche.inject_key("space")) could never resume: the run
+// once spun through its remaining --frames at once, ended at frame 3 and failed a later
+// check as "never ran". The pause is ignored with one warning, and --frames counts steps.
+static void headless_pause_is_ignored_with_one_warning_and_frames_count_steps(void **state)
+{
+    (void)state;
+    const char *lua = "/tmp/seiche_test_runner_pause.lua";
+    write_file(lua, "seiche.scene { name = 'pause', capacity = 10 }\n"
+                    "local keys = 0\n"
+                    "function on_key(k, action) if k == 'space' then keys = keys + 1 end end\n"
+                    "function on_step()\n"
+                    "  local f = seiche.frame()\n"
+                    "  if f == 2 or f == 4 then seiche.inject_key('space') end\n"
+                    "  if f == 8 then seiche.check(keys == 2, 'both presses reached on_key') end\n"
+                    "end\n");
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "10", lua, NULL });
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "seiche: pause: 10 frames,"));
+    assert_int_equal(occurrences(r.err, "warning: a pause (the space key, from seiche.inject_key) is ignored headless"),
+                     1);
+    // One frame is a frame, not "1 frames".
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "1", GOOD, NULL });
+    assert_int_equal(r.status, 0);
+    assert_non_null(strstr(r.out, "tiny: 1 frame,"));
+}
+
+// In a window --frames counts steps too: a paused frame does not count, so a paused window
+// waits for the user instead of quitting behind their back. The script pauses at frame 2
+// and resumes on the next frame (its on_key presses space again): 10 steps take 11 frames
+// and the summary says 10 (counting frames drawn, it ended at 9).
+static void window_frames_count_steps_not_paused_frames(void **state)
+{
+    (void)state;
+    const char *d = getenv("DISPLAY");
+    bool display = d && d[0];
+    if (!display) support_skip_unless_on_path("xvfb-run");
+    const char *lua = "/tmp/seiche_test_runner_window_pause.lua";
+    write_file(lua, "seiche.scene { name = 'wpause', capacity = 10 }\n"
+                    "local presses = 0\n"
+                    "function on_key(k, action)\n"
+                    "  if k == 'space' and action == 'press' then\n"
+                    "    presses = presses + 1\n"
+                    "    if presses == 1 then seiche.inject_key('space') end\n"
+                    "  end\n"
+                    "end\n"
+                    "function on_step() if seiche.frame() == 2 then seiche.inject_key('space') end end\n");
+    char exe[1024], cmd[4096];
+    support_bin_path("seiche", exe, sizeof exe);
+    const char *out = "/tmp/seiche_test_runner_window.out";
+    snprintf(cmd, sizeof cmd, "%s'%s' --no-watch --no-ui --size 64x64 --frames 10 '%s' >%s 2>&1",
+             display ? "" : "xvfb-run -a -s '-screen 0 640x480x24' ", exe, lua, out);
+    int st = system(cmd);
+    char text[8192];
+    slurp(out, text, sizeof text);
+    if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) fail_msg("the window run failed (%d): %s", st, text);
+    assert_non_null(strstr(text, "seiche: wpause: 10 frames,"));
+    assert_null(strstr(text, "warning: a pause"));
+}
+
 static void unknown_option_is_a_usage_error(void **state)
 {
     (void)state;
@@ -493,6 +561,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(good_run_exits_0_and_prints_a_summary),
+        cmocka_unit_test(headless_pause_is_ignored_with_one_warning_and_frames_count_steps),
+        cmocka_unit_test(window_frames_count_steps_not_paused_frames),
         cmocka_unit_test(unknown_option_is_a_usage_error),
         cmocka_unit_test(option_without_its_value_is_a_usage_error),
         cmocka_unit_test(negative_frames_are_refused),

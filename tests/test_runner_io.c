@@ -324,6 +324,90 @@ static void directory_runs_as_one_suite_with_junit_and_tap_and_late_checks_fail(
     assert_int_equal(run("--frames 5 --junit suite/a_passes.lua suite/a_passes.lua", err, sizeof err), 2);
 }
 
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static void slurp(const char *path, char *buf, size_t size)
+{
+    buf[0] = 0;
+    FILE *f = fopen(path, "r");
+    if (!f) return;
+    size_t n = fread(buf, 1, size - 1, f);
+    buf[n] = 0;
+    fclose(f);
+}
+
+// A directory suite: one passing script, one whose solver diverges, one with a failing check.
+static void write_mixed_suite(void)
+{
+    assert_int_equal(system("rm -rf " TMP "/mixed && mkdir -p " TMP "/mixed"), 0);
+    write_file(TMP "/mixed/a_ok.lua", "seiche.scene { capacity = 10 }\n"
+                                      "function on_step() if seiche.frame() == 1 then print('a speaks') end end\n");
+    // One substep of 1/60 s at 2.5 mm: rho_max passes 3 rho0 within a few steps
+    // (tests/scripts/diverged_solver_exits_4.lua).
+    write_file(TMP "/mixed/b_diverges.lua",
+               "seiche.scene { fluid = { particle_radius = 0.0025, substeps = 1, cfl = 0 }, capacity = 20000,\n"
+               "  container = { min = { 0, 0, 0 }, max = { 0.3, 0.3, 0.3 } } }\n"
+               "seiche.block { min = { 0, 0, 0 }, max = { 0.1, 0.15, 0.1 } }\n");
+    write_file(TMP "/mixed/c_fails.lua", "seiche.scene { capacity = 10 }\n"
+                                         "function on_step() if seiche.frame() == 1 then seiche.check(false, 'broken') end end\n");
+}
+
+// Piped into one log, a suite's lines come out in the order they were written: stdout was
+// block-buffered when piped, so every "ok" / "FAILED" line came after all the messages on
+// stderr. And the runner's own messages name the script they belong to.
+static void directory_suite_log_is_in_order_and_names_the_script(void **state)
+{
+    (void)state;
+    write_mixed_suite();
+    char cmd[4096], log[16384];
+    snprintf(cmd, sizeof cmd, "cd " TMP " && '%s' --headless --frames 30 mixed 2>&1 | cat >" TMP "/log.txt", exe);
+    assert_int_equal(system(cmd), 0);
+    slurp(TMP "/log.txt", log, sizeof log);
+    const char *order[] = {
+        "a speaks\n",
+        "ok      mixed/a_ok.lua (exit 0)\n",
+        "seiche: mixed/b_diverges.lua: the solver diverged at step ",
+        "FAILED  mixed/b_diverges.lua (exit 4)\n",
+        "mixed/c_fails.lua:2: check failed: broken\n",
+        "FAILED  mixed/c_fails.lua (exit 1)\n",
+        "1 passed, 2 failed\n",
+    };
+    const char *at = log;
+    for (size_t i = 0; i < sizeof order / sizeof order[0]; i++) {
+        const char *next = strstr(at, order[i]);
+        if (!next) fail_msg("'%s' is missing, or out of order, in the log:\n%s", order[i], log);
+        at = next + strlen(order[i]);
+    }
+}
+
+// The reports give the message that ended a run once, without the program's "seiche: "
+// (it read "the solver diverged: seiche: the solver diverged at ..."), and count one frame
+// as "1 frame".
+static void reports_give_the_message_once_and_count_frames_in_words(void **state)
+{
+    (void)state;
+    char err[4096], xml[16384], tap[16384];
+    write_mixed_suite();
+    write_file(TMP "/mixed/d_one_frame.lua", "seiche.scene { capacity = 10 }\n"
+                                             "function on_step() if seiche.frame() == 1 then seiche.quit() end end\n");
+    assert_int_equal(run("--frames 30 --junit mixed.xml --tap mixed.tap mixed", err, sizeof err), 4);
+    slurp(TMP "/mixed.xml", xml, sizeof xml);
+    slurp(TMP "/mixed.tap", tap, sizeof tap);
+    assert_non_null(strstr(tap, "  message: 'the solver diverged at step "));
+    assert_null(strstr(tap, "seiche: the solver diverged"));
+    assert_null(strstr(xml, "seiche: the solver diverged"));
+    assert_int_equal(occurrences(xml, "the solver diverged"), 1);
+    assert_int_equal(occurrences(xml, "check failed: broken"), 1);
+    assert_non_null(strstr(xml, "name=\"run (1 frame, 0.017 s simulated)\""));
+    assert_null(strstr(xml, "1 frames"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -340,6 +424,8 @@ int main(void)
         cmocka_unit_test(numbers_out_of_range_name_the_flag_and_value),
         cmocka_unit_test(radius_pair_is_accepted_in_either_order_and_the_kernel_follows),
         cmocka_unit_test(directory_runs_as_one_suite_with_junit_and_tap_and_late_checks_fail),
+        cmocka_unit_test(directory_suite_log_is_in_order_and_names_the_script),
+        cmocka_unit_test(reports_give_the_message_once_and_count_frames_in_words),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -1,7 +1,9 @@
 // seiche-embed-glfw: the fluid in a host that owns its window, its loop and its renderer:
 // plain GLFW, the host's own point shader reading the fluid's position buffer (vertex
-// pulling), an indirect draw whose count the GPU wrote, the barrier the GL contract of
-// fluid/pbf.h asks for, and the host's GL state rebound after each step. No Seiche engine.
+// pulling), one glDrawArrays of pbf_world_particle_count() points (with no sinks or
+// emitters, as here, the CPU's count is exact; the indirect command the GPU writes is for
+// instanced quads), the barrier the GL contract of fluid/pbf.h asks for, and the host's GL
+// state rebound after each step. No Seiche engine.
 //
 //     seiche-embed-glfw [--frames N] [--check]
 // --frames N  close after N frames (default: when the window is closed)

@@ -20,7 +20,8 @@ static void usage(FILE *f)
             "usage: seiche [options] SCRIPT.lua\n"
             "       seiche --headless [options] DIRECTORY   every *.lua in it as one suite, one report\n"
             "  --headless            no window (EGL surfaceless or device platform)\n"
-            "  --frames N            run N frames, then exit (headless default: 600)\n"
+            "  --frames N            run N frames (steps; a paused window waits), then exit\n"
+            "                        (headless default: 600)\n"
             "  --dt SECONDS          fixed frame step, [0.00001, 1] (default 1/60)\n"
             "  --set KEY=VALUE       override a scene parameter, e.g. fluid.iterations=4 or\n"
             "                        coupling.force_latency=2 (repeatable)\n"
@@ -111,6 +112,7 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
         eng_app_options o = *base;
         o.script = runs[i].script = dir ? scripts[i] : base->script;
         o.report = &runs[i].report;
+        o.name_script = dir; // one log holds many runs: each message says whose it is
         int st = eng_app_run(&o);
         if (st > worst) worst = st;
         failed += st != 0;
@@ -142,6 +144,10 @@ static int bad(const char *fmt, const char *a, const char *b)
 
 int main(int argc, char **argv)
 {
+    // stdout (results, summaries, the script's print) line by line, as stderr (messages) is
+    // unbuffered: piped into one log (`2>&1 | tee`), a script's lines come out in the order
+    // they were written, not its results after the next script's errors.
+    setvbuf(stdout, NULL, _IOLBF, 0);
     eng_app_args args;
     switch (eng_app_parse_args(argc, argv, &args)) {
     case ENG_APP_ARGS_HELP:

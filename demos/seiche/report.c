@@ -101,13 +101,15 @@ bool seiche_write_junit(const char *path, const seiche_run *runs, int count, cha
         }
         fprintf(f, "    <testcase classname=\"");
         xml_text(f, runs[i].script);
-        fprintf(f, "\" name=\"run (%llu frames, %.3f s simulated)\" time=\"%.3f\"", (unsigned long long)r->frames,
-                r->sim_time, r->wall_s);
+        fprintf(f, "\" name=\"run (%llu frame%s, %.3f s simulated)\" time=\"%.3f\"", (unsigned long long)r->frames,
+                r->frames == 1 ? "" : "s", r->sim_time, r->wall_s);
         if (r->status == ENG_EXIT_OK) {
             fprintf(f, "/>\n");
         } else {
-            fprintf(f, ">\n      <failure type=\"exit %d\" message=\"%s: ", r->status, status_text(r->status));
-            xml_text(f, r->message);
+            // The message says what ended the run ("the solver diverged at step 4 ...", "x.lua:2:
+            // check failed: ..."); the status's own words only stand in when there is none.
+            fprintf(f, ">\n      <failure type=\"exit %d\" message=\"", r->status);
+            xml_text(f, r->message[0] ? r->message : status_text(r->status));
             fprintf(f, "\"/>\n    </testcase>\n");
         }
         fprintf(f, "  </testsuite>\n");

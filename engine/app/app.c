@@ -12,6 +12,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,18 +86,65 @@ static void held_log_fn(void *user, eng_log_level level, const char *msg)
 
 // ---- errors ---------------------------------------------------------------------------
 
-// Reports a message: always on stderr; in a window also on screen.
+#define PROGRAM_PREFIX "seiche: "
+
+// The app's logger: as the default one ("seiche: warning: ..."), but it erases the progress
+// line first, and one run of a directory suite names its script ("seiche: DIR/x.lua:
+// warning: ...") so that a log of many runs says which one spoke.
+static void app_log_fn(void *user, eng_log_level level, const char *msg)
+{
+    app *a = user;
+    eng_progress_end(&a->progress);
+    if (a->opt->name_script) fprintf(stderr, PROGRAM_PREFIX "%s: %s: %s\n", a->opt->script, eng_log_level_name(level), msg);
+    else fprintf(stderr, PROGRAM_PREFIX "%s: %s\n", eng_log_level_name(level), msg);
+}
+
+// Reports a message: always on stderr; in a window also on screen. The report's message
+// (--junit, --tap) is its first line without the program's "seiche: " (the report names
+// the run already). In a directory suite a message of the runner's own ("seiche: ...")
+// names the script after the prefix; a script's messages begin with its file:line.
 void app_report(app *a, const char *msg)
 {
     eng_progress_end(&a->progress);
-    fprintf(stderr, "%s\n", msg);
+    bool ours = strncmp(msg, PROGRAM_PREFIX, strlen(PROGRAM_PREFIX)) == 0;
+    const char *body = ours ? msg + strlen(PROGRAM_PREFIX) : msg;
+    if (ours && a->opt->name_script) fprintf(stderr, PROGRAM_PREFIX "%s: %s\n", a->opt->script, body);
+    else fprintf(stderr, "%s\n", msg);
     eng_app_report *r = a->opt->report;
-    if (r && !r->message[0]) snprintf(r->message, sizeof r->message, "%.*s", (int)strcspn(msg, "\n"), msg);
+    if (r && !r->message[0]) snprintf(r->message, sizeof r->message, "%.*s", (int)strcspn(body, "\n"), body);
     if (a->opt->headless) return;
     size_t n = strlen(msg);
     if (n >= sizeof a->error_text) n = sizeof a->error_text - 1;
     memcpy(a->error_text, msg, n);
     a->error_text[n] = 0;
+}
+
+void app_message(app *a, const char *fmt, ...)
+{
+    char msg[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    app_report(a, msg);
+}
+
+// Space (the button in the panel too): pause / run. Headless nothing could resume a
+// pause: no keyboard, and the script's on_step and timers, which could inject the key
+// again, do not run while paused. So headless the pause is ignored, with one warning naming
+// where it came from, and every frame steps (--frames counts steps: a paused headless run
+// would never end, or end early with its checks unrun).
+static void toggle_pause(app *a)
+{
+    if (!a->opt->headless) {
+        a->paused = !a->paused;
+        return;
+    }
+    if (a->pause_warned) return;
+    a->pause_warned = true;
+    eng_log(&a->log, ENG_LOG_WARN,
+            "a pause (the space key, from seiche.inject_key) is ignored headless: nothing could resume it; the run "
+            "goes on stepping (the key still reaches on_key)");
 }
 
 // A failed script step. Headless the run ends with the status; in a window the message is
@@ -221,7 +269,7 @@ static void draw_ui(app *a)
     eng_context_size(a->ctx, &f.width, &f.height);
     eng_ui_draw(a->ui, &f);
     a->show_panel = f.show_panel;
-    if (f.toggle_pause) a->paused = !a->paused;
+    if (f.toggle_pause) toggle_pause(a);
     if (f.step) a->step_once = true;
     if (f.dismiss_error) a->error_text[0] = 0;
     for (int i = 0; i < f.param_count; i++) {
@@ -245,7 +293,7 @@ static void runner_key(app *a, const eng_event *e, int *status)
     if (e->action != ENG_PRESS && !(e->action == ENG_REPEAT && e->key == GLFW_KEY_N)) return;
     switch (e->key) {
     case GLFW_KEY_ESCAPE: eng_context_request_close(a->ctx); break;
-    case GLFW_KEY_SPACE: a->paused = !a->paused; break;
+    case GLFW_KEY_SPACE: toggle_pause(a); break;
     case GLFW_KEY_N: a->step_once = true; break;
     case GLFW_KEY_C:
         eng_camera_set_mode(&a->camera, a->camera.mode == ENG_CAMERA_ORBIT ? ENG_CAMERA_FLY : ENG_CAMERA_ORBIT);
@@ -351,7 +399,7 @@ int eng_app_run(const eng_app_options *o)
     app *a = &a_;
     memset(a, 0, sizeof *a);
     a->opt = o;
-    a->log = eng_default_logger();
+    a->log = (eng_logger){ app_log_fn, a, ENG_LOG_INFO };
     const char *shaders_from;
     if (!find_shader_dir(a, &shaders_from)) return ENG_EXIT_USAGE;
 
@@ -398,7 +446,7 @@ int eng_app_run(const eng_app_options *o)
     // Headless, the UI only draws the script's HUD text into screenshots and videos.
     if (o->ui && (!o->headless || o->screenshot_path || o->record_path)) {
         a->ui = eng_ui_create(o->headless ? NULL : eng_context_window(a->ctx), err, sizeof err);
-        if (!a->ui) eng_log(&a->log, ENG_LOG_WARN, "seiche: no on-screen UI: %s", err);
+        if (!a->ui) eng_log(&a->log, ENG_LOG_WARN, "no on-screen UI: %s", err);
     }
 
     int status = app_load_scene(a, false);
@@ -427,7 +475,7 @@ int eng_app_run(const eng_app_options *o)
     a->start_s = now_s();
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
-    long loops = 0;
+    long steps = 0, idle = 0;
     eng_progress_begin(&a->progress, "frame", frames);
     a->progress.on &= o->headless;
     while (status == ENG_EXIT_OK && !done) {
@@ -449,11 +497,12 @@ int eng_app_run(const eng_app_options *o)
             if (!a->paused || a->step_once) {
                 a->step_once = false;
                 if (cpl_step(in->coupling, (float)o->dt) != CPL_OK) {
-                    fprintf(stderr, "seiche: %s\n", cpl_last_error(in->coupling));
+                    app_message(a, "seiche: %s", cpl_last_error(in->coupling));
                     status = ENG_EXIT_USAGE;
                     break;
                 }
                 a->frame++;
+                steps++;
                 a->time = (double)a->frame * o->dt; // exact multiples, no running sum
                 app_take_stats(a, false);
                 status = app_check_diverged(a);
@@ -464,11 +513,13 @@ int eng_app_run(const eng_app_options *o)
         }
         watch_file(a);
         bool quit = a->inst.script && eng_script_quit_requested(a->inst.script);
-        // --frames counts the frames the loop drew, whatever happened in them: paused, reset
-        // (the frame number restarts) or without a scene (a window waits for a fix), the run
-        // still ends.
-        loops++;
-        done = (frames >= 0 && loops >= frames) || quit ||
+        // --frames counts steps, over resets (which restart the frame number, so a script
+        // that resets every frame still ends). A paused window does not count: it waits for
+        // the user (space, n, or closing it). Headless nothing pauses (toggle_pause), so
+        // every frame steps. A window without a scene (its script failed to load and it waits
+        // for a fix) counts the frames it draws instead, so such a run still ends.
+        if (!a->inst.script) idle++;
+        done = (frames >= 0 && (steps >= frames || idle >= frames)) || quit ||
                eng_context_should_close(a->ctx) || status != ENG_EXIT_OK;
         bool shot = done && o->screenshot_path && (status == ENG_EXIT_OK || status == ENG_EXIT_CHECK_FAILED);
         if (!o->headless || a->video || shot) {
@@ -506,7 +557,7 @@ int eng_app_run(const eng_app_options *o)
         if (out != ENG_EXIT_OK) status = out;
         else if (vid != ENG_EXIT_OK) status = vid;
         else if (fflush(stdout) != 0) {
-            fprintf(stderr, "seiche: writing standard output failed: %s\n", strerror(errno));
+            app_message(a, "seiche: writing standard output failed: %s", strerror(errno));
             status = ENG_EXIT_USAGE;
         }
     }

@@ -39,7 +39,8 @@ typedef struct eng_app_report {
 typedef struct eng_app_options {
     const char *script;          ///< scene script path
     bool headless;
-    long frames;                 ///< frames to run; < 0: until quit (headless: 600)
+    long frames;                 ///< simulation steps to run (paused frames do not count);
+                                 ///< < 0: until quit (headless: 600)
     double dt;                   ///< s per frame, (0, 1]
     const char *sets[ENG_APP_MAX_SETS]; ///< "key=value" overrides
     int set_count;
@@ -57,6 +58,8 @@ typedef struct eng_app_options {
     eng_app_report *report;      ///< NULL, or filled at the end of the run
     const char *render;          ///< how the water is drawn: "surface" (NULL: the default),
                                  ///< "spheres", "density" or "speed" (eng_fluid_mode_parse)
+    bool name_script;            ///< the run's messages name the script ("seiche: DIR/x.lua: ..."):
+                                 ///< one run of a directory suite, whose log holds many runs
 } eng_app_options;
 
 eng_app_options eng_default_app_options(void);

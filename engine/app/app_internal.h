@@ -58,6 +58,7 @@ typedef struct app {
     uint64_t frame;
     double time;
     bool paused, step_once;
+    bool pause_warned;           // headless: a pause was asked for and ignored (warned once)
     bool halted;                 // window: the script failed; callbacks stop, the scene runs on
     char error_text[8192];       // window: shown until the next successful reload
     int window_status;           // window: worst status since the last successful load
@@ -98,5 +99,11 @@ void app_print_summary(app *a);
 int app_write_screenshot(app *a);
 int app_finish_checks(app *a, int status);
 void app_report(app *a, const char *msg);
+/// app_report of a formatted message that begins "seiche: ".
+void app_message(app *a, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 #endif

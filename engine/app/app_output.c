@@ -78,7 +78,7 @@ int app_record_frame(app *a)
     char err[1200];
     if (eng_video_frame(a->video, a->ctx, err, sizeof err)) return ENG_EXIT_OK;
     a->video = NULL; // closed by the failure
-    fprintf(stderr, "seiche: %s\n", err);
+    app_message(a, "seiche: %s", err);
     return ENG_EXIT_USAGE;
 }
 
@@ -99,7 +99,7 @@ int app_close_video(app *a, bool quiet)
     char err[1200];
     bool ok = eng_video_close(a->video, err, sizeof err);
     a->video = NULL;
-    if (!ok && !quiet) fprintf(stderr, "seiche: %s\n", err);
+    if (!ok && !quiet) app_message(a, "seiche: %s", err);
     return ok ? ENG_EXIT_OK : ENG_EXIT_USAGE;
 }
 
@@ -114,7 +114,7 @@ int app_close_metrics(app *a, bool quiet)
         e = errno;
     }
     a->metrics = NULL;
-    if (failed && !quiet) fprintf(stderr, "seiche: --metrics: writing '%s' failed: %s\n", a->opt->metrics_path, strerror(e));
+    if (failed && !quiet) app_message(a, "seiche: --metrics: writing '%s' failed: %s", a->opt->metrics_path, strerror(e));
     return failed ? ENG_EXIT_USAGE : ENG_EXIT_OK;
 }
 
@@ -122,9 +122,9 @@ void app_print_summary(app *a)
 {
     if (a->opt->quiet || !a->inst.script) return;
     const pbf_step_stats *s = &a->last_stats;
-    printf("seiche: %s: %llu frames, %.2f s simulated, %u particles, %u bodies, rho_avg %.1f rho_max %.1f (rho0 %.0f, "
+    printf("seiche: %s: %llu frame%s, %.2f s simulated, %u particles, %u bodies, rho_avg %.1f rho_max %.1f (rho0 %.0f, "
            "worst %.1f%% over), %.2f ms GPU per step, %s\n",
-           eng_script_config(a->inst.script)->name, (unsigned long long)a->frame, a->time,
+           eng_script_config(a->inst.script)->name, (unsigned long long)a->frame, a->frame == 1 ? "" : "s", a->time,
            a->inst.world ? pbf_world_particle_count(a->inst.world) : 0, a->inst.coupling ? cpl_body_count(a->inst.coupling) : 0,
            a->have_stats ? (double)s->density_avg : 0.0, a->have_stats ? (double)s->density_max : 0.0,
            (double)pbf_world_params(a->inst.world)->rest_density, 100.0 * a->rho_err_max,
@@ -136,7 +136,7 @@ int app_write_screenshot(app *a)
     char err[1024];
     a->screenshot_taken = true;
     if (!eng_screenshot_write(a->ctx, a->opt->screenshot_path, err, sizeof err)) {
-        fprintf(stderr, "seiche: --screenshot: %s\n", err);
+        app_message(a, "seiche: --screenshot: %s", err);
         return ENG_EXIT_USAGE;
     }
     return ENG_EXIT_OK;
@@ -184,6 +184,6 @@ int app_finish_checks(app *a, int status)
     fclose(f);
     if (missing == 0 || status != ENG_EXIT_OK) return status;
     app_report(a, first);
-    if (missing > 1) fprintf(stderr, "seiche: %d lines with seiche.check never ran in all\n", missing);
+    if (missing > 1) app_message(a, "seiche: %d lines with seiche.check never ran in all", missing);
     return ENG_EXIT_CHECK_FAILED;
 }

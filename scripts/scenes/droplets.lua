@@ -74,7 +74,8 @@ function on_key(key, action)
     end
 end
 
--- Headless (a test run) throws a third ball after half a second, as b would.
+-- Half a second in, a third ball is thrown, as b would (in a window too; headless, a test
+-- run, it is the only one).
 seiche.after(0.5, function(t) throw(t) end)
 
 function on_step(dt, t)
