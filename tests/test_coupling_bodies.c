@@ -133,7 +133,7 @@ static phys_body_id add_wheel(scene *s)
     return body;
 }
 
-// A step too short for Bullet (1e-6 s a substep, up to max_substeps of them) is refused
+// A step too short for Bullet (1e-7 s a substep, up to max_substeps of them) is refused
 // before either world moves, so they stay in lockstep; a fluid world destroyed before the
 // coupling is said so by every call, and cpl_destroy then frees only the coupling.
 static void a_step_too_short_or_a_fluid_world_gone_is_refused(void **state)
@@ -144,7 +144,7 @@ static void a_step_too_short_or_a_fluid_world_gone_is_refused(void **state)
     float half[3] = { 0.05f, 0.05f, 0.05f }, at[3] = { 0.2f, 0.2f, 0.2f };
     add_box(&s, PHYS_BODY_DYNAMIC, half, at, 500.0f, NULL);
     assert_int_equal(cpl_step(s.cpl, 2e-6f), CPL_ERR_INVALID_ARG);
-    assert_contains(cpl_last_error(s.cpl), "cpl_step: dt must be in [3.2e-05, 1] s");
+    assert_contains(cpl_last_error(s.cpl), "cpl_step: dt must be in [3.2e-06, 1] s");
     assert_int_equal(cpl_step_count(s.cpl), 0);
     pbf_step_stats st[4];
     assert_int_equal(pbf_world_poll_stats(s.fluid, st, 4, true), 0); // the fluid did not step either

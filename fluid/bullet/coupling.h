@@ -178,15 +178,15 @@ cpl_result cpl_body_collider(cpl_coupling *coupling, phys_body_id body, pbf_coll
 cpl_result cpl_teleport_body(cpl_coupling *coupling, phys_body_id body, phys_vec3 position, phys_quat orientation);
 
 /// Advances both worlds by dt seconds (in [CPL_MIN_SUBSTEP_DT x n, 1], n the larger of the
-/// fluid's substeps and max_substeps: 3.2e-5 s at the defaults): the fluid in its params.substeps
+/// fluid's substeps and max_substeps: 3.2e-6 s at the defaults): the fluid in its params.substeps
 /// substeps, Bullet by one step per substep, forces and poses exchanged between them as
 /// described at the top. Bodies destroyed in the phys_world since the last step are
 /// uncoupled here (and logged). Use this instead of pbf_world_step and phys_world_step.
 cpl_result cpl_step(cpl_coupling *coupling, float dt);
-/// Bullet's shortest step, s (phys_world_step): a coupled step as short as that per substep
+/// Bullet's shortest step, s (phys_world_step): a coupled step shorter than that per substep
 /// the fluid may take (its time-step guard may go up to max_substeps) is refused before
 /// either world moves, so the two never fall out of lockstep.
-#define CPL_MIN_SUBSTEP_DT 1e-6f
+#define CPL_MIN_SUBSTEP_DT 1e-7f
 
 /// What the coupling did to one body in the latest cpl_step. A two-way body's force is
 /// that of `force_latency` steps ago; a measured one-way body's of max(force_latency, 2)

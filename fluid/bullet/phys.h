@@ -180,7 +180,7 @@ phys_result phys_world_create(const phys_world_def *def, phys_world **out_world)
 void phys_world_destroy(phys_world *world);
 
 /// Advance the world by exactly one Bullet step of `dt` seconds.
-/// dt must be finite and in [1e-6, 10] s. Gravity is added at the start of the
+/// dt must be finite and in [1e-7, 10] s. Gravity is added at the start of the
 /// step; forces applied before the call act for this step and are then cleared.
 /// Kinematic bodies move to their target (or by their velocity) during the step.
 phys_result phys_world_step(phys_world *world, float dt);

@@ -206,9 +206,9 @@ void phys_world_destroy(phys_world* world) {
 phys_result phys_world_step(phys_world* world, float dt) {
     return guarded(world, __func__, [&](const char* fn) -> phys_result {
         phys_world* w = world;
-        if (!std::isfinite(dt) || dt < 1e-6f || dt > 10.0f) {
+        if (!std::isfinite(dt) || dt < 1e-7f || dt > 10.0f) {
             return fail(w, PHYS_ERR_INVALID_ARG,
-                        "%s: dt must be finite and in [1e-06, 10] s (got %g)", fn, (double)dt);
+                        "%s: dt must be finite and in [1e-07, 10] s (got %g)", fn, (double)dt);
         }
         // Kinematic bodies: write where they must be at the end of the step;
         // Bullet derives their velocity from the previous pose.
