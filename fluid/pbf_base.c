@@ -5,8 +5,8 @@
 
 #include <epoxy/gl.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -236,14 +236,22 @@ typedef struct live_world {
     uint64_t serial;
 } live_world;
 
-static pthread_mutex_t live_lock = PTHREAD_MUTEX_INITIALIZER;
+static atomic_flag live_busy = ATOMIC_FLAG_INIT; // held for a few instructions: a spin lock
 static live_world *live;
 static size_t live_count, live_cap;
 static uint64_t live_next = 1;
 
+static void live_lock(void)
+{
+    while (atomic_flag_test_and_set_explicit(&live_busy, memory_order_acquire)) {
+    }
+}
+
+static void live_unlock(void) { atomic_flag_clear_explicit(&live_busy, memory_order_release); }
+
 bool pbf_live_add(const pbf_world *w)
 {
-    pthread_mutex_lock(&live_lock);
+    live_lock();
     bool ok = true;
     if (live_count == live_cap) {
         size_t cap = live_cap ? 2 * live_cap : 16;
@@ -256,13 +264,13 @@ bool pbf_live_add(const pbf_world *w)
         }
     }
     if (ok) live[live_count++] = (live_world){ w, live_next++ };
-    pthread_mutex_unlock(&live_lock);
+    live_unlock();
     return ok;
 }
 
 void pbf_live_remove(const pbf_world *w)
 {
-    pthread_mutex_lock(&live_lock);
+    live_lock();
     for (size_t i = 0; i < live_count; i++)
         if (live[i].world == w) {
             live[i] = live[--live_count];
@@ -273,16 +281,16 @@ void pbf_live_remove(const pbf_world *w)
         live = NULL;
         live_cap = 0;
     }
-    pthread_mutex_unlock(&live_lock);
+    live_unlock();
 }
 
 uint64_t pbf_world_serial(const pbf_world *w)
 {
     uint64_t serial = 0;
-    pthread_mutex_lock(&live_lock);
+    live_lock();
     for (size_t i = 0; i < live_count && w; i++)
         if (live[i].world == w) serial = live[i].serial;
-    pthread_mutex_unlock(&live_lock);
+    live_unlock();
     return serial;
 }
 

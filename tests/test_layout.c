@@ -68,7 +68,7 @@ static int room_rank(const char *p)
 static bool std_header(const char *h)
 {
     static const char *const ok[] = { "assert.h", "ctype.h", "errno.h", "float.h", "inttypes.h", "limits.h",
-                                      "math.h", "stdarg.h", "stdbool.h", "stddef.h", "stdint.h", "stdio.h",
+                                      "math.h", "stdarg.h", "stdatomic.h", "stdbool.h", "stddef.h", "stdint.h", "stdio.h",
                                       "stdlib.h", "string.h", "time.h" };
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++)
         if (!strcmp(h, ok[i])) return true;
