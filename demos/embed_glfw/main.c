@@ -11,6 +11,7 @@
 //             (what tests/test_embed_glfw.c does under Xvfb)
 #include <epoxy/gl.h>
 #include <GLFW/glfw3.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,12 +68,26 @@ int main(int argc, char **argv)
     long frames = -1;
     bool check = false;
     for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) frames = strtol(argv[++i], NULL, 10);
-        else if (strcmp(argv[i], "--check") == 0) check = true;
-        else {
+        if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) {
+            char *end;
+            errno = 0;
+            frames = strtol(argv[++i], &end, 10);
+            if (errno || end == argv[i] || *end || argv[i][0] < '0' || argv[i][0] > '9' || frames < 1 ||
+                frames > 100000000) {
+                fprintf(stderr, "seiche-embed-glfw: --frames must be a whole number in [1, 100000000] (got '%s')\n",
+                        argv[i]);
+                return 2;
+            }
+        } else if (strcmp(argv[i], "--check") == 0) {
+            check = true;
+        } else {
             fprintf(stderr, "usage: seiche-embed-glfw [--frames N] [--check]\n");
             return 2;
         }
+    }
+    if (check && frames < 0) {
+        fprintf(stderr, "seiche-embed-glfw: --check needs --frames N (it reads the picture after the last frame)\n");
+        return 2;
     }
     if (!glfwInit()) {
         fprintf(stderr, "seiche-embed-glfw: no display for a window\n");
