@@ -225,6 +225,13 @@ pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32
     return PBF_OK;
 }
 
+bool pbf_refused_in_step(pbf_world *w, const char *fn, const char *tail)
+{
+    if (!w->in_step) return false;
+    pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)%s", fn, tail);
+    return true;
+}
+
 // ---- the worlds alive -----------------------------------------------------------------
 //
 // Each world made gets a serial no other will have; a holder that may outlive the world (a

@@ -22,8 +22,7 @@ pbf_block_def pbf_default_block_def(void)
 pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const float *velocities, uint32_t n)
 {
     if (!w) return PBF_ERR_INVALID_ARG;
-    if (w->in_step)
-        return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_particles");
+    if (pbf_refused_in_step(w, "pbf_world_add_particles", "")) return PBF_ERR_INVALID_ARG;
     if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
     if (n > w->capacity - w->count && !(pbf_count_settle(w) && n <= w->capacity - w->count))
         return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
@@ -55,7 +54,7 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
 {
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!b) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_block: block must not be NULL");
-    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_add_block");
+    if (pbf_refused_in_step(w, "pbf_world_add_block", "")) return PBF_ERR_INVALID_ARG;
     if (added) *added = 0;
     float s = w->k.spacing;
     uint32_t n[3];

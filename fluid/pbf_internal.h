@@ -179,6 +179,10 @@ struct pbf_world {
 // ---- pbf_base.c: services the world's parts share (below world, emitters, colliders) ----
 
 /// Records an error message (and logs it); returns r.
+/// True inside a step's substep hook, where `fn` may not run: the error is then set,
+/// "FN: called from inside a step (the substep hook)" and `tail` (": ignored" for the calls
+/// that return nothing).
+bool pbf_refused_in_step(pbf_world *w, const char *fn, const char *tail);
 pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

@@ -40,7 +40,7 @@ void pbf_tint_locate(pbf_world *w)
 pbf_result pbf_world_tint_box(pbf_world *w, const float min[3], const float max[3], const float rgb[3])
 {
     if (!w) return PBF_ERR_INVALID_ARG;
-    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_tint_box: not allowed inside a step's substep hook");
+    if (pbf_refused_in_step(w, "pbf_world_tint_box", "")) return PBF_ERR_INVALID_ARG;
     if (!min || !max)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_tint_box: %s must not be NULL", !min ? "min" : "max");
     for (int c = 0; c < 3; c++) {

@@ -380,10 +380,7 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
 void pbf_world_destroy(pbf_world *w)
 {
     if (!w) return;
-    if (w->in_step) { // the step goes on with the world after the hook returns
-        pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_destroy: called from inside a step (the substep hook): ignored");
-        return;
-    }
+    if (pbf_refused_in_step(w, "pbf_world_destroy", ": ignored")) return; // the step goes on with the world
     pbf_live_remove(w);
     for (int i = 0; i < PROG_COUNT; i++)
         if (w->programs[i]) glDeleteProgram(w->programs[i]);
@@ -414,7 +411,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
 {
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!p) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_params: params must not be NULL");
-    if (w->in_step) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s: called from inside a step (the substep hook)", "pbf_world_set_params");
+    if (pbf_refused_in_step(w, "pbf_world_set_params", "")) return PBF_ERR_INVALID_ARG;
     char err[256];
     if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     if (p->particle_radius != w->params.particle_radius && w->count > 0 && (pbf_count_settle(w), w->count > 0))
@@ -469,7 +466,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     }
     derive(w);
     stats_alloc(w);
-    if (!w->in_step) w->step_substeps = p->substeps;
+    w->step_substeps = p->substeps; // never inside a step: refused above
     return PBF_OK;
 }
 
@@ -477,11 +474,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
 
 void pbf_world_clear(pbf_world *w)
 {
-    if (!w) return;
-    if (w->in_step) {
-        pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_clear: called from inside a step (the substep hook): ignored");
-        return;
-    }
+    if (!w || pbf_refused_in_step(w, "pbf_world_clear", ": ignored")) return;
     w->compression = (pbf_guard_state){ 0, 0 }; // the compression guard starts afresh with the water
     // Wait for the steps in flight: their stats would describe particles now gone.
     pbf_world_poll_stats(w, NULL, 0, true);
@@ -515,10 +508,7 @@ pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float
 
 void pbf_world_remove_container(pbf_world *w)
 {
-    if (w && w->in_step)
-        pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_remove_container: called from inside a step (the substep hook): ignored");
-    else if (w)
-        w->plane_count = 0;
+    if (w && !pbf_refused_in_step(w, "pbf_world_remove_container", ": ignored")) w->plane_count = 0;
 }
 
 // ---- the step -----------------------------------------------------------------------------
@@ -804,9 +794,8 @@ static int guard_substeps(pbf_world *w, float dt)
 pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, void *user)
 {
     if (!w) return PBF_ERR_INVALID_ARG;
-    if (w->in_step)
-        return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: called from inside a step (the substep hook); "
-                        "set poses or forces there, step after it returns");
+    if (pbf_refused_in_step(w, "pbf_world_step", "; set poses or forces there, step after it returns"))
+        return PBF_ERR_INVALID_ARG;
     if (!(dt >= PBF_MIN_DT && dt <= 1.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in [%g, 1] s (got %g)", (double)PBF_MIN_DT,
                         (double)dt);
