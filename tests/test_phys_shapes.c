@@ -165,6 +165,53 @@ static void test_degenerate_convex_hull_is_rejected(void **state) {
                     "phys_convex_hull.point_count must be in [4, 65536] (got 3)");
 }
 
+// A hull measured without a world is the hull the world builds; bad clouds get the world's reasons.
+static void test_convex_hull_is_measured_without_a_world(void **state) {
+    fixture *f = *state;
+    phys_vec3 pts[9];
+    for (int i = 0; i < 8; ++i) pts[i] = v3(i & 1 ? 0.5f : -0.5f, i & 2 ? 1.0f : -1.0f, i & 4 ? 0.5f : -0.5f);
+    pts[8] = v3(0.1f, 0.2f, 0);  // inside
+    phys_convex_hull hull = {pts, 9};
+    phys_hull_info info;
+    char msg[256] = "stale";
+    assert_ok(phys_convex_hull_measure(&hull, &info, msg, sizeof msg));
+    assert_string_equal(msg, "");
+    assert_int_equal(info.vertex_count, 8);
+    assert_int_equal(info.plane_count, 6);
+    assert_near(info.volume, 2.0, 1e-5);
+    phys_shape_id shape;
+    assert_ok(phys_shape_create_convex_hull(f->world, &hull, &shape));
+    phys_shape_desc d;
+    assert_ok(phys_shape_get_desc(f->world, shape, &d));
+    assert_int_equal(d.hull.point_count, info.vertex_count);
+    assert_int_equal(d.hull.plane_count, info.plane_count);
+    assert_near(d.volume, info.volume, 1e-6);
+
+    const phys_hull_info untouched = {77, 78, 79.0f};
+    info = untouched;
+    phys_vec3 flat[4] = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {1, 0, 1}};
+    phys_convex_hull bad = {flat, 4};
+    assert_int_equal(phys_convex_hull_measure(&bad, &info, msg, sizeof msg), PHYS_ERR_INVALID_ARG);
+    assert_contains(msg, "phys_convex_hull_measure: phys_convex_hull.points must span a volume");
+    pts[2].y = NAN;
+    assert_int_equal(phys_convex_hull_measure(&hull, &info, msg, sizeof msg), PHYS_ERR_INVALID_ARG);
+    assert_contains(msg, "phys_convex_hull.points[2].y must be finite (got nan)");
+    bad.point_count = 3;
+    assert_int_equal(phys_convex_hull_measure(&bad, &info, msg, sizeof msg), PHYS_ERR_INVALID_ARG);
+    assert_contains(msg, "phys_convex_hull.point_count must be in [4, 65536] (got 3)");
+    bad.points = NULL;
+    bad.point_count = 4;
+    assert_int_equal(phys_convex_hull_measure(&bad, &info, msg, sizeof msg), PHYS_ERR_INVALID_ARG);
+    assert_contains(msg, "phys_convex_hull.points must not be NULL");
+    assert_int_equal(phys_convex_hull_measure(&hull, NULL, msg, sizeof msg), PHYS_ERR_INVALID_ARG);
+    assert_contains(msg, "out must not be NULL");
+    assert_memory_equal(&info, &untouched, sizeof info);
+    char tiny[8];  // cut, terminated
+    assert_int_equal(phys_convex_hull_measure(&bad, &info, tiny, sizeof tiny), PHYS_ERR_INVALID_ARG);
+    assert_int_equal(strlen(tiny), sizeof tiny - 1);
+    assert_int_equal(phys_convex_hull_measure(&bad, &info, NULL, 0), PHYS_ERR_INVALID_ARG);  // no message asked
+}
+
 static void test_triangle_mesh_query_returns_vertices_and_indices(void **state) {
     fixture *f = *state;
     // A 10 × 10 m floor at y = 0, two triangles wound counter-clockwise seen from +y.
@@ -409,6 +456,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_extent_follows_the_pose, setup, teardown),
         cmocka_unit_test_setup_teardown(test_convex_hull_query_returns_points_and_planes, setup, teardown),
         cmocka_unit_test_setup_teardown(test_degenerate_convex_hull_is_rejected, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_convex_hull_is_measured_without_a_world, setup, teardown),
         cmocka_unit_test_setup_teardown(test_triangle_mesh_query_returns_vertices_and_indices, setup, teardown),
         cmocka_unit_test_setup_teardown(test_shape_in_use_cannot_be_destroyed, setup, teardown),
         cmocka_unit_test_setup_teardown(test_compound_mass_and_inertia_come_from_density, setup, teardown),

@@ -479,7 +479,6 @@ void eng_script_destroy(eng_script *s)
     free(s->events);
     free(s->contacts);
     free(s->hits);
-    if (s->hull_world) phys_world_destroy(s->hull_world);
     free(s);
 }
 

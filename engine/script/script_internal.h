@@ -283,9 +283,6 @@ struct eng_script {
     // seiche.text (wrap_look.c): what the HUD shows this frame (ENG_SCRIPT_MAX_TEXTS at most).
     eng_script_text *texts;
     int text_count;
-    // A Bullet world of no bodies where seiche.body builds a hull to count its faces before the
-    // scene's world exists (wrap_body.c); made on first use.
-    phys_world *hull_world;
     // "file:line: " of the instruction the budget hook last ran at (script.c): where a memory
     // error that Lua raises itself (no message handler runs for it) happened.
     char hook_where[320];

@@ -43,30 +43,20 @@ static const char *const BODY_FIELDS[] = { "shape", "size", "radius", "height", 
                                            "linear_factor", "angular_factor", "axle", "mesh", "scale", "centre",
                                            "hull_points", NULL };
 
-// A hull is checked at the call, so that its error carries the call's line: Bullet builds it (in
-// the scene's world, or before that exists in a world of its own) and the fluid's hull collider
-// takes at most PBF_MAX_HULL_PLANES faces (cpl_add_body would refuse it when applied).
-static void check_hull(lua_State *L, eng_script *s, const float *pts, uint32_t n)
+// A hull is checked at the call, so that its error carries the call's line: measured as the
+// world would build it (without a world, and without Bullet's margin-shrunk copy, so a big cloud
+// costs a fraction of a second), and the fluid's hull collider takes at most PBF_MAX_HULL_PLANES
+// faces (cpl_add_body would refuse it when applied).
+static void check_hull(lua_State *L, const float *pts, uint32_t n)
 {
-    phys_world *w = s->host.phys;
-    if (!w) {
-        if (!s->hull_world) {
-            phys_world_def d = phys_default_world_def();
-            if (phys_world_create(&d, &s->hull_world) != PHYS_OK) return; // then applying says what is wrong
-        }
-        w = s->hull_world;
-    }
     phys_convex_hull h = { (const phys_vec3 *)pts, n };
-    phys_shape_id id;
-    char lua[512];
-    if (phys_shape_create_convex_hull(w, &h, &id) != PHYS_OK)
-        scr_raise(L, "seiche.body: field 'points': %s", scr_lua_wording(phys_world_last_error(w), lua, sizeof lua));
-    phys_shape_desc d;
-    uint32_t faces = phys_shape_get_desc(w, id, &d) == PHYS_OK ? d.hull.plane_count : 0;
-    phys_shape_destroy(w, id);
-    if (faces > PBF_MAX_HULL_PLANES)
+    phys_hull_info info;
+    char msg[512], lua[512];
+    if (phys_convex_hull_measure(&h, &info, msg, sizeof msg) != PHYS_OK)
+        scr_raise(L, "seiche.body: field 'points': %s", scr_lua_wording(msg, lua, sizeof lua));
+    if (info.plane_count > PBF_MAX_HULL_PLANES)
         scr_raise(L, "seiche.body: field 'points' makes a convex hull of %u faces; the fluid takes at most %d (give fewer "
-                  "points, or points on fewer faces)", faces, PBF_MAX_HULL_PLANES);
+                  "points, or points on fewer faces)", info.plane_count, PBF_MAX_HULL_PLANES);
 }
 
 // The fields each shape takes (besides the common ones).
@@ -304,7 +294,7 @@ static int l_body(lua_State *L)
         const char *field = b.shape == SHAPE_HULL ? "points" : "vertices";
         pts = scr_read_point_list(L, 1, fn, field, -MAX_COORD, MAX_COORD, "m", &b.point_count, b.shape == SHAPE_HULL ? 4 : 3,
                                   65536);
-        if (b.shape == SHAPE_HULL) check_hull(L, s, pts, b.point_count);
+        if (b.shape == SHAPE_HULL) check_hull(L, pts, b.point_count);
         if (b.shape == SHAPE_MESH) {
             if (!scr_field_present(L, 1, "indices"))
                 scr_raise(L, "seiche.body: field 'indices' is required for a mesh: vertex numbers (1-based), three per triangle");

@@ -66,6 +66,7 @@
 #ifndef SEICHE_PHYS_H
 #define SEICHE_PHYS_H
 
+#include <stddef.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -398,6 +399,23 @@ typedef struct phys_compound {
     const phys_compound_part *parts;
     uint32_t part_count;
 } phys_compound;
+
+/// A convex hull measured without a world: its corner and face counts and its
+/// volume, as phys_shape_create_convex_hull would make it (the same checks, the
+/// same exact hull, without Bullet's margin-shrunk copy, which costs ten times
+/// more). A host that must refuse a hull early (the fluid's hull collider takes
+/// at most PBF_MAX_HULL_PLANES faces) can ask first, cheaply.
+typedef struct phys_hull_info {
+    uint32_t vertex_count; ///< the hull's corners (points inside it dropped)
+    uint32_t plane_count;  ///< its faces (coplanar triangles merged)
+    float volume;          ///< m³
+} phys_hull_info;
+
+/// Checks `hull` and measures it into *out. On failure *out is untouched and,
+/// when message is not NULL, it holds why (naming the field, as the world's
+/// last error would), cut to message_size bytes with a terminating NUL.
+phys_result phys_convex_hull_measure(const phys_convex_hull *hull, phys_hull_info *out, char *message,
+                                     size_t message_size);
 
 /// Create shapes. On success *out is the new shape id; on failure *out is
 /// untouched and the message names the offending field.

@@ -181,25 +181,38 @@ static phys_result build_cylinder(phys_world* w, const char* fn, const void* in,
     return PHYS_OK;
 }
 
-static phys_result build_hull(phys_world* w, const char* fn, const void* in, ShapeSlot* s) {
-    const phys_convex_hull& h = *static_cast<const phys_convex_hull*>(in);
-    CHECK(check_ptr(w, fn, "phys_convex_hull.points", h.points));
-    if (h.point_count < 4 || h.point_count > kMaxHullPoints) {
-        return fail(w, PHYS_ERR_INVALID_ARG,
-                    "%s: phys_convex_hull.point_count must be in [4, %u] (got %u)", fn,
-                    (unsigned)kMaxHullPoints, (unsigned)h.point_count);
-    }
-    char field[64];
-    for (uint32_t i = 0; i < h.point_count; ++i) {
-        std::snprintf(field, sizeof field, "phys_convex_hull.points[%u]", (unsigned)i);
-        CHECK(check_vec3(w, fn, field, h.points[i]));
-    }
-    const int count = (int)h.point_count;
-    const float* coords = &h.points[0].x;
-    btConvexHullComputer exact;
-    exact.compute(coords, (int)sizeof(phys_vec3), count, 0, 0);
+// The checks of a hull's points and its exact hull (no margin), shared by the world's shapes and
+// phys_convex_hull_measure. Messages go to `msg`; the caller records them.
+struct ExactHull {
+    btConvexHullComputer hull;
+    std::vector<phys_hull_plane> planes;
     double volume = 0;
-    hull_faces(exact, &s->planes, &volume);
+};
+
+static phys_result exact_hull(const char* fn, const phys_convex_hull& h, ExactHull* out, char* msg,
+                              size_t size) {
+    if (!h.points) {
+        std::snprintf(msg, size, "%s: phys_convex_hull.points must not be NULL", fn);
+        return PHYS_ERR_INVALID_ARG;
+    }
+    if (h.point_count < 4 || h.point_count > kMaxHullPoints) {
+        std::snprintf(msg, size, "%s: phys_convex_hull.point_count must be in [4, %u] (got %u)", fn,
+                      (unsigned)kMaxHullPoints, (unsigned)h.point_count);
+        return PHYS_ERR_INVALID_ARG;
+    }
+    static const char* const axis[3] = {"x", "y", "z"};
+    for (uint32_t i = 0; i < h.point_count; ++i) {
+        const float c[3] = {h.points[i].x, h.points[i].y, h.points[i].z};
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(c[k])) {
+                std::snprintf(msg, size, "%s: phys_convex_hull.points[%u].%s must be finite (got %g)", fn,
+                              (unsigned)i, axis[k], (double)c[k]);
+                return PHYS_ERR_INVALID_ARG;
+            }
+        }
+    }
+    out->hull.compute(&h.points[0].x, (int)sizeof(phys_vec3), (int)h.point_count, 0, 0);
+    hull_faces(out->hull, &out->planes, &out->volume);
     // Reject hulls without a volume (all points on a plane or a line). The
     // threshold is relative to the size of the point cloud.
     btVector3 lo = to_bt(h.points[0]), hi = lo;
@@ -208,35 +221,47 @@ static phys_result build_hull(phys_world* w, const char* fn, const void* in, Sha
         hi.setMax(to_bt(h.points[i]));
     }
     const double extent = (hi - lo).length();
-    if (exact.faces.size() < 4 || !(volume > 1e-9 * extent * extent * extent)) {
-        return fail(w, PHYS_ERR_INVALID_ARG,
-                    "%s: phys_convex_hull.points must span a volume (the %u points lie on a plane "
-                    "or a line; hull volume %g m^3)",
-                    fn, (unsigned)h.point_count, volume);
+    if (out->hull.faces.size() < 4 || !(out->volume > 1e-9 * extent * extent * extent)) {
+        std::snprintf(msg, size,
+                      "%s: phys_convex_hull.points must span a volume (the %u points lie on a plane "
+                      "or a line; hull volume %g m^3)",
+                      fn, (unsigned)h.point_count, out->volume);
+        return PHYS_ERR_INVALID_ARG;
     }
-    s->points.resize((size_t)exact.vertices.size());
-    for (int i = 0; i < exact.vertices.size(); ++i) s->points[(size_t)i] = from_bt(exact.vertices[i]);
+    return PHYS_OK;
+}
+
+static phys_result build_hull(phys_world* w, const char* fn, const void* in, ShapeSlot* s) {
+    const phys_convex_hull& h = *static_cast<const phys_convex_hull*>(in);
+    ExactHull exact;
+    char msg[sizeof w->last_error];
+    const phys_result r = exact_hull(fn, h, &exact, msg, sizeof msg);
+    if (r != PHYS_OK) return fail(w, r, "%s", msg);
+    s->planes = std::move(exact.planes);
+    const btAlignedObjectArray<btVector3>& corners = exact.hull.vertices;
+    s->points.resize((size_t)corners.size());
+    for (int i = 0; i < corners.size(); ++i) s->points[(size_t)i] = from_bt(corners[i]);
 
     // Bullet adds its margin outside a hull; shrink the hull by the margin so
-    // hull + margin has the faces the caller gave.
+    // hull + margin has the faces the caller gave. The shrunk hull is computed from the exact
+    // hull's corners, not every point given: the same hull, without the points inside it.
     std::unique_ptr<btConvexHullShape> shape;
     btConvexHullComputer shrunk;
-    const btScalar shrink = w->margin > 0 ? shrunk.compute(coords, (int)sizeof(phys_vec3), count,
-                                                           w->margin, 0.25f)
+    const btScalar shrink = w->margin > 0 ? shrunk.compute(&corners[0].x(), (int)sizeof(btVector3),
+                                                           corners.size(), w->margin, 0.25f)
                                           : 0;
     if (shrink > 0 && shrunk.vertices.size() >= 4) {
         shape.reset(new btConvexHullShape(&shrunk.vertices[0].x(), shrunk.vertices.size(),
                                           sizeof(btVector3)));
         shape->setMargin(shrink);
     } else {
-        shape.reset(new btConvexHullShape(&exact.vertices[0].x(), exact.vertices.size(),
-                                          sizeof(btVector3)));
+        shape.reset(new btConvexHullShape(&corners[0].x(), corners.size(), sizeof(btVector3)));
         shape->setMargin(0);
     }
     shape->recalcLocalAabb();
     s->desc.type = PHYS_SHAPE_CONVEX_HULL;
     s->desc.margin = shape->getMargin();
-    s->desc.volume = (float)volume;
+    s->desc.volume = (float)exact.volume;
     s->desc.hull.points = s->points.data();
     s->desc.hull.point_count = (uint32_t)s->points.size();
     s->desc.hull.planes = s->planes.data();
@@ -450,6 +475,34 @@ phys_result phys_shape_create_convex_hull(phys_world* world, const phys_convex_h
     return guarded(world, __func__, [&](const char* fn) {
         return create_shape(world, fn, out, build_hull, hull, "hull");
     });
+}
+
+phys_result phys_convex_hull_measure(const phys_convex_hull* hull, phys_hull_info* out, char* message,
+                                     size_t message_size) {
+    static const char fn[] = "phys_convex_hull_measure";
+    char scratch[512];
+    char* msg = message && message_size > 0 ? message : scratch;
+    const size_t size = message && message_size > 0 ? message_size : sizeof scratch;
+    if (!hull || !out) {
+        std::snprintf(msg, size, "%s: %s must not be NULL", fn, hull ? "out" : "hull");
+        return PHYS_ERR_INVALID_ARG;
+    }
+    try {
+        ExactHull exact;
+        const phys_result r = exact_hull(fn, *hull, &exact, msg, size);
+        if (r != PHYS_OK) return r;
+        out->vertex_count = (uint32_t)exact.hull.vertices.size();
+        out->plane_count = (uint32_t)exact.planes.size();
+        out->volume = (float)exact.volume;
+        if (message && message_size > 0) message[0] = 0;
+        return PHYS_OK;
+    } catch (const std::bad_alloc&) {
+        std::snprintf(msg, size, "%s: out of memory", fn);
+        return PHYS_ERR_OUT_OF_MEMORY;
+    } catch (...) {
+        std::snprintf(msg, size, "%s: internal error", fn);
+        return PHYS_ERR_INTERNAL;
+    }
 }
 
 phys_result phys_shape_create_triangle_mesh(phys_world* world, const phys_triangle_mesh* mesh,
