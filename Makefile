@@ -61,7 +61,7 @@ FUZZ_ARGS ?=
 FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-pointer \
 	-fsanitize=fuzzer,address,undefined,float-cast-overflow -fno-sanitize-recover=all \
 	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
-FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli fuzz_lua_script
+FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli fuzz_lua_script fuzz_phys_api
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
 FLUID_SOURCES = $(filter-out fluid/pbf_cpu%.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
 FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
@@ -111,6 +111,12 @@ build/fuzz/bin/fuzz_lua_script: tests/fuzz/fuzz_lua_script.c $(FUZZ_ENGINE_OBJEC
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize-link-c++-runtime -I/usr/include/lua5.4 -I/usr/include/bullet -o $@ $(filter %.c %.o,$^) \
 		$(FUZZ_ENGINE_LIBS)
+
+build/fuzz/bin/fuzz_phys_api: tests/fuzz/fuzz_phys_api.c $(patsubst %.cpp,build/fuzz/obj/%.o,$(wildcard fluid/bullet/phys*.cpp)) \
+		fluid/bullet/phys.h tests/fuzz/fuzz_input.h
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize-link-c++-runtime -o $@ $(filter %.c %.o,$^) \
+		-lBulletDynamics -lBulletCollision -lLinearMath -lstdc++ -lm
 
 # Written by premake with build/Makefile (and rewritten when a shader changes).
 build/gen/shaders_fluid.c build/gen/shaders_render.c: | build/Makefile

@@ -179,7 +179,7 @@ static void bad_arguments_name_function_argument_value_and_rule(void **state)
         { "seiche.body{shape = 'mesh', kind = 'dynamic', vertices = {{0,0,0},{1,0,0},{0,1,0}}, indices = {1,2,3}}", "shape \"mesh\" has no volume and must be kind \"static\" or \"kinematic\"" },
         { "seiche.body{shape = 'sphere', radius = 1, rotation = {axis = {0, 0, 0}, angle = 1}}", "seiche.body: field 'rotation'.axis must not be zero" },
         { "seiche.body{shape = 'sphere', radius = 1, friction = -1}", "seiche.body: field 'friction' must be a number in [0, 100] (got -1)" },
-        { "seiche.body{shape = 'sphere', radius = 100, density = 1e6}", "gives mass 4.18879e+12 kg, outside (0, 1e+06] kg" },
+        { "seiche.body{shape = 'sphere', radius = 100, density = 1e6}", "gives mass 4.18879e+12 kg, outside [1e-06, 1e+06] kg" },
         { "seiche.scene{capacity = 1.5}", "seiche.scene: field 'capacity' must be a whole number in [1, 67108864] particles (got 1.5)" },
         { "seiche.scene{capacity = 1e12}", "(got 1000000000000)" },
         { "seiche.scene{container = {min = {0, 0, 0}, max = {1, 1, 1}, lid = true}}", "seiche.scene: container: unknown field \"lid\" (known: min, max, closed_top)" },

@@ -216,7 +216,7 @@ static int l_body(lua_State *L)
 
     // Common fields.
     double v;
-    bool has_mass = scr_opt_number(L, 1, fn, "mass", 0, PHYS_MAX_MASS, OPEN_LO, "kg", &v);
+    bool has_mass = scr_opt_number(L, 1, fn, "mass", PHYS_MIN_MASS, PHYS_MAX_MASS, 0, "kg", &v);
     if (has_mass) b.def.mass = (float)v;
     bool has_density = scr_opt_number(L, 1, fn, "density", 0, 1e6, OPEN_LO, "kg/m^3", &v);
     if (has_density) b.def.density = (float)v;
@@ -323,10 +323,10 @@ static int l_body(lua_State *L)
     }
     if (kind == PHYS_BODY_DYNAMIC && !has_mass && b.shape != SHAPE_HULL) {
         double m = shape_volume(&b) * b.def.density;
-        if (!(m > 0.0 && m <= PHYS_MAX_MASS))
-            scr_raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside (0, %g] kg "
-                      "(Bullet lets heavier bodies fall through static ones)",
-                      (double)b.def.density, shape_volume(&b), m, (double)PHYS_MAX_MASS);
+        if (!(m >= PHYS_MIN_MASS && m <= PHYS_MAX_MASS))
+            scr_raise(L, "seiche.body: density %g kg/m^3 times volume %g m^3 gives mass %g kg, outside [%g, %g] kg "
+                      "(Bullet lets heavier bodies fall through static ones, and keeps 1/mass in a float)",
+                      (double)b.def.density, shape_volume(&b), m, (double)PHYS_MIN_MASS, (double)PHYS_MAX_MASS);
     }
 
     // The shape's data counts against the script's memory: refused before anything is made.

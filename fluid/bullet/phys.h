@@ -457,6 +457,11 @@ typedef enum phys_body_type {
 /// 3.24: 1e7 kg rests, 1.5e7 kg falls), so bodies are held an order below that.
 #define PHYS_MAX_MASS 1.0e6f
 
+/// The lightest dynamic body, kg (1 mg). Bullet keeps 1/mass and 1/inertia in
+/// floats: a body of a denormal mass (1e-41 kg from a density of 1e-37 kg/m³)
+/// came out of its first step as NaN.
+#define PHYS_MIN_MASS 1.0e-6f
+
 /// Body settings. Fill with phys_default_body_def(), then change fields.
 typedef struct phys_body_def {
     phys_body_type type;         ///< default PHYS_BODY_DYNAMIC
@@ -465,10 +470,11 @@ typedef struct phys_body_def {
     phys_quat orientation;       ///< unit quaternion (x, y, z, w); default identity
     phys_vec3 linear_velocity;   ///< m/s; default 0; must be 0 for static bodies
     phys_vec3 angular_velocity;  ///< rad/s, world axes; default 0; must be 0 for static bodies
-    /// kg, finite, in [0, PHYS_MAX_MASS]. Dynamic bodies only: if mass > 0 it
-    /// wins and `density` is ignored; if mass == 0 the mass is density × shape
-    /// volume, which must not pass PHYS_MAX_MASS either. Ignored (but still
-    /// checked) for static and kinematic bodies.
+    /// kg, finite: 0, or in [PHYS_MIN_MASS, PHYS_MAX_MASS]. Dynamic bodies only:
+    /// if mass > 0 it wins and `density` is ignored; if mass == 0 the mass is
+    /// density × shape volume, which must lie in that range too. Ignored (but
+    /// still checked) for static and kinematic bodies. A body too small for its
+    /// mass to have a moment of inertia a float can invert is refused.
     float mass;
     /// kg/m³, finite; must be > 0 when used (dynamic, mass == 0). Default 1000.
     float density;

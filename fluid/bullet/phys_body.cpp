@@ -148,6 +148,12 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
                         "%s: phys_body_def.mass must be >= 0 and finite (got %g)", fn,
                         (double)d.mass);
         }
+        if (d.mass > 0 && d.mass < PHYS_MIN_MASS) {
+            return fail(w, PHYS_ERR_INVALID_ARG,
+                        "%s: phys_body_def.mass must be 0 (from the density) or at least PHYS_MIN_MASS = %g kg "
+                        "(got %g)",
+                        fn, (double)PHYS_MIN_MASS, (double)d.mass);
+        }
         if (d.mass > PHYS_MAX_MASS) {
             return fail(w, PHYS_ERR_INVALID_ARG,
                         "%s: phys_body_def.mass must be at most PHYS_MAX_MASS = %g kg (got %g): "
@@ -191,18 +197,28 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
                                 fn, (double)d.density);
                 }
                 mass = d.density * shape.desc.volume;
-                if (!std::isfinite(mass) || !(mass > 0) || mass > PHYS_MAX_MASS) {
+                if (!std::isfinite(mass) || !(mass >= PHYS_MIN_MASS) || mass > PHYS_MAX_MASS) {
                     return fail(w, PHYS_ERR_INVALID_ARG,
                                 "%s: phys_body_def.density %g times the %s volume %g m^3 gives "
-                                "mass %g kg; it must be in (0, PHYS_MAX_MASS = %g kg]",
+                                "mass %g kg; it must be in [PHYS_MIN_MASS = %g, PHYS_MAX_MASS = %g kg]",
                                 fn, (double)d.density, shape_name(st), (double)shape.desc.volume,
-                                (double)mass, (double)PHYS_MAX_MASS);
+                                (double)mass, (double)PHYS_MIN_MASS, (double)PHYS_MAX_MASS);
                 }
             }
             if (st == PHYS_SHAPE_COMPOUND) {
                 inertia = shape.inertia_per_kg * mass;  // Bullet's own is a bounding-box guess
             } else {
                 shape.shape->calculateLocalInertia(mass, inertia);
+            }
+            // Bullet inverts the inertia in floats (0 stays 0: no turning about that axis).
+            for (int k = 0; k < 3; ++k) {
+                if (!std::isfinite(inertia[k]) || inertia[k] < 0 ||
+                    (inertia[k] > 0 && !std::isfinite(1.0f / inertia[k]))) {
+                    return fail(w, PHYS_ERR_INVALID_ARG,
+                                "%s: a %s of mass %g kg has a moment of inertia of %g kg m^2 about its %c "
+                                "axis, too small to invert in a float: make the shape larger",
+                                fn, shape_name(st), (double)mass, (double)inertia[k], "xyz"[k]);
+                }
             }
         }
 
