@@ -161,6 +161,34 @@ static void test_force_changes_velocity_by_f_over_m_dt_for_one_step_only(void **
     assert_near(v.z, -0.03, 1e-6);
 }
 
+// A held force acts in every step until released, on top of the one-step forces; a torque too.
+static void test_held_force_acts_in_every_step_until_released(void **state) {
+    fixture *f = *state;
+    phys_body_id b = make_weightless_sphere(f, 2.0f);
+    const float dt = 0.01f;
+    assert_ok(phys_body_set_held_force(f->world, b, v3(4, 0, 0), v3(0, 0, 0)));
+    phys_vec3 held, torque = v3(9, 9, 9);
+    assert_ok(phys_body_get_held_force(f->world, b, &held, &torque));
+    assert_near(held.x, 4, 0);
+    assert_near(torque.z, 0, 0);
+    assert_ok(phys_body_apply_force(f->world, b, v3(2, 0, 0), true));  // one step only
+    for (int i = 0; i < 3; i++) assert_ok(phys_world_step(f->world, dt));
+    // Δv = (4 × 3 + 2 × 1) / 2 × 0.01 = 0.07.
+    assert_near(velocity_of(f->world, b).x, 0.07, 1e-6);
+    assert_ok(phys_body_set_held_force(f->world, b, v3(0, 0, 0), v3(0, 0, 0)));
+    assert_ok(phys_world_step(f->world, dt));
+    assert_near(velocity_of(f->world, b).x, 0.07, 1e-6);
+    assert_ok(phys_body_get_held_force(f->world, b, NULL, NULL));
+
+    assert_int_equal(phys_body_set_held_force(f->world, b, v3(NAN, 0, 0), v3(0, 0, 0)), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "force.x must be finite (got nan)");
+    assert_int_equal(phys_body_set_held_force(f->world, b, v3(0, 0, 0), v3(0, INFINITY, 0)), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "torque.y must be finite (got inf)");
+    assert_ok(phys_body_destroy(f->world, b));
+    assert_int_equal(phys_body_set_held_force(f->world, b, v3(1, 0, 0), v3(0, 0, 0)), PHYS_ERR_STALE_ID);
+    assert_int_equal(phys_body_get_held_force(f->world, b, &held, NULL), PHYS_ERR_STALE_ID);
+}
+
 static void test_impulse_changes_velocity_by_j_over_m_at_once(void **state) {
     fixture *f = *state;
     phys_body_id b = make_weightless_sphere(f, 2.0f);
@@ -352,6 +380,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_kinematic_target_derives_velocity_for_one_step_then_stops, setup, teardown),
         cmocka_unit_test_setup_teardown(test_kinematic_velocity_moves_body_steadily, setup, teardown),
         cmocka_unit_test_setup_teardown(test_force_changes_velocity_by_f_over_m_dt_for_one_step_only, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_held_force_acts_in_every_step_until_released, setup, teardown),
         cmocka_unit_test_setup_teardown(test_impulse_changes_velocity_by_j_over_m_at_once, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mass_data_reports_mass_and_inverse_inertia, setup, teardown),
         cmocka_unit_test_setup_teardown(test_impulse_at_point_spins_body_by_inverse_inertia, setup, teardown),

@@ -501,6 +501,7 @@ int eng_app_run(const eng_app_options *o)
                     status = ENG_EXIT_USAGE;
                     break;
                 }
+                eng_script_step_taken(in->script);
                 a->frame++;
                 steps++;
                 a->time = (double)a->frame * o->dt; // exact multiples, no running sum

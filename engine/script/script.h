@@ -144,6 +144,9 @@ void eng_script_set_host(eng_script *s, const eng_script_host *host);
 /// rest of the queue is dropped). Also stops kinematic bodies whose move_to target was
 /// not renewed for the coming step. Call between steps, with the worlds in the host.
 eng_script_status eng_script_apply(eng_script *s);
+/// After each step: the forces and torques the script applied for it (body:apply_force,
+/// body:apply_torque, held on their bodies through the step's Bullet steps) are released.
+void eng_script_step_taken(eng_script *s);
 /// Commands waiting for eng_script_apply.
 int eng_script_pending(const eng_script *s);
 

@@ -386,6 +386,30 @@ static eng_script_status apply_one(eng_script *s, const command *c)
     case CMD_BODY_REMOVE:
         body_remove_ids(s, c->u.body.id, c->u.body.shape, c->u.body.node, c->u.body.mesh);
         break;
+    case CMD_BODY_FORCE:
+    case CMD_BODY_TORQUE: {
+        if (!o || o->state != OBJ_LIVE) break;
+        body_rec *b = &o->u.body;
+        const float *v = c->u.vec.v;
+        float *h = b->held;
+        if (c->type == CMD_BODY_TORQUE) {
+            for (int k = 0; k < 3; k++) h[3 + k] += v[k];
+        } else {
+            for (int k = 0; k < 3; k++) h[k] += v[k];
+            phys_vec3 at;
+            if (c->u.vec.at_point && phys_body_get_pose(pw, b->id, &at, NULL) == PHYS_OK) {
+                float r[3] = { c->u.vec.p[0] - at.x, c->u.vec.p[1] - at.y, c->u.vec.p[2] - at.z };
+                h[3] += r[1] * v[2] - r[2] * v[1];
+                h[4] += r[2] * v[0] - r[0] * v[2];
+                h[5] += r[0] * v[1] - r[1] * v[0];
+            }
+        }
+        b->held_on = true;
+        phys_vec3 force = { h[0], h[1], h[2] }, torque = { h[3], h[4], h[5] };
+        if (phys_body_set_held_force(pw, b->id, force, torque) != PHYS_OK)
+            return scr_refuse(s, c, "%s", phys_world_last_error(pw));
+        break;
+    }
     case CMD_BODY_IMPULSE:
     case CMD_BODY_ANGULAR_IMPULSE:
     case CMD_BODY_VELOCITY:
@@ -512,6 +536,18 @@ eng_script_status eng_script_apply(eng_script *s)
     }
     s->cache_valid = false;
     return st;
+}
+
+void eng_script_step_taken(eng_script *s)
+{
+    for (uint32_t i = 0; i < s->obj_count && s->host.phys; i++) {
+        obj *o = &s->objs[i];
+        if (o->state != OBJ_LIVE || o->kind != OBJ_BODY || !o->u.body.held_on) continue;
+        phys_vec3 zero = { 0, 0, 0 };
+        phys_body_set_held_force(s->host.phys, o->u.body.id, zero, zero);
+        memset(o->u.body.held, 0, sizeof o->u.body.held);
+        o->u.body.held_on = false;
+    }
 }
 
 // ---- injected input ------------------------------------------------------------------------

@@ -111,6 +111,10 @@ typedef struct body_rec {
     uint32_t dry_steps;
     float step_velocity[SCR_VELOCITY_HISTORY][3];
     uint64_t step_index[SCR_VELOCITY_HISTORY]; // the step + 1 whose start step_velocity holds (0: none)
+    // apply_force / apply_torque for the coming step (script_apply.c): force then torque about the
+    // centre of mass, held on the body through the step's Bullet steps, released after it.
+    float held[6];
+    bool held_on;
 } body_rec;
 
 // A joint between two bodies (wrap_joint.c): what the script asked for, world frame at
@@ -166,7 +170,8 @@ typedef enum cmd_type {
     CMD_BLOCK = 1, CMD_SPHERE, CMD_PARTICLES,
     CMD_EMITTER_ADD, CMD_EMITTER_SET, CMD_EMITTER_REMOVE,
     CMD_SINK_ADD, CMD_SINK_REMOVE,
-    CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_VELOCITY,
+    CMD_BODY_ADD, CMD_BODY_REMOVE, CMD_BODY_IMPULSE, CMD_BODY_ANGULAR_IMPULSE, CMD_BODY_FORCE, CMD_BODY_TORQUE,
+    CMD_BODY_VELOCITY,
     CMD_BODY_ANGULAR_VELOCITY, CMD_BODY_MOVE_TO, CMD_BODY_TELEPORT, CMD_BODY_LOOK,
     CMD_GRAB_ADD, CMD_GRAB_MOVE, CMD_GRAB_REMOVE,
     CMD_JOINT_ADD, CMD_JOINT_MOTOR, CMD_JOINT_LIMITS, CMD_JOINT_REMOVE,

@@ -563,24 +563,16 @@ static int vector_edit(lua_State *L, const char *fn, cmd_type type, const char *
     return 0;
 }
 
-// Forces act over the next step: they are applied as the impulse F dt at its start (the
-// coupling steps Bullet several times per frame and Bullet clears forces after each).
+// Forces act over the next step: held on the body through each of its Bullet steps (the coupling
+// steps Bullet once per fluid substep), so a steady push is steady within the frame too.
 static int m_body_apply_force(lua_State *L)
 {
-    eng_script *s = scr_get_script(L);
-    vector_edit(L, "body:apply_force", CMD_BODY_IMPULSE, "force", "N", true, true);
-    command *c = &s->commands[s->command_count - 1];
-    for (int k = 0; k < 3; k++) c->u.vec.v[k] *= (float)s->host.dt;
-    return 0;
+    return vector_edit(L, "body:apply_force", CMD_BODY_FORCE, "force", "N", true, true);
 }
 
 static int m_body_apply_torque(lua_State *L)
 {
-    eng_script *s = scr_get_script(L);
-    vector_edit(L, "body:apply_torque", CMD_BODY_ANGULAR_IMPULSE, "torque", "N m", true, false);
-    command *c = &s->commands[s->command_count - 1];
-    for (int k = 0; k < 3; k++) c->u.vec.v[k] *= (float)s->host.dt;
-    return 0;
+    return vector_edit(L, "body:apply_torque", CMD_BODY_TORQUE, "torque", "N m", true, false);
 }
 
 static int m_body_apply_impulse(lua_State *L)

@@ -513,17 +513,21 @@ cpl_result cpl_teleport_body(cpl_coupling *c, phys_body_id body, phys_vec3 posit
 // ---- the step ------------------------------------------------------------------------------
 
 // The force and torque of the step, on a body integrated with its added mass m_a (added_mass):
-// (m + m_a) a = m g + F + m_a a_lag, that is the force m (F + m_a (a_lag - g)) / (m + m_a)
-// on the body of mass m that Bullet integrates under m g.
+// (m + m_a) a = m g + F + H + m_a a_lag, H the force the host holds on the body
+// (phys_body_set_held_force, which Bullet applies whole), that is the force
+// m (F + m_a (a_lag - g)) / (m + m_a) - m_a H / (m + m_a) on the body of mass m that Bullet
+// integrates under m g + H. (Without the last term a steady push held a floating box down as if it
+// were 1 + m_a / m times as strong: 2 N sank it as 4 N would.)
 static void apply_fluid(cpl_coupling *c, body_entry *e)
 {
     phys_vec3 f = { e->force[0] + e->damping[0], e->force[1] + e->damping[1], e->force[2] + e->damping[2] };
     if (e->added > 0.0f && e->mass > 0.0f) {
-        phys_vec3 g = phys_world_get_gravity(c->def.phys);
+        phys_vec3 g = phys_world_get_gravity(c->def.phys), held = { 0.0f, 0.0f, 0.0f };
+        if (phys_body_get_held_force(c->def.phys, e->body, &held, NULL) != PHYS_OK) held = (phys_vec3){ 0.0f, 0.0f, 0.0f };
         float k = e->mass / (e->mass + e->added);
-        f.x = k * (f.x + e->added * (e->lagged[0] - g.x));
-        f.y = k * (f.y + e->added * (e->lagged[1] - g.y));
-        f.z = k * (f.z + e->added * (e->lagged[2] - g.z));
+        f.x = k * (f.x + e->added * (e->lagged[0] - g.x)) - (1.0f - k) * held.x;
+        f.y = k * (f.y + e->added * (e->lagged[1] - g.y)) - (1.0f - k) * held.y;
+        f.z = k * (f.z + e->added * (e->lagged[2] - g.z)) - (1.0f - k) * held.z;
     }
     phys_body_apply_force(c->def.phys, e->body, f, true);
     phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);

@@ -560,6 +560,17 @@ phys_result phys_body_apply_impulse(phys_world *world, phys_body_id body, phys_v
 phys_result phys_body_apply_impulse_at_point(phys_world *world, phys_body_id body, phys_vec3 impulse, phys_vec3 point, bool wake);
 phys_result phys_body_apply_angular_impulse(phys_world *world, phys_body_id body, phys_vec3 impulse, bool wake);
 
+/// A force (N, through the centre of mass) and a torque (N·m), world space, held on
+/// a body: applied in every phys_world_step from now on, until set again (zero
+/// releases it), on top of the one-step forces above. For a host that steps the
+/// world several times per frame (the coupling steps it once per fluid substep)
+/// and has a force for the whole frame: a steady push then acts evenly over the
+/// frame instead of as one impulse at its start. Wakes the body while non-zero.
+/// Static and kinematic bodies accept it and do not respond.
+phys_result phys_body_set_held_force(phys_world *world, phys_body_id body, phys_vec3 force, phys_vec3 torque);
+/// The force and torque held on a body (zero when none). Either output may be NULL.
+phys_result phys_body_get_held_force(phys_world *world, phys_body_id body, phys_vec3 *out_force, phys_vec3 *out_torque);
+
 /// Mass properties. Static and kinematic bodies report mass 0 and all inverse
 /// quantities 0 (infinite mass).
 typedef struct phys_mass_data {

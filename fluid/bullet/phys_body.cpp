@@ -255,6 +255,8 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
         b.user_data = d.user_data;
         b.kin_linear = d.type == PHYS_BODY_KINEMATIC ? to_bt(d.linear_velocity) : btVector3(0, 0, 0);
         b.kin_angular = d.type == PHYS_BODY_KINEMATIC ? to_bt(d.angular_velocity) : btVector3(0, 0, 0);
+        b.held_force = btVector3(0, 0, 0);
+        b.held_torque = btVector3(0, 0, 0);
         b.alive = true;
         claim_slot(w->free_bodies, slot);
         ++shape.use_count;
@@ -420,6 +422,31 @@ phys_result phys_body_apply_force_at_point(phys_world* world, phys_body_id body,
         return apply_to_body(world, fn, body, wake, [&](btRigidBody* rb) {
             rb->applyForce(to_bt(force), to_bt(point) - rb->getCenterOfMassPosition());
         });
+    });
+}
+
+phys_result phys_body_set_held_force(phys_world* world, phys_body_id body, phys_vec3 force, phys_vec3 torque) {
+    return guarded(world, __func__, [&](const char* fn) -> phys_result {
+        CHECK(check_vec3(world, fn, "force", force));
+        CHECK(check_vec3(world, fn, "torque", torque));
+        BodySlot* b = nullptr;
+        CHECK(get_body(world, fn, body, &b));
+        b->held_force = to_bt(force);
+        b->held_torque = to_bt(torque);
+        if (b->type == PHYS_BODY_DYNAMIC && !(b->held_force.isZero() && b->held_torque.isZero()))
+            b->body->activate(true);
+        return PHYS_OK;
+    });
+}
+
+phys_result phys_body_get_held_force(phys_world* world, phys_body_id body, phys_vec3* out_force,
+                                     phys_vec3* out_torque) {
+    return guarded(world, __func__, [&](const char* fn) -> phys_result {
+        BodySlot* b = nullptr;
+        CHECK(get_body(world, fn, body, &b));
+        if (out_force) *out_force = from_bt(b->held_force);
+        if (out_torque) *out_torque = from_bt(b->held_torque);
+        return PHYS_OK;
     });
 }
 

@@ -100,6 +100,8 @@ struct BodySlot {
     btTransform target;         // kinematic target for the next step
     btVector3 kin_linear{0, 0, 0};  // kinematic velocity set by the caller
     btVector3 kin_angular{0, 0, 0};
+    btVector3 held_force{0, 0, 0};   // phys_body_set_held_force: applied in every step
+    btVector3 held_torque{0, 0, 0};
     std::unique_ptr<btRigidBody> body;
 };
 

@@ -224,6 +224,14 @@ phys_result phys_world_step(phys_world* world, float dt) {
                 rb->setWorldTransform(next);
             }
         }
+        // Held forces (phys_body_set_held_force) join this step's one-step forces.
+        for (BodySlot& b : w->bodies) {
+            if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
+            if (b.held_force.isZero() && b.held_torque.isZero()) continue;
+            b.body->activate(true);
+            b.body->applyCentralForce(b.held_force);
+            b.body->applyTorque(b.held_torque);
+        }
         for (ConstraintSlot& c : w->constraints) {
             if (c.alive) c.constraint->m_setting.m_impulseClamp = c.max_force * dt;
         }

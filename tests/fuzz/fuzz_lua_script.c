@@ -631,6 +631,7 @@ static void frames(run *r, fuzz_input *in)
             if (!cpl_last_error(r->coupling)[0]) abort();
             return; // the runner exits 2 with the message
         }
+        eng_script_step_taken(r->script);
         r->frame++;
         r->time = (double)r->frame * dt;
         pbf_step_stats st[4];

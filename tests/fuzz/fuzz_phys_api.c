@@ -356,7 +356,7 @@ static void body_calls(state *s)
     phys_mass_data m;
     phys_shape_desc d;
     bool wake = fuzz_bool(in);
-    switch (fuzz_u8(in) % 24) {
+    switch (fuzz_u8(in) % 25) {
     case 0: CALL(s, phys_body_destroy(s->w, b)); break;
     case 1: CALL(s, phys_body_set_pose(s->w, b, vec(in), quat(in))); break;
     case 2: CALL(s, phys_body_get_pose(s->w, b, fuzz_u8(in) == 255 ? NULL : &p, &q)); break;
@@ -392,6 +392,10 @@ static void body_calls(state *s)
     case 22:
         CALL(s, phys_body_get_type(s->w, b, &type));
         CALL(s, phys_body_get_shape(s->w, b, &d));
+        break;
+    case 23:
+        CALL(s, phys_body_set_held_force(s->w, b, vec(in), vec(in)));
+        CALL(s, phys_body_get_held_force(s->w, b, fuzz_bool(in) ? &v : NULL, fuzz_bool(in) ? &p : NULL));
         break;
     default:
         (void)f;
