@@ -604,6 +604,35 @@ static void endless_loop_is_stopped_by_the_budget(void **state)
     assert_null(eng_script_create(&d)); // no budget is not allowed
 }
 
+// Work one instruction or one library call does in C: comparing two long strings (strcoll once
+// per NUL byte: 50 ms for 7.5 MB, so the hook, at every 1000th instruction, let a loop of them run
+// 48 s past a 5 s budget), parsing a long source in load (72 MB: 4 s), and expanding a long date
+// format (string.rep("%n", 8e7): 6.6 s). Each is stopped near its budget now, or refused.
+static void long_string_work_is_stopped_by_the_budget(void **state)
+{
+    (void)state;
+    static const char *const chunks[] = {
+        "local a = string.rep('\\0', 7 * 1024 * 1024 + 512 * 1024)\nrepeat until a < a",
+        "local src = string.rep('local x = 1\\n', 6000000)\nwhile true do load(src) end",
+    };
+    for (int i = 0; i < 2; i++) {
+        eng_script_def d = eng_default_script_def();
+        d.budget_s = 0.3;
+        eng_script *s = eng_script_create(&d);
+        double t0 = support_seconds();
+        assert_int_equal(run_chunk(s, chunks[i]), ENG_SCRIPT_ERROR);
+        double secs = support_seconds() - t0;
+        assert_non_null(strstr(eng_script_error(s), "ran longer than its budget of 0.3 s"));
+        assert_true(secs < 3.0);
+        eng_script_destroy(s);
+    }
+    eng_script *s = script();
+    assert_int_equal(run_chunk(s, "os.date(string.rep('%n', 512))"), ENG_SCRIPT_OK); // 1024 bytes
+    assert_int_equal(run_chunk(s, "os.date(string.rep('%n', 80000000))"), ENG_SCRIPT_ERROR);
+    assert_non_null(strstr(eng_script_error(s), "os.date: argument #1 'format' is 160000000 bytes long; at most 1024"));
+    eng_script_destroy(s);
+}
+
 static void runaway_memory_is_stopped(void **state)
 {
     (void)state;
@@ -665,6 +694,7 @@ int main(void)
         cmocka_unit_test(runtime_error_has_a_traceback),
         cmocka_unit_test(failed_check_is_its_own_status),
         cmocka_unit_test(endless_loop_is_stopped_by_the_budget),
+        cmocka_unit_test(long_string_work_is_stopped_by_the_budget),
         cmocka_unit_test(runaway_memory_is_stopped),
         cmocka_unit_test(key_names_round_trip),
     };

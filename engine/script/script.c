@@ -188,7 +188,44 @@ static void budget_hook(lua_State *L, lua_Debug *ar);
 static int hook_interval(const eng_script *s)
 {
     size_t used = s->memory + s->c_memory;
-    return used < ((size_t)8 << 20) ? 1000 : used < ((size_t)64 << 20) ? 100 : used < ((size_t)256 << 20) ? 10 : 1;
+    int n = used < ((size_t)8 << 20) ? 1000 : used < ((size_t)64 << 20) ? 100 : used < ((size_t)256 << 20) ? 10 : 1;
+    // And at most one instruction per MiB of the longest live string (16 at 64 KiB): comparing
+    // two 7.5 MB strings of NUL bytes took 50 ms, and at every 1000th instruction a loop of
+    // comparisons ran 48 s past a 5 s budget.
+    size_t longest = s->big_untracked ? ((size_t)1 << 20) : 0;
+    for (int i = 0; i < s->big_string_count; i++)
+        if (s->big_strings[i].size > longest) longest = s->big_strings[i].size;
+    if (longest > 0) {
+        size_t per = ((size_t)1 << 20) / longest;
+        int cap = per < 1 ? 1 : (int)per;
+        if (cap < n) n = cap;
+    }
+    return n;
+}
+
+static void check_soon(eng_script *s);
+
+// Notes a string of SCR_BIG_STRING bytes or more as it is made, and forgets a block as it is freed.
+static void note_big_string(eng_script *s, const void *at, size_t size)
+{
+    if (s->big_string_count < SCR_MAX_BIG_STRINGS) {
+        s->big_strings[s->big_string_count].at = at;
+        s->big_strings[s->big_string_count].size = size;
+        s->big_string_count++;
+    } else {
+        s->big_untracked++;
+    }
+    check_soon(s); // the hook picks its new interval at the next instruction
+}
+
+static void forget_big_block(eng_script *s, const void *at)
+{
+    for (int i = 0; i < s->big_string_count; i++)
+        if (s->big_strings[i].at == at) {
+            s->big_strings[i] = s->big_strings[--s->big_string_count];
+            return;
+        }
+    if (s->big_untracked > 0) s->big_untracked--; // one of those that did not fit (or not a string: harmless)
 }
 
 // The hook's events: the count, and from 64 MiB on every new line too, so that the line of a
@@ -308,8 +345,11 @@ void scr_uncharge(eng_script *s, size_t bytes)
 static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
 {
     eng_script *s = ud;
+    // A new object: osize is its type (Lua 5.4), and a string is made at its full size once.
+    bool new_string = ptr == NULL && osize == LUA_TSTRING;
     if (ptr == NULL) osize = 0;
     if (nsize == 0) {
+        if (osize >= SCR_BIG_STRING) forget_big_block(s, ptr);
         free(ptr);
         s->memory -= osize;
         return NULL;
@@ -321,6 +361,7 @@ static void *limited_alloc(void *ud, void *ptr, size_t osize, size_t nsize)
     void *p = realloc(ptr, nsize);
     if (!p) return NULL;
     s->memory = s->memory - osize + nsize;
+    if (new_string && nsize >= SCR_BIG_STRING) note_big_string(s, p, nsize);
     if (nsize > osize && s->deadline > 0.0 && (s->allocated += nsize - osize) >= ALLOC_QUANTUM) {
         s->allocated = 0;
         check_soon(s); // lua_sethook is safe here: Lua allows it even from a signal handler

@@ -217,6 +217,8 @@ typedef struct command {
 #define SCR_MAX_TIMER_CALLS 100000
 /// Coroutines resumed inside one another that the budget keeps track of.
 #define SCR_MAX_THREADS 32
+#define SCR_BIG_STRING ((size_t)64 << 10)  // bytes: a string this long counts in hook_interval
+#define SCR_MAX_BIG_STRINGS 256
 
 /// Why the running call is being stopped (scr_stop): a stop cannot be caught by pcall.
 typedef enum scr_stop_kind { STOP_NONE = 0, STOP_BUDGET, STOP_MEMORY, STOP_CHECK } scr_stop_kind;
@@ -246,6 +248,11 @@ struct eng_script {
     bool out_of_memory;     // the allocator refused a block
     size_t ticks;           // work units since the clock was last read (scr_tick)
     size_t allocated;       // bytes allocated since the clock was last read
+    // Live strings of at least SCR_BIG_STRING bytes (script.c, hook_interval): one instruction can
+    // walk a whole string (comparing two: strcoll once per NUL byte), so the longer the longest,
+    // the more often the hook looks at the clock. big_untracked counts those that did not fit.
+    struct { const void *at; size_t size; } big_strings[SCR_MAX_BIG_STRINGS];
+    int big_string_count, big_untracked;
     lua_State *threads[SCR_MAX_THREADS]; // the coroutines resumed now, innermost last (script_sandbox.c)
     int thread_depth;       // how many (may pass SCR_MAX_THREADS: those are not kept)
     scr_stop_kind stop_kind;
@@ -464,6 +471,10 @@ size_t scr_body_data_bytes(const body_rec *b);
 void scr_body_free_data(eng_script *s, body_rec *b);
 void scr_obj_release(eng_script *s, uint32_t slot);
 void scr_push_handle(lua_State *L, eng_script *s, uint32_t slot);
+// The method's object (argument 1), checked live and of `kind`. SCR_SELF_AGAIN: the pointer is
+// into s->objs, which scr_obj_new reallocates, and reading an argument can run Lua (a table's
+// __index or __len calling seiche.after, a sink, ...), which may make or remove objects: a method
+// that reads arguments after this looks its object up again (call this again) before it uses it.
 obj *scr_check_self(lua_State *L, obj_kind kind, const char *fn, uint32_t *slot_out);
 int scr_is_valid(lua_State *L);
 /// Makes the metatable of a handle kind: its methods (upvalue s) and the shared metamethods.

@@ -452,9 +452,10 @@ static int m_body_angular_velocity(lua_State *L)
 
 static int m_body_velocity_at(lua_State *L)
 {
-    obj *o = scr_check_self(L, OBJ_BODY, "body:velocity_at", NULL);
+    scr_check_self(L, OBJ_BODY, "body:velocity_at", NULL);
     float pt[3], p[3], v[3], w[3];
     scr_arg_vec(L, 2, "body:velocity_at", "point", -MAX_COORD, MAX_COORD, "m", pt);
+    obj *o = scr_check_self(L, OBJ_BODY, "body:velocity_at", NULL); // again: reading may have run Lua (SCR_SELF_AGAIN)
     scr_body_state(scr_get_script(L), o, p, NULL, v, w);
     float r[3] = { pt[0] - p[0], pt[1] - p[1], pt[2] - p[2] };
     scr_push_vec3(L, v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2], v[2] + w[0] * r[1] - w[1] * r[0]);
@@ -595,13 +596,16 @@ static int m_body_set_angular_velocity(lua_State *L)
     return vector_edit(L, "body:set_angular_velocity", CMD_BODY_ANGULAR_VELOCITY, "velocity", "rad/s", false, false);
 }
 
-// pose(position [, rotation]) arguments of move_to and teleport.
-static void read_pose_args(lua_State *L, const char *fn, obj *o, float pos[3], float rot[4])
+// pose(position [, rotation]) arguments of move_to and teleport; returns the body, looked up
+// again after the arguments were read (SCR_SELF_AGAIN).
+static obj *read_pose_args(lua_State *L, const char *fn, float pos[3], float rot[4])
 {
+    scr_check_self(L, OBJ_BODY, fn, NULL);
     scr_arg_vec(L, 2, fn, "position", -MAX_COORD, MAX_COORD, "m", pos);
     if (lua_isnoneornil(L, 3)) {
+        obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
         scr_body_state(scr_get_script(L), o, NULL, rot, NULL, NULL);
-        return;
+        return o;
     }
     // scr_opt_rotation reads a field: wrap the argument in a table.
     lua_createtable(L, 0, 1);
@@ -611,14 +615,14 @@ static void read_pose_args(lua_State *L, const char *fn, obj *o, float pos[3], f
     snprintf(sub, sizeof sub, "%s: argument #2", fn);
     scr_opt_rotation(L, lua_gettop(L), sub, "rotation", rot);
     lua_pop(L, 1);
+    return scr_check_self(L, OBJ_BODY, fn, NULL);
 }
 
 static int m_body_move_to(lua_State *L)
 {
     const char *fn = "body:move_to";
-    obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
     float pos[3], rot[4];
-    read_pose_args(L, fn, o, pos, rot);
+    obj *o = read_pose_args(L, fn, pos, rot);
     if (o->u.body.def.type != PHYS_BODY_KINEMATIC)
         scr_raise(L, "%s: the body is %s: move_to drives kinematic bodies (use teleport, set_velocity or forces)", fn,
                   scr_body_kind_name[o->u.body.def.type]);
@@ -631,10 +635,10 @@ static int m_body_move_to(lua_State *L)
 static int m_body_teleport(lua_State *L)
 {
     const char *fn = "body:teleport";
-    obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
     float pos[3], rot[4];
-    read_pose_args(L, fn, o, pos, rot);
+    read_pose_args(L, fn, pos, rot);
     command *c = body_edit(L, fn, CMD_BODY_TELEPORT, false);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, NULL);
     memcpy(c->u.pose.pos, pos, sizeof pos);
     memcpy(c->u.pose.rot, rot, sizeof rot);
     if (o->state == OBJ_PENDING) { // not in the world yet: change its def instead
@@ -649,9 +653,10 @@ static int set_colour(lua_State *L, const char *fn, const char *what)
 {
     eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot);
+    scr_check_self(L, OBJ_BODY, fn, &slot);
     float c3[3];
     scr_check_vec_at(L, 2, fn, what, 3, 0.0, 1.0, 0, "", c3);
+    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot); // SCR_SELF_AGAIN
     memcpy(o->u.body.color, c3, sizeof c3);
     command *c = scr_push_command(L, s, CMD_BODY_LOOK, fn);
     c->slot = slot;
@@ -774,11 +779,12 @@ static int m_body_grab(lua_State *L)
     eng_script *s = scr_get_script(L);
     const char *fn = "body:grab";
     uint32_t slot;
-    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot);
+    scr_check_self(L, OBJ_BODY, fn, &slot);
     float p[3];
     scr_arg_vec(L, 2, fn, "point", -MAX_COORD, MAX_COORD, "m", p);
     double max_force = 0;
     if (!lua_isnoneornil(L, 3)) max_force = scr_arg_number(L, 3, fn, "max_force", 0, 1e9, OPEN_LO, "N");
+    obj *o = scr_check_self(L, OBJ_BODY, fn, &slot); // SCR_SELF_AGAIN
     if (o->u.body.def.type != PHYS_BODY_DYNAMIC)
         scr_raise(L, "%s: the body is %s: only dynamic bodies can be grabbed", fn, scr_body_kind_name[o->u.body.def.type]);
     uint32_t body_gen = o->generation;
@@ -807,9 +813,10 @@ static int m_grab_move(lua_State *L)
 {
     eng_script *s = scr_get_script(L);
     uint32_t slot;
-    obj *o = scr_check_self(L, OBJ_GRAB, "grab:move", &slot);
+    scr_check_self(L, OBJ_GRAB, "grab:move", &slot);
     float p[3];
     scr_arg_vec(L, 2, "grab:move", "point", -MAX_COORD, MAX_COORD, "m", p);
+    obj *o = scr_check_self(L, OBJ_GRAB, "grab:move", &slot); // SCR_SELF_AGAIN
     memcpy(o->u.grab.pivot, p, sizeof p);
     record_pivot(s, o, p);
     command *c = scr_push_command(L, s, CMD_GRAB_MOVE, "grab:move");

@@ -103,7 +103,10 @@ static int m_emitter_set(lua_State *L)
     bool tinted = o->u.emitter.tinted;
     float tint[3];
     memcpy(tint, o->u.emitter.tint, sizeof tint);
-    if (read_emitter(L, s, 2, "emitter:set", &d, o->u.emitter.full_rate, &tinted, tint)) o->u.emitter.full_rate = false;
+    bool full_rate = o->u.emitter.full_rate;
+    if (read_emitter(L, s, 2, "emitter:set", &d, full_rate, &tinted, tint)) full_rate = false;
+    o = scr_check_self(L, OBJ_EMITTER, "emitter:set", &slot); // SCR_SELF_AGAIN
+    o->u.emitter.full_rate = full_rate;
     o->u.emitter.def = d;
     o->u.emitter.tinted = tinted;
     memcpy(o->u.emitter.tint, tint, sizeof tint);

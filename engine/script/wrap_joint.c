@@ -144,8 +144,11 @@ static int l_joint(lua_State *L)
             scr_raise(L, "%s: field 'pivot' is required for a %s: the world point {x, y, z} m it turns about (got nil)",
                       fn, scr_joint_kind_name[j.type]);
     }
-    if (j.type == PHYS_JOINT_SLIDER && !scr_opt_position(L, 1, fn, "anchor", j.pivot))
-        scr_body_state(s, &s->objs[j.a_slot], j.pivot, NULL, NULL, NULL); // default: a's centre
+    if (j.type == PHYS_JOINT_SLIDER && !scr_opt_position(L, 1, fn, "anchor", j.pivot)) {
+        obj *ao = scr_obj_at(s, j.a_slot, j.a_gen); // reading the fields may have run Lua (SCR_SELF_AGAIN)
+        if (!ao) scr_raise(L, "%s: field 'a': the body was destroyed while the joint's fields were read", fn);
+        scr_body_state(s, ao, j.pivot, NULL, NULL, NULL); // default: a's centre
+    }
     if (j.type == PHYS_JOINT_HINGE || j.type == PHYS_JOINT_SLIDER) read_axis(L, fn, j.type, j.axis);
     if (scr_field_present(L, 1, "limits")) {
         read_limits(L, lua_gettop(L), fn, "field 'limits'", j.type, &j.lo, &j.hi);
@@ -315,14 +318,14 @@ static int m_joint_set_motor(lua_State *L)
     joint_rec *j = &o->u.joint;
     if (j->type != PHYS_JOINT_HINGE && j->type != PHYS_JOINT_SLIDER)
         scr_raise(L, "%s: the joint is a %s: only hinges and sliders have a motor", fn, scr_joint_kind_name[j->type]);
-    if (lua_isboolean(L, 2) && !lua_toboolean(L, 2)) {
-        j->motor = false;
-    } else {
-        char what[64];
-        snprintf(what, sizeof what, "argument #1 'motor' (or false)");
-        read_motor(L, 2, fn, what, j->type, &j->speed, &j->max);
-        j->motor = true;
-    }
+    bool on = !(lua_isboolean(L, 2) && !lua_toboolean(L, 2));
+    float speed = j->speed, max = j->max;
+    if (on) read_motor(L, 2, fn, "argument #1 'motor' (or false)", j->type, &speed, &max);
+    o = scr_check_self(L, OBJ_JOINT, fn, &slot); // SCR_SELF_AGAIN
+    j = &o->u.joint;
+    j->motor = on;
+    j->speed = speed;
+    j->max = max;
     command *c = joint_edit(L, s, o, slot, CMD_JOINT_MOTOR, fn);
     c->u.joint.on = j->motor;
     c->u.joint.a = j->speed;
@@ -340,12 +343,14 @@ static int m_joint_set_limits(lua_State *L)
     joint_rec *j = &o->u.joint;
     if (j->type != PHYS_JOINT_HINGE && j->type != PHYS_JOINT_SLIDER)
         scr_raise(L, "%s: the joint is a %s: only hinges and sliders have limits", fn, scr_joint_kind_name[j->type]);
-    if (lua_isboolean(L, 2) && !lua_toboolean(L, 2)) {
-        j->limit = false;
-    } else {
-        read_limits(L, 2, fn, "argument #1 'limits' (or false)", j->type, &j->lo, &j->hi);
-        j->limit = true;
-    }
+    bool on = !(lua_isboolean(L, 2) && !lua_toboolean(L, 2));
+    float lo = j->lo, hi = j->hi;
+    if (on) read_limits(L, 2, fn, "argument #1 'limits' (or false)", j->type, &lo, &hi);
+    o = scr_check_self(L, OBJ_JOINT, fn, &slot); // SCR_SELF_AGAIN
+    j = &o->u.joint;
+    j->limit = on;
+    j->lo = lo;
+    j->hi = hi;
     command *c = joint_edit(L, s, o, slot, CMD_JOINT_LIMITS, fn);
     c->u.joint.on = j->limit;
     c->u.joint.a = j->lo;
