@@ -1,6 +1,8 @@
 // The runner against hostile and careless command lines (docs/runner.md): no shell between
 // it and ffmpeg, outputs that fail are reported with the right status, an output never
-// overwrites the script or another output, numbers are range-checked; and the scene
+// overwrites the script, a script of the suite or another output, numbers are range-checked,
+// reports fail the scripts that fail, names with control characters stay on their lines;
+// and the scene
 // writer's traps: a consistent particle / kernel radius pair is accepted in any order.
 #include "tests/support.h"
 
@@ -408,6 +410,135 @@ static void reports_give_the_message_once_and_count_frames_in_words(void **state
     assert_null(strstr(xml, "1 frames"));
 }
 
+// A script that fails while loading is a failed run in the reports, as in the exit status:
+// the reports said "ok (exit 0)" for a main chunk's error, a syntax error, a binary chunk,
+// a failed seiche.check in the main chunk (which had no test case of its own either), a
+// directory and a dangling link, because the report's status was set only after the frame
+// loop.
+static void reports_fail_scripts_that_do_not_load(void **state)
+{
+    (void)state;
+    char err[8192], xml[16384], tap[16384], out[4096];
+    write_file(TMP "/rt.lua", "seiche.scene { capacity = 10 }\nerror('boom')\n");
+    assert_int_equal(run("--frames 3 --tap rt.tap --junit rt.xml rt.lua", err, sizeof err), 2);
+    slurp(TMP "/rt.tap", tap, sizeof tap);
+    assert_non_null(strstr(tap, "1..1\nnot ok 1 - rt.lua: run (exit 2, usage or script error)\n"));
+    assert_non_null(strstr(tap, "  message: 'rt.lua:2: boom'"));
+    slurp(TMP "/rt.xml", xml, sizeof xml);
+    assert_non_null(strstr(xml, "<testsuites name=\"seiche\" tests=\"1\" failures=\"1\""));
+    assert_non_null(strstr(xml, "<failure type=\"exit 2\" message=\"rt.lua:2: boom\"/>"));
+
+    assert_int_equal(system("rm -rf " TMP "/loads && mkdir -p " TMP "/loads/d_dir.lua"), 0);
+    write_file(TMP "/loads/a_ok.lua", "seiche.scene { capacity = 10 }\n");
+    write_file(TMP "/loads/b_syntax.lua", "seiche.scene { capacity = \n");
+    write_file(TMP "/loads/c_check.lua", "seiche.scene { capacity = 10 }\nseiche.check(false, 'at load')\n"
+                                         "function on_step() seiche.check(true, 'later') end\n");
+    write_file(TMP "/loads/f_binary.lua", "\033Lua\x54\x00");
+    assert_int_equal(symlink("nowhere", TMP "/loads/e_dangling.lua"), 0);
+    assert_int_equal(run("--frames 3 --tap loads.tap --junit loads.xml loads", err, sizeof err), 2);
+    slurp(TMP "/stdout.txt", out, sizeof out);
+    assert_non_null(strstr(out, "1 passed, 5 failed\n"));
+    slurp(TMP "/loads.tap", tap, sizeof tap);
+    // Cases: a_ok's run; b_syntax's; c_check's two checks (one failed at load, one never ran)
+    // and its run; d_dir's, e_dangling's and f_binary's runs.
+    assert_non_null(strstr(tap, "1..8\n"));
+    assert_int_equal(occurrences(tap, "not ok "), 7);
+    assert_non_null(strstr(tap, "ok 1 - loads/a_ok.lua: run (exit 0, ok)\n"));
+    assert_non_null(strstr(tap, "not ok 2 - loads/b_syntax.lua: run (exit 2, "));
+    assert_non_null(strstr(tap, "not ok 3 - loads/c_check.lua:2: seiche.check (0 passed, 1 failed)\n"));
+    assert_non_null(strstr(tap, "not ok 4 - loads/c_check.lua:3: seiche.check never ran"));
+    assert_non_null(strstr(tap, "not ok 5 - loads/c_check.lua: run (exit 1, a check failed)\n"));
+    assert_non_null(strstr(tap, "not ok 6 - loads/d_dir.lua: run (exit 2, "));
+    assert_non_null(strstr(tap, "not ok 7 - loads/e_dangling.lua: run (exit 2, "));
+    assert_non_null(strstr(tap, "message: 'loads/e_dangling.lua: cannot open the script file (a symbolic link"));
+    assert_non_null(strstr(tap, "not ok 8 - loads/f_binary.lua: run (exit 2, "));
+    slurp(TMP "/loads.xml", xml, sizeof xml);
+    assert_non_null(strstr(xml, "<testsuites name=\"seiche\" tests=\"8\" failures=\"7\""));
+    assert_non_null(strstr(xml, "message=\"loads/c_check.lua:2: check failed: at load"));
+}
+
+// A suite's directory given with a trailing slash names its scripts DIR/x.lua (it printed
+// DIR//x.lua), and a dangling link in it says why it cannot be opened (it said only that it
+// could not).
+static void suite_names_read_plainly_and_a_dangling_link_says_why(void **state)
+{
+    (void)state;
+    char err[4096], out[4096];
+    assert_int_equal(system("rm -rf " TMP "/plain && mkdir -p " TMP "/plain"), 0);
+    write_file(TMP "/plain/a_ok.lua", "seiche.scene { capacity = 10 }\n");
+    assert_int_equal(symlink("nowhere", TMP "/plain/b_dangling.lua"), 0);
+    assert_int_equal(run("--frames 1 plain//", err, sizeof err), 2);
+    assert_non_null(strstr(err, "plain/b_dangling.lua: cannot open the script file (a symbolic link to 'nowhere'): "
+                                "No such file or directory"));
+    slurp(TMP "/stdout.txt", out, sizeof out);
+    assert_non_null(strstr(out, "ok      plain/a_ok.lua (exit 0)\n"));
+    assert_non_null(strstr(out, "FAILED  plain/b_dangling.lua (exit 2)\n"));
+    assert_null(strstr(out, "//"));
+    assert_null(strstr(err, "//"));
+}
+
+// A report of a directory suite may not overwrite one of its scripts: "--tap suite2/b.lua
+// suite2/" ran the suite and replaced b.lua with TAP text. Refused before anything runs.
+static void a_report_never_overwrites_a_script_of_the_suite(void **state)
+{
+    (void)state;
+    char err[4096], out[4096], text[256];
+    assert_int_equal(system("rm -rf " TMP "/own && mkdir -p " TMP "/own"), 0);
+    write_file(TMP "/own/a.lua", "seiche.scene { capacity = 10 }\nprint('a ran')\n");
+    write_file(TMP "/own/b.lua", "seiche.scene { capacity = 10 }\n");
+    assert_int_equal(run("--frames 1 --tap own/b.lua own/", err, sizeof err), 2);
+    assert_non_null(strstr(err, "--tap would overwrite a script of the suite ('own/b.lua')"));
+    slurp(TMP "/stdout.txt", out, sizeof out);
+    assert_string_equal(out, ""); // nothing ran
+    slurp(TMP "/own/b.lua", text, sizeof text);
+    assert_string_equal(text, "seiche.scene { capacity = 10 }\n");
+    // Another spelling of the same file, and a link to it.
+    assert_int_equal(run("--frames 1 --junit ./own/../own/a.lua own", err, sizeof err), 2);
+    assert_non_null(strstr(err, "--junit would overwrite a script of the suite ('own/a.lua')"));
+    assert_int_equal(symlink("own/a.lua", TMP "/a_link.xml"), 0);
+    assert_int_equal(run("--frames 1 --junit a_link.xml own", err, sizeof err), 2);
+    slurp(TMP "/own/a.lua", text, sizeof text);
+    assert_string_equal(text, "seiche.scene { capacity = 10 }\nprint('a ran')\n");
+    // A report beside the suite is fine.
+    assert_int_equal(run("--frames 1 --junit own.xml --tap own.tap own", err, sizeof err), 0);
+}
+
+// Control characters in a script's name are escaped where the runner writes the name: the
+// console line, TAP (where a newline split the line, and a '#' made a directive of the
+// rest) and JUnit's names.
+static void control_characters_in_script_names_are_escaped(void **state)
+{
+    (void)state;
+    char err[4096], out[4096], tap[4096], xml[8192];
+    assert_int_equal(system("rm -rf " TMP "/ctl && mkdir -p " TMP "/ctl"), 0);
+    write_file(TMP "/ctl/a\nline\x01.lua", "seiche.scene { capacity = 10 }\n");
+    write_file(TMP "/ctl/b # TODO.lua", "seiche.scene { capacity = 10 }\nerror('boom')\n");
+    assert_int_equal(run("--frames 1 --tap ctl.tap --junit ctl.xml ctl", err, sizeof err), 2);
+    slurp(TMP "/stdout.txt", out, sizeof out);
+    assert_non_null(strstr(out, "ok      ctl/a\\nline\\x01.lua (exit 0)\n"));
+    slurp(TMP "/ctl.tap", tap, sizeof tap);
+    assert_non_null(strstr(tap, "\nok 1 - ctl/a\\nline\\x01.lua: run (exit 0, ok)\n"));
+    assert_non_null(strstr(tap, "\nnot ok 2 - ctl/b \\# TODO.lua: run (exit 2, usage or script error)\n"));
+    assert_null(strstr(tap, "\x01"));
+    slurp(TMP "/ctl.xml", xml, sizeof xml);
+    assert_non_null(strstr(xml, "<testsuite name=\"ctl/a\\nline\\x01.lua\""));
+    assert_non_null(strstr(xml, "classname=\"ctl/a\\nline\\x01.lua\""));
+    assert_null(strstr(xml, "a\nline"));
+}
+
+// A --set key given twice is refused naming it, as an option given twice is: the last one
+// silently won.
+static void set_key_given_twice_is_refused_naming_it(void **state)
+{
+    (void)state;
+    char args[2048], err[4096];
+    snprintf(args, sizeof args, "--frames 1 --set capacity=10 --set gravity.y=-9 --set capacity=20 '%s'", scene);
+    assert_int_equal(run(args, err, sizeof err), 2);
+    assert_non_null(strstr(err, "--set capacity may be given once (got 'capacity=10' and 'capacity=20')"));
+    snprintf(args, sizeof args, "--frames 1 --set gravity.x=1 --set gravity.y=-9 --set capacity=2000 '%s'", scene);
+    assert_int_equal(run(args, err, sizeof err), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -426,6 +557,11 @@ int main(void)
         cmocka_unit_test(directory_runs_as_one_suite_with_junit_and_tap_and_late_checks_fail),
         cmocka_unit_test(directory_suite_log_is_in_order_and_names_the_script),
         cmocka_unit_test(reports_give_the_message_once_and_count_frames_in_words),
+        cmocka_unit_test(reports_fail_scripts_that_do_not_load),
+        cmocka_unit_test(suite_names_read_plainly_and_a_dangling_link_says_why),
+        cmocka_unit_test(a_report_never_overwrites_a_script_of_the_suite),
+        cmocka_unit_test(control_characters_in_script_names_are_escaped),
+        cmocka_unit_test(set_key_given_twice_is_refused_naming_it),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

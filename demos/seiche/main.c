@@ -1,5 +1,7 @@
 // seiche: the scene runner. Runs a Lua scene script in a window or headless.
 // Command line and exit statuses: docs/runner.md (and `seiche --help`).
+// realpath (X/Open): the suite's reports are compared with its scripts by real path.
+#define _XOPEN_SOURCE 700
 #include <dirent.h>
 #include <errno.h>
 #include <signal.h>
@@ -51,7 +53,8 @@ static void usage(FILE *f)
             "  --version             print the version and exit\n"
             "  --help                this text\n"
             "  --                    the end of the options: the next argument is the script\n"
-            "an option that takes a value may be given once (--set repeats); numbers are plain\n"
+            "an option that takes a value may be given once (--set repeats, each KEY once);\n"
+            "numbers are plain\n"
             "keys in a window: space pause, n single step, r reset, F5 reload (on_reload), c camera\n"
             "mode, v water look (surface, spheres, density, speed), F1 panel, Esc quit; orbit with\n"
             "the left mouse button, zoom with the wheel.\n"
@@ -62,12 +65,30 @@ static void usage(FILE *f)
             "             5 a GL error or synchronisation hazard (a bug in Seiche)\n");
 }
 
-// True when the two paths name one file: the same text, or both exist as one inode.
+// A path that does not exist (yet) as its directory's real path and its own name, for
+// comparing names of files to be written. False when the directory has none either.
+static bool real_path_to_be(const char *p, char *out, size_t size)
+{
+    const char *slash = strrchr(p, '/');
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - p) + 1 : 1, slash ? p : ".");
+    char *r = realpath(dir, NULL);
+    if (!r) return false;
+    int n = snprintf(out, size, "%s/%s", r, slash ? slash + 1 : p);
+    free(r);
+    return n >= 0 && (size_t)n < size;
+}
+
+// True when the two paths name one file: the same text, both exist as one inode (through
+// links and other spellings), or neither exists and both name one place in one directory.
 static bool same_file(const char *a, const char *b)
 {
     if (strcmp(a, b) == 0) return true;
     struct stat sa, sb;
-    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    bool ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
+    if (ea || eb) return ea && eb && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char ra[8192], rb[8192];
+    return real_path_to_be(a, ra, sizeof ra) && real_path_to_be(b, rb, sizeof rb) && strcmp(ra, rb) == 0;
 }
 
 static int bad(const char *fmt, const char *a, const char *b);
@@ -83,6 +104,10 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
     if (dir) {
         DIR *d = opendir(base->script);
         if (!d) return bad("cannot read the directory '%s': %s", base->script, strerror(errno));
+        // DIR/x.lua, also for a DIR given as "DIR/" (not "DIR//x.lua").
+        size_t dir_len = strlen(base->script);
+        while (dir_len > 1 && base->script[dir_len - 1] == '/') dir_len--;
+        const char *sep = base->script[dir_len - 1] == '/' ? "" : "/";
         for (struct dirent *e; (e = readdir(d)) != NULL;) {
             size_t n = strlen(e->d_name);
             if (n < 5 || strcmp(e->d_name + n - 4, ".lua") != 0) continue;
@@ -95,7 +120,7 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
             size_t len = strlen(base->script) + n + 2;
             scripts[count] = malloc(len);
             if (!scripts[count]) break;
-            snprintf(scripts[count++], len, "%s/%s", base->script, e->d_name);
+            snprintf(scripts[count++], len, "%.*s%s%s", (int)dir_len, base->script, sep, e->d_name);
         }
         closedir(d);
         qsort(scripts, (size_t)count, sizeof *scripts, by_name);
@@ -103,6 +128,17 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
             free(scripts);
             return bad("no *.lua scripts in the directory '%s'%s", base->script, "");
         }
+        // A report may not overwrite a script of the suite (checked before any runs).
+        const char *outputs[2][2] = { { "--junit", junit }, { "--tap", tap } };
+        for (int k = 0; k < 2; k++)
+            for (int i = 0; outputs[k][1] && i < count; i++)
+                if (same_file(outputs[k][1], scripts[i])) {
+                    fprintf(stderr, "seiche: %s would overwrite a script of the suite ('%s'): give each output its "
+                            "own file\n(try 'seiche --help')\n", outputs[k][0], scripts[i]);
+                    for (int j = 0; j < count; j++) free(scripts[j]);
+                    free(scripts);
+                    return 2;
+                }
     }
     seiche_run *runs = calloc(dir ? (size_t)count : 1u, sizeof *runs);
     if (!runs) return bad("out of memory%s%s", "", "");
@@ -116,7 +152,11 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
         int st = eng_app_run(&o);
         if (st > worst) worst = st;
         failed += st != 0;
-        if (dir) printf("%s  %s (exit %d)\n", st ? "FAILED" : "ok    ", o.script, st);
+        if (dir) { // a name holding a newline stays on its line
+            printf("%s  ", st ? "FAILED" : "ok    ");
+            eng_app_write_name(stdout, o.script);
+            printf(" (exit %d)\n", st);
+        }
     }
     if (dir) printf("%d passed, %d failed\n", count - failed, failed);
     char err[1200];

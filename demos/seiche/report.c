@@ -33,6 +33,34 @@ static void xml_text(FILE *f, const char *s)
     }
 }
 
+// A file name in an XML attribute: escaped for XML, and its control characters as text
+// (eng_app_name_escape), where xml_text would make a newline a space (or a raw one that a
+// parser reads as a space).
+static void xml_name(FILE *f, const char *s)
+{
+    char e[5];
+    for (; *s; s++) {
+        if (eng_app_name_escape((unsigned char)*s, e)) {
+            fputs(e, f);
+        } else {
+            char c[2] = { *s, 0 };
+            xml_text(f, c);
+        }
+    }
+}
+
+// A file name in a TAP line: control characters as text, so that the line stays one, and
+// '#' as "\#" (TAP 13: a '#' begins a directive, and "# TODO" would excuse a failure).
+static void tap_name(FILE *f, const char *s)
+{
+    char e[5];
+    for (; *s; s++) {
+        if (eng_app_name_escape((unsigned char)*s, e)) fputs(e, f);
+        else if (*s == '#') fputs("\\#", f);
+        else fputc(*s, f);
+    }
+}
+
 // Test cases of one run: its check sites, the checks that never ran, and the run.
 static int case_count(const eng_app_report *r) { return r->check_count + r->never_ran_count + 1; }
 
@@ -74,14 +102,14 @@ bool seiche_write_junit(const char *path, const seiche_run *runs, int count, cha
     for (int i = 0; i < count; i++) {
         const eng_app_report *r = &runs[i].report;
         fprintf(f, "  <testsuite name=\"");
-        xml_text(f, runs[i].script);
+        xml_name(f, runs[i].script);
         fprintf(f, "\" tests=\"%d\" failures=\"%d\" time=\"%.3f\">\n", case_count(r), failures_of(r), r->wall_s);
         for (int k = 0; k < r->check_count; k++) {
             const eng_check_site *c = &r->checks[k];
             fprintf(f, "    <testcase classname=\"");
-            xml_text(f, runs[i].script);
+            xml_name(f, runs[i].script);
             fprintf(f, "\" name=\"");
-            xml_text(f, c->source[0] ? c->source : runs[i].script);
+            xml_name(f, c->source[0] ? c->source : runs[i].script);
             fprintf(f, ":%d: seiche.check (%u passed, %u failed)\" time=\"0\"", c->line, c->passed, c->failed);
             if (!c->failed) {
                 fprintf(f, "/>\n");
@@ -93,14 +121,14 @@ bool seiche_write_junit(const char *path, const seiche_run *runs, int count, cha
         }
         for (int k = 0; k < r->never_ran_count; k++) {
             fprintf(f, "    <testcase classname=\"");
-            xml_text(f, runs[i].script);
+            xml_name(f, runs[i].script);
             fprintf(f, "\" name=\"");
-            xml_text(f, runs[i].script);
+            xml_name(f, runs[i].script);
             fprintf(f, ":%d: seiche.check\" time=\"0\">\n      <failure message=\"never ran: the run ended at frame "
                        "%llu first\"/>\n    </testcase>\n", r->never_ran[k], (unsigned long long)r->frames);
         }
         fprintf(f, "    <testcase classname=\"");
-        xml_text(f, runs[i].script);
+        xml_name(f, runs[i].script);
         fprintf(f, "\" name=\"run (%llu frame%s, %.3f s simulated)\" time=\"%.3f\"", (unsigned long long)r->frames,
                 r->frames == 1 ? "" : "s", r->sim_time, r->wall_s);
         if (r->status == ENG_EXIT_OK) {
@@ -122,9 +150,11 @@ bool seiche_write_junit(const char *path, const seiche_run *runs, int count, cha
 static void yaml_message(FILE *f, const char *m)
 {
     fputs("  ---\n  message: '", f);
+    char e[5];
     for (; *m && *m != '\n'; m++) {
         if (*m == '\'') fputc('\'', f);
-        fputc(*m, f);
+        if (eng_app_name_escape((unsigned char)*m, e)) fputs(e, f); // no raw control characters in YAML
+        else fputc(*m, f);
     }
     fputs("'\n  ...\n", f);
 }
@@ -143,15 +173,20 @@ bool seiche_write_tap(const char *path, const seiche_run *runs, int count, char 
         const eng_app_report *r = &runs[i].report;
         for (int k = 0; k < r->check_count; k++) {
             const eng_check_site *c = &r->checks[k];
-            fprintf(f, "%s %d - %s:%d: seiche.check (%u passed, %u failed)\n", c->failed ? "not ok" : "ok", ++n,
-                    c->source[0] ? c->source : runs[i].script, c->line, c->passed, c->failed);
+            fprintf(f, "%s %d - ", c->failed ? "not ok" : "ok", ++n);
+            tap_name(f, c->source[0] ? c->source : runs[i].script);
+            fprintf(f, ":%d: seiche.check (%u passed, %u failed)\n", c->line, c->passed, c->failed);
             if (c->failed) yaml_message(f, c->message);
         }
-        for (int k = 0; k < r->never_ran_count; k++)
-            fprintf(f, "not ok %d - %s:%d: seiche.check never ran (the run ended at frame %llu first)\n", ++n,
-                    runs[i].script, r->never_ran[k], (unsigned long long)r->frames);
-        fprintf(f, "%s %d - %s: run (exit %d, %s)\n", r->status == ENG_EXIT_OK ? "ok" : "not ok", ++n, runs[i].script,
-                r->status, status_text(r->status));
+        for (int k = 0; k < r->never_ran_count; k++) {
+            fprintf(f, "not ok %d - ", ++n);
+            tap_name(f, runs[i].script);
+            fprintf(f, ":%d: seiche.check never ran (the run ended at frame %llu first)\n", r->never_ran[k],
+                    (unsigned long long)r->frames);
+        }
+        fprintf(f, "%s %d - ", r->status == ENG_EXIT_OK ? "ok" : "not ok", ++n);
+        tap_name(f, runs[i].script);
+        fprintf(f, ": run (exit %d, %s)\n", r->status, status_text(r->status));
         if (r->status != ENG_EXIT_OK && r->message[0]) yaml_message(f, r->message);
     }
     return finish(f, path, err, err_size);

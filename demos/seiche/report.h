@@ -1,7 +1,8 @@
 // Reports of one or more scene-script runs in the formats CI systems display: JUnit XML
 // (--junit) and TAP 13 (--tap). Each script is a test suite; each of its seiche.check call
 // sites is a test case (failed if any call failed, or if it never ran), and the run itself
-// is one more (failed on any status but 0, with its message).
+// is one more (failed on any status but 0, with its message). Names are written with their
+// control characters escaped (eng_app_name_escape), and in TAP a '#' as "\#".
 #ifndef SEICHE_REPORT_H
 #define SEICHE_REPORT_H
 

@@ -55,13 +55,13 @@ static bool find_shader_dir(app *a, const char **from)
     a->shader_dir[0] = 0;
     if (!dir[0]) return true;
     if (strlen(dir) >= sizeof a->shader_dir) {
-        fprintf(stderr, "seiche: %s: the shader directory's name must be shorter than %zu bytes (got %zu)\n", *from,
-                sizeof a->shader_dir, strlen(dir));
+        app_message(a, "seiche: %s: the shader directory's name must be shorter than %zu bytes (got %zu)", *from,
+                    sizeof a->shader_dir, strlen(dir));
         return false;
     }
     DIR *d = opendir(dir);
     if (!d) {
-        fprintf(stderr, "seiche: %s: cannot read the shader directory '%s': %s\n", *from, dir, strerror(errno));
+        app_message(a, "seiche: %s: cannot read the shader directory '%s': %s", *from, dir, strerror(errno));
         return false;
     }
     closedir(d);
@@ -95,8 +95,22 @@ static void app_log_fn(void *user, eng_log_level level, const char *msg)
 {
     app *a = user;
     eng_progress_end(&a->progress);
-    if (a->opt->name_script) fprintf(stderr, PROGRAM_PREFIX "%s: %s: %s\n", a->opt->script, eng_log_level_name(level), msg);
-    else fprintf(stderr, PROGRAM_PREFIX "%s: %s\n", eng_log_level_name(level), msg);
+    fputs(PROGRAM_PREFIX, stderr);
+    if (a->opt->name_script) {
+        eng_app_write_name(stderr, a->opt->script);
+        fputs(": ", stderr);
+    }
+    fprintf(stderr, "%s: %s\n", eng_log_level_name(level), msg);
+}
+
+// The report's message (--junit, --tap), unless one is there already: the first line of
+// what ended the run, without the program's "seiche: " (the report names the run already).
+static void note_in_report(app *a, const char *msg)
+{
+    eng_app_report *r = a->opt->report;
+    if (!r || r->message[0]) return;
+    if (strncmp(msg, PROGRAM_PREFIX, strlen(PROGRAM_PREFIX)) == 0) msg += strlen(PROGRAM_PREFIX);
+    snprintf(r->message, sizeof r->message, "%.*s", (int)strcspn(msg, "\n"), msg);
 }
 
 // Reports a message: always on stderr; in a window also on screen. The report's message
@@ -107,11 +121,14 @@ void app_report(app *a, const char *msg)
 {
     eng_progress_end(&a->progress);
     bool ours = strncmp(msg, PROGRAM_PREFIX, strlen(PROGRAM_PREFIX)) == 0;
-    const char *body = ours ? msg + strlen(PROGRAM_PREFIX) : msg;
-    if (ours && a->opt->name_script) fprintf(stderr, PROGRAM_PREFIX "%s: %s\n", a->opt->script, body);
-    else fprintf(stderr, "%s\n", msg);
-    eng_app_report *r = a->opt->report;
-    if (r && !r->message[0]) snprintf(r->message, sizeof r->message, "%.*s", (int)strcspn(body, "\n"), body);
+    if (ours && a->opt->name_script) {
+        fputs(PROGRAM_PREFIX, stderr);
+        eng_app_write_name(stderr, a->opt->script);
+        fprintf(stderr, ": %s\n", msg + strlen(PROGRAM_PREFIX));
+    } else {
+        fprintf(stderr, "%s\n", msg);
+    }
+    note_in_report(a, msg);
     if (a->opt->headless) return;
     size_t n = strlen(msg);
     if (n >= sizeof a->error_text) n = sizeof a->error_text - 1;
@@ -393,13 +410,12 @@ static void shutdown_app(app *a)
     eng_context_destroy(a->ctx);
 }
 
-int eng_app_run(const eng_app_options *o)
+// The run from the shader directory to the last frame's outputs; every way out returns its
+// status here, and eng_app_run records it (and the message, app_report) in the report.
+// `renderer_log` is the renderer's logger, which must outlive the renderer (shutdown_app).
+static int run_app(app *a, held_log *renderer_log)
 {
-    app a_;
-    app *a = &a_;
-    memset(a, 0, sizeof *a);
-    a->opt = o;
-    a->log = (eng_logger){ app_log_fn, a, ENG_LOG_INFO };
+    const eng_app_options *o = a->opt;
     const char *shaders_from;
     if (!find_shader_dir(a, &shaders_from)) return ENG_EXIT_USAGE;
 
@@ -415,26 +431,26 @@ int eng_app_run(const eng_app_options *o)
     // No display for a window is a machine without the GL context the run asks for, as is
     // no GL at all (status 3); the message (eng_context_create's, already printed) says to
     // use --headless. Anything else is a bad request (status 2).
-    if (!a->ctx)
+    if (!a->ctx) {
+        note_in_report(a, err);
         return cst == ENG_CONTEXT_NO_COMPUTE || cst == ENG_CONTEXT_NO_GL || cst == ENG_CONTEXT_NO_DISPLAY
                    ? ENG_EXIT_NO_COMPUTE
                    : ENG_EXIT_USAGE;
+    }
     a->input = eng_input_create(a->ctx);
     a->renderer_def = eng_default_renderer_def();
     a->renderer_def.shader_dir = a->shader_dir[0] ? a->shader_dir : NULL;
-    held_log renderer_log = { a->log, true }; // lives as long as the renderer: until the return below
-    a->renderer_def.logger = (eng_logger){ held_log_fn, &renderer_log, ENG_LOG_DEBUG };
+    *renderer_log = (held_log){ a->log, true };
+    a->renderer_def.logger = (eng_logger){ held_log_fn, renderer_log, ENG_LOG_DEBUG };
     if (o->render && !eng_fluid_mode_parse(o->render, &a->renderer_def.fluid.mode)) {
-        fprintf(stderr, "seiche: --render must be one of %s (got '%s')\n", eng_fluid_mode_names(), o->render);
-        shutdown_app(a);
+        app_message(a, "seiche: --render must be one of %s (got '%s')", eng_fluid_mode_names(), o->render);
         return ENG_EXIT_USAGE;
     }
     a->renderer = eng_renderer_create(&a->renderer_def, err, sizeof err);
-    renderer_log.hold_errors = false;
+    renderer_log->hold_errors = false;
     if (!a->renderer) {
-        if (a->shader_dir[0]) fprintf(stderr, "seiche: %s '%s': %s\n", shaders_from, a->shader_dir, err);
-        else fprintf(stderr, "seiche: %s\n", err);
-        shutdown_app(a);
+        if (a->shader_dir[0]) app_message(a, "seiche: %s '%s': %s", shaders_from, a->shader_dir, err);
+        else app_message(a, "seiche: %s", err);
         return ENG_EXIT_USAGE;
     }
     eng_mesh_store_def md = eng_default_mesh_store_def();
@@ -451,10 +467,9 @@ int eng_app_run(const eng_app_options *o)
 
     int status = app_load_scene(a, false);
     if (status != ENG_EXIT_OK) {
-        if (o->headless) {
-            shutdown_app(a);
-            return status;
-        }
+        // Headless the run ends here: its checks (those that ran in the main chunk, and the
+        // lines that never ran) still go into the report.
+        if (o->headless) return app_finish_checks(a, status);
         // A window waits for the script to be fixed (it is watched) with the error shown.
         a->window_status = status;
         status = ENG_EXIT_OK;
@@ -462,17 +477,12 @@ int eng_app_run(const eng_app_options *o)
     if (o->metrics_path) {
         a->metrics = fopen(o->metrics_path, "w");
         if (!a->metrics) {
-            fprintf(stderr, "seiche: --metrics: cannot write '%s': %s\n", o->metrics_path, strerror(errno));
-            shutdown_app(a);
+            app_message(a, "seiche: --metrics: cannot write '%s': %s", o->metrics_path, strerror(errno));
             return ENG_EXIT_USAGE;
         }
         app_write_metrics_header(a);
     }
-    if (o->record_path && (status = app_open_video(a)) != ENG_EXIT_OK) {
-        shutdown_app(a);
-        return status;
-    }
-    a->start_s = now_s();
+    if (o->record_path && (status = app_open_video(a)) != ENG_EXIT_OK) return status;
     long frames = o->frames >= 0 ? o->frames : o->headless ? 600 : -1;
     bool done = frames == 0;
     long steps = 0, idle = 0;
@@ -564,6 +574,22 @@ int eng_app_run(const eng_app_options *o)
     }
     status = app_finish_checks(a, status);
     if (status == ENG_EXIT_OK) app_print_summary(a);
+    return status;
+}
+
+int eng_app_run(const eng_app_options *o)
+{
+    app a_;
+    app *a = &a_;
+    memset(a, 0, sizeof *a);
+    a->opt = o;
+    a->log = (eng_logger){ app_log_fn, a, ENG_LOG_INFO };
+    a->start_s = now_s();
+    if (o->report) memset(o->report, 0, sizeof *o->report);
+    held_log renderer_log;
+    int status = run_app(a, &renderer_log);
+    // Here, not at the end of the frame loop: a run that ends early (a script that does not
+    // load, a context, shader or output that fails) is as much a result as one that ran.
     if (o->report) {
         o->report->status = status;
         o->report->frames = a->frame;

@@ -8,6 +8,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "engine/script/script.h"
 
@@ -69,5 +70,14 @@ int eng_app_run(const eng_app_options *options);
 
 /// The keys (all of them, comma separated) that --set accepts, for usage messages.
 const char *eng_app_set_keys(void);
+
+/// A file name as the runner writes it into its log lines and reports: each control
+/// character (bytes below 0x20, and 0x7f) escaped, so that a name holding a newline stays
+/// on its line (and a TAP line stays one line): `\n`, `\r`, `\t`, else `\xNN`.
+/// eng_app_name_escape writes the escape of byte c into out (NUL-terminated) and returns
+/// its length, or returns 0 when c stands for itself.
+int eng_app_name_escape(unsigned char c, char out[5]);
+/// Writes `name` to f with its control characters escaped (eng_app_name_escape).
+void eng_app_write_name(FILE *f, const char *name);
 
 #endif

@@ -61,6 +61,24 @@ const char *eng_app_set_keys(void)
     return keys;
 }
 
+int eng_app_name_escape(unsigned char c, char out[5])
+{
+    if (c >= 0x20 && c != 0x7f) return 0;
+    if (c == '\n') return snprintf(out, 5, "\\n");
+    if (c == '\r') return snprintf(out, 5, "\\r");
+    if (c == '\t') return snprintf(out, 5, "\\t");
+    return snprintf(out, 5, "\\x%02x", c);
+}
+
+void eng_app_write_name(FILE *f, const char *name)
+{
+    char e[5];
+    for (; *name; name++) {
+        if (eng_app_name_escape((unsigned char)*name, e)) fputs(e, f);
+        else fputc(*name, f);
+    }
+}
+
 void eng_app_args_free(eng_app_args *args)
 {
     if (!args) return;
@@ -207,6 +225,15 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
     }
     if (sets_given > ENG_APP_MAX_SETS)
         return bad(out, "at most %d --set options may be given (got %d)", ENG_APP_MAX_SETS, sets_given);
+    // A key given twice is refused, as an option given twice is: the runner does not guess
+    // which of the two values was meant.
+    for (int i = 1; i < o->set_count; i++)
+        for (int j = 0; j < i; j++) {
+            size_t ki = strcspn(o->sets[i], "="), kj = strcspn(o->sets[j], "=");
+            if (ki == kj && strncmp(o->sets[i], o->sets[j], ki) == 0)
+                return bad(out, "--set %.*s may be given once (got '%s' and '%s')", (int)ki, o->sets[i], o->sets[j],
+                           o->sets[i]);
+        }
     if (!o->script) return bad(out, "no script given");
     // Outputs whose names or sizes cannot work are refused here, before anything runs.
     if (o->screenshot_path && eng_image_format_of(o->screenshot_path) == ENG_IMAGE_UNKNOWN)

@@ -32,7 +32,7 @@ typedef struct eng_app_args {
 /// Reads argv[1..argc-1] (argv[0] is the program) into *out, which it first fills with the
 /// defaults (eng_default_app_options). Stops at the first --help, --version or error.
 /// Refused: an option that takes one value given twice (--set repeats, up to
-/// ENG_APP_MAX_SETS), a number that is not written plainly (" 5", "+5", "0x10"), a
+/// ENG_APP_MAX_SETS, each KEY once), a number that is not written plainly (" 5", "+5", "0x10"), a
 /// --screenshot name without .png/.jpg/.jpeg, a --record name without one of
 /// ENG_VIDEO_EXTENSIONS or with an odd --size. "--" ends the options: the argument after
 /// it is the script, whatever it looks like, and must be the last.

@@ -76,7 +76,7 @@ typedef struct app {
     uint64_t stats_rows;
     double rho_err_max;   // max over frames of (rho_max / rho0 - 1)
     double step_ms_sum;
-    double start_s;        // monotonic s when the loop began (reports)
+    double start_s;        // monotonic s when the run began (reports)
     double fps;            // frames per wall-clock second, over the last half second
     double fps_since;      // monotonic s where that window began
     uint64_t fps_frames;

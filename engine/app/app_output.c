@@ -87,7 +87,7 @@ int app_open_video(app *a)
     char err[1200];
     a->video = eng_video_open(a->ctx, a->opt->record_path, a->opt->dt, err, sizeof err);
     if (!a->video) {
-        fprintf(stderr, "seiche: %s\n", err);
+        app_message(a, "seiche: %s", err);
         return ENG_EXIT_USAGE;
     }
     return ENG_EXIT_OK;
@@ -152,18 +152,26 @@ static bool calls_check(const char *text)
 
 // The checks of the run: copied into the report, and every line of the script that calls
 // seiche.check and never ran is a failure of a headless run that otherwise passed ("a check
-// scheduled after the last frame never runs" must not pass silently).
+// scheduled after the last frame never runs" must not pass silently). A script that did not
+// load has no instance: its checks are those app_load_scene kept in the report.
 int app_finish_checks(app *a, int status)
 {
     eng_app_report *r = a->opt->report;
     const eng_check_site *sites = NULL;
-    int n = a->inst.script ? eng_script_check_sites(a->inst.script, &sites) : 0;
-    if (r) {
-        r->check_count = n;
-        memcpy(r->checks, sites, (size_t)n * sizeof *sites);
+    int n = 0;
+    if (a->inst.script) {
+        n = eng_script_check_sites(a->inst.script, &sites);
+        if (r) {
+            r->check_count = n;
+            memcpy(r->checks, sites, (size_t)n * sizeof *sites);
+        }
+    } else if (r) {
+        n = r->check_count;
+        sites = r->checks;
     }
-    if (!a->inst.script || !a->opt->headless) return status;
-    FILE *f = fopen(a->opt->script, "r");
+    if ((!a->inst.script && !r) || !a->opt->headless) return status;
+    struct stat st; // a script that did not load may be no file to read (a FIFO would block)
+    FILE *f = stat(a->opt->script, &st) == 0 && S_ISREG(st.st_mode) ? fopen(a->opt->script, "r") : NULL;
     if (!f) return status;
     char text[4096];
     int line = 0, missing = 0;

@@ -285,6 +285,32 @@ bool app_file_stamp(const char *path, struct timespec *mtime, off_t *size)
     return true;
 }
 
+// A script file that cannot be opened, with the reason (the script module says only that it
+// cannot): a missing file, a dangling symbolic link (which names where it points), a loop
+// of links, a file without read permission. False with the message in err. Anything
+// that is not a regular file is left to eng_script_load, which says so (and a FIFO is not
+// opened here, where it would block).
+static bool script_file_opens(const char *path, char *err, size_t err_size)
+{
+    struct stat st;
+    if (stat(path, &st) == 0) {
+        FILE *f = S_ISREG(st.st_mode) ? fopen(path, "rb") : NULL;
+        if (f || !S_ISREG(st.st_mode)) {
+            if (f) fclose(f);
+            return true;
+        }
+    }
+    int e = errno;
+    char target[512] = "", link[600] = "";
+    ssize_t n = readlink(path, target, sizeof target - 1);
+    if (n > 0) {
+        target[n] = 0;
+        snprintf(link, sizeof link, " (a symbolic link to '%s')", target);
+    }
+    snprintf(err, err_size, "%s: cannot open the script file%s: %s", path, link, strerror(e));
+    return false;
+}
+
 // Loads the script and builds a new instance; on success it replaces the running one.
 // On failure the running one stays and the message is reported (stderr; on screen in a
 // window). `reload`: F5 or a saved file (on_reload is called, the camera kept unless the
@@ -325,7 +351,9 @@ int app_load_scene(app *a, bool reload)
     early.apply_overrides = a->opt->set_count > 0 ? overrides_for_script : NULL;
     early.overrides_user = a;
     eng_script_set_host(in.script, &early);
-    eng_script_status ss = eng_script_load(in.script, a->opt->script);
+    eng_script_status ss = ENG_SCRIPT_OK;
+    if (!script_file_opens(a->opt->script, err, sizeof err)) st = ENG_EXIT_USAGE;
+    else ss = eng_script_load(in.script, a->opt->script);
     if (ss != ENG_SCRIPT_OK) {
         st = ss == ENG_SCRIPT_CHECK_FAILED ? ENG_EXIT_CHECK_FAILED : ENG_EXIT_USAGE;
         snprintf(err, sizeof err, "%s", eng_script_error(in.script));
@@ -361,6 +389,14 @@ int app_load_scene(app *a, bool reload)
         a->inst = old;
     }
     if (st != ENG_EXIT_OK) {
+        // With no scene running, the checks of the failed load are the run's checks (a check
+        // that failed in the main chunk is a test case of the report, app_finish_checks).
+        eng_app_report *r = a->opt->report;
+        if (r && !old.script) {
+            const eng_check_site *sites = NULL;
+            r->check_count = eng_script_check_sites(in.script, &sites);
+            memcpy(r->checks, sites, (size_t)r->check_count * sizeof *sites);
+        }
         app_destroy_instance(a, &in);
         a->frame = old_frame;
         a->time = old_time;

@@ -13,8 +13,9 @@
 // - every string the options keep is an element of argv, at the place the documented
 //   grammar puts it (a value right after its option, the script in an option's place or
 //   right after a "--" there, which ends the options);
-// - an option that takes one value is accepted at most once (--set repeats), and --frames,
-//   --dt, --budget and --size only as plain numbers (no space, '+' or hexadecimal);
+// - an option that takes one value is accepted at most once (--set repeats, each KEY
+//   once), and --frames, --dt, --budget and --size only as plain numbers (no space, '+' or
+//   hexadecimal);
 // - an option that takes a value, given last, is an error; --help, -h and --version are
 //   answered only where they stand as options; an error always comes with a message;
 // - eng_app_apply_sets accepts only a capacity in [1, 67108864], gravity in [-1000, 1000],
@@ -291,6 +292,10 @@ static void check(const argv_buf *b, eng_app_args_action action, const eng_app_a
     for (int i = 0; i < o->set_count; i++) {
         check_value(b, role, o->sets[i], "--set");
         if (!strchr(o->sets[i], '=')) fail(b, "a --set without '=' accepted");
+        for (int j = 0; j < i; j++) {
+            size_t ki = strcspn(o->sets[i], "="), kj = strcspn(o->sets[j], "=");
+            if (ki == kj && !strncmp(o->sets[i], o->sets[j], ki)) fail(b, "a --set KEY accepted twice");
+        }
     }
     // The script: an argument in an option's place that is no option, or the one after "--".
     int script_at = 0;
