@@ -2,12 +2,23 @@
 // counts and bounds they were made with (tools/make_meshes.py), fills hold exactly the
 // lattice sites inside, hulls have the right volume and centre of mass, bad files and open
 // meshes are refused naming the file; and a cup from a file holds water on the GPU.
+#define _XOPEN_SOURCE 700 // mkdtemp, mkfifo
 #include "tests/coupling_fixture.h"
 
 #include "engine/render/mesh_file.h"
 #include "engine/render/mesh_physics.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #define PI_D 3.14159265358979323846
+
+static double seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static const char *fixture_path(const char *name)
 {
@@ -201,6 +212,123 @@ static void open_mesh_fill_is_refused_counting_open_edges(void **state)
     assert_null(xyz);
     assert_int_equal(n, 0);
     eng_mesh_data_free(&m);
+}
+
+// ---- hostile files: assimp runs in a child process, behind a guarded file system --------------
+
+// A PLY header cut off in "propert": assimp 5.2 loops on it for ever.
+static void file_that_hangs_the_importer_is_refused_within_the_timeout(void **state)
+{
+    (void)state;
+    eng_mesh_file_options o = eng_default_mesh_file_options();
+    o.timeout_s = 1.0;
+    eng_mesh_data m;
+    char err[512];
+    const char *path = fixture_path("hostile_ply_header_hangs_assimp.ply");
+    double t0 = seconds_now();
+    assert_false(eng_mesh_file_load(path, &o, &m, err, sizeof err));
+    double took = seconds_now() - t0;
+    assert_non_null(strstr(err, path));
+    assert_non_null(strstr(err, "the importer did not finish within 1 s"));
+    assert_true(took >= 0.9 && took < 3.0);
+    assert_null(m.positions);
+    // The loader still works: the child was killed and reaped.
+    eng_mesh_data cube = load("cube.obj", NULL);
+    assert_int_equal(cube.triangle_count, 12);
+    eng_mesh_data_free(&cube);
+}
+
+static void file_that_crashes_the_importer_is_refused_naming_the_signal(void **state)
+{
+    (void)state;
+    eng_mesh_data m;
+    char err[512];
+    const char *path = fixture_path("hostile_csm_crashes_assimp.csm");
+    assert_false(eng_mesh_file_load(path, NULL, &m, err, sizeof err));
+    assert_non_null(strstr(err, path));
+    if (!strstr(err, "the importer crashed (signal ")) // an assimp that no longer crashes refuses it plainly
+        assert_non_null(strstr(err, "could not be read"));
+    assert_null(m.positions);
+}
+
+// mesh_root/buffer_in_parent_folder.gltf's buffer is "../tetrahedron_buffer.bin".
+static void gltf_buffer_outside_the_root_is_refused_and_inside_it_loads(void **state)
+{
+    (void)state;
+    char root[1200], err[1024];
+    support_source_path("tests/fixtures/mesh_root", root, sizeof root);
+    const char *path = fixture_path("mesh_root/buffer_in_parent_folder.gltf");
+    eng_mesh_file_options o = eng_default_mesh_file_options();
+    o.root = root;
+    eng_mesh_data m;
+    assert_false(eng_mesh_file_load(path, &o, &m, err, sizeof err));
+    assert_non_null(strstr(err, path));
+    assert_non_null(strstr(err, "tetrahedron_buffer.bin', which is not a regular file inside"));
+    assert_null(m.positions);
+    // The same file with the folder above as the root: the buffer lies inside it.
+    support_source_path("tests/fixtures", root, sizeof root);
+    if (!eng_mesh_file_load(path, &o, &m, err, sizeof err)) fail_msg("%s", err);
+    assert_int_equal(m.vertex_count, 4);
+    assert_int_equal(m.triangle_count, 4);
+    assert_float_equal(m.volume, 0.001 / 3.0, 1e-9);
+    eng_mesh_data_free(&m);
+    // A mesh file outside the root is refused before assimp sees it.
+    support_source_path("tests/fixtures/mesh_root", root, sizeof root);
+    assert_false(eng_mesh_file_load(fixture_path("cube.obj"), &o, &m, err, sizeof err));
+    assert_non_null(strstr(err, "lies outside"));
+}
+
+// A buffer that is a FIFO nobody writes to would block assimp's read for ever.
+static void gltf_buffer_that_is_a_fifo_is_refused_at_once(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/seiche_mesh_fifo_XXXXXX", fifo[64], gltf[64], err[1024];
+    assert_non_null(mkdtemp(dir));
+    snprintf(fifo, sizeof fifo, "%s/buffer.bin", dir);
+    snprintf(gltf, sizeof gltf, "%s/fifo.gltf", dir);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    FILE *f = fopen(gltf, "w");
+    assert_non_null(f);
+    fputs("{\"asset\": {\"version\": \"2.0\"}, \"buffers\": [{\"uri\": \"buffer.bin\", \"byteLength\": 72}], "
+          "\"bufferViews\": [{\"buffer\": 0, \"byteLength\": 48}, {\"buffer\": 0, \"byteOffset\": 48, "
+          "\"byteLength\": 24}], \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, "
+          "\"type\": \"VEC3\", \"min\": [0, 0, 0], \"max\": [1, 1, 1]}, {\"bufferView\": 1, \"componentType\": 5123, "
+          "\"count\": 12, \"type\": \"SCALAR\"}], \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0}, "
+          "\"indices\": 1}]}], \"nodes\": [{\"mesh\": 0}], \"scenes\": [{\"nodes\": [0]}], \"scene\": 0}\n", f);
+    fclose(f);
+    eng_mesh_file_options o = eng_default_mesh_file_options();
+    o.timeout_s = 5.0;
+    eng_mesh_data m;
+    double t0 = seconds_now();
+    bool loaded = eng_mesh_file_load(gltf, &o, &m, err, 512);
+    double took = seconds_now() - t0;
+    bool fifo_loaded = eng_mesh_file_load(fifo, &o, &m, err + 512, 512);
+    unlink(fifo);
+    unlink(gltf);
+    rmdir(dir);
+    assert_false(loaded);
+    assert_non_null(strstr(err, "buffer.bin', which is not a regular file"));
+    assert_true(took < 2.0); // refused, not waited on until the timeout
+    assert_false(fifo_loaded); // the mesh file itself a FIFO: refused before anything opens it
+    assert_non_null(strstr(err + 512, "is not a regular file"));
+}
+
+static void bad_timeout_and_root_name_the_field(void **state)
+{
+    (void)state;
+    eng_mesh_data m;
+    char err[512];
+    eng_mesh_file_options o = eng_default_mesh_file_options();
+    assert_true(o.timeout_s == ENG_MESH_FILE_DEFAULT_TIMEOUT_S);
+    assert_null(o.root);
+    o.timeout_s = 0.0;
+    assert_false(eng_mesh_file_load(fixture_path("cube.obj"), &o, &m, err, sizeof err));
+    assert_non_null(strstr(err, "eng_mesh_file_options.timeout_s must be in (0, 3600] s (got 0)"));
+    o = eng_default_mesh_file_options();
+    o.root = fixture_path("cube.obj");
+    assert_false(eng_mesh_file_load(fixture_path("cube.obj"), &o, &m, err, sizeof err));
+    assert_non_null(strstr(err, "eng_mesh_file_options.root"));
+    assert_non_null(strstr(err, "must be a folder"));
 }
 
 // ---- filling ----------------------------------------------------------------------------------
@@ -510,6 +638,11 @@ int main(void)
         cmocka_unit_test(file_that_is_not_a_mesh_is_refused_naming_it),
         cmocka_unit_test(bad_options_name_the_field),
         cmocka_unit_test(open_mesh_fill_is_refused_counting_open_edges),
+        cmocka_unit_test(file_that_hangs_the_importer_is_refused_within_the_timeout),
+        cmocka_unit_test(file_that_crashes_the_importer_is_refused_naming_the_signal),
+        cmocka_unit_test(gltf_buffer_outside_the_root_is_refused_and_inside_it_loads),
+        cmocka_unit_test(gltf_buffer_that_is_a_fifo_is_refused_at_once),
+        cmocka_unit_test(bad_timeout_and_root_name_the_field),
         cmocka_unit_test(cube_fills_exactly_like_a_block_of_its_size),
         cmocka_unit_test(fill_counts_rows_through_corners_and_edges_once),
         cmocka_unit_test(cup_fill_stays_in_its_walls_and_out_of_its_hollow),

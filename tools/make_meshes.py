@@ -17,6 +17,14 @@ Sizes are in metres, Y up.
   tests/fixtures/tetrahedron.glb   binary glTF: that tetrahedron twice, nodes at x = -0.1 and
                                    x = +0.1 (two placed meshes merged into one)
   tests/fixtures/not_a_mesh.txt    text, not a mesh format
+  tests/fixtures/mesh_root/buffer_in_parent_folder.gltf
+                                   the tetrahedron.gltf tetrahedron with its buffer in a file of the folder
+                                   above, "../tetrahedron_buffer.bin": refused with the root mesh_root/,
+                                   loads with the root tests/fixtures/ (eng_mesh_file_options.root)
+  tests/fixtures/tetrahedron_buffer.bin   that buffer
+  tests/fixtures/hostile_ply_header_hangs_assimp.ply   a PLY header cut off in "propert": assimp 5.2
+                                   loops for ever on it (eng_mesh_file_options.timeout_s)
+  tests/fixtures/hostile_csm_crashes_assimp.csm        a broken CSM that crashes assimp 5.2 (SIGSEGV)
   scripts/scenes/assets/boat.obj   a small boat hull, 0.6 m long, with a deck (closed), keel on y = 0
   tests/scripts/assets/            cube.obj, open_box.obj, cup.obj and boat.obj again, for the script tests
                                    (a sandboxed scene reads meshes from its own folder and below)
@@ -185,6 +193,22 @@ def write_glb(rel, nodes):
         f.write(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
 
 
+def write_gltf_external(rel, uri, rel_bin):
+    doc, data = gltf_tetrahedron([(0.0, 0.05, 0.0)])
+    doc["buffers"][0]["uri"] = uri
+    with open(os.path.join(ROOT, rel), "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+    with open(os.path.join(ROOT, rel_bin), "wb") as f:
+        f.write(data)
+
+
+# Files that hang or crash assimp 5.2 (found by a hostile review): eng_mesh_file_load must refuse
+# them in time, with the process alive.
+HOSTILE_PLY = b"ply\nformat ascii 1.0\nelement vertex 1\npropert"
+HOSTILE_CSM = (b"$Filename x\n$First\x80rame 1\n$Lastframe 1\n$Order\nA\n$Poin\x00s\n1 0 0 0\n")
+
+
 def main():
     v, f = cube(0.1)
     check_closed("cube", v, triangles(f))
@@ -202,6 +226,13 @@ def main():
     write_glb("tests/fixtures/tetrahedron.glb", [(-0.1, 0.0, 0.0), (0.1, 0.0, 0.0)])
     with open(os.path.join(ROOT, "tests/fixtures/not_a_mesh.txt"), "w") as fh:
         fh.write("This is not a mesh: a text file for the loader's refusal test.\n")
+    os.makedirs(os.path.join(ROOT, "tests/fixtures/mesh_root"), exist_ok=True)
+    write_gltf_external("tests/fixtures/mesh_root/buffer_in_parent_folder.gltf", "../tetrahedron_buffer.bin",
+                        "tests/fixtures/tetrahedron_buffer.bin")
+    for rel, data in (("tests/fixtures/hostile_ply_header_hangs_assimp.ply", HOSTILE_PLY),
+                      ("tests/fixtures/hostile_csm_crashes_assimp.csm", HOSTILE_CSM)):
+        with open(os.path.join(ROOT, rel), "wb") as fh:
+            fh.write(data)
     v, f = boat()
     f = fix_winding(v, f)
     check_closed("boat", v, triangles(f))

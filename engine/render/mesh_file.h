@@ -32,6 +32,12 @@
 // hole: the mesh has no inside. eng_mesh_fill_points refuses open meshes, naming the file and
 // the number of open edges; Bullet's triangle meshes and hulls take them.
 //
+// Hostile files (docs/meshes.md): assimp runs in a child process (fork) that hands back the
+// positions and triangles through a pipe; the parent kills it after options.timeout_s and
+// refuses a file that hung or crashed it, naming the file. Every file assimp opens (the file,
+// a .gltf's buffers, an .obj's materials) must be a regular file, and with options.root set,
+// one whose real path lies in that folder or below; others look missing to assimp.
+//
 // Errors: functions that can fail return false and write one message into err (which may be
 // NULL), naming the file and what is wrong, and leave *out zeroed (free is still safe).
 #ifndef ENG_MESH_FILE_H
@@ -59,9 +65,25 @@ typedef struct eng_mesh_file_options {
     float scale;
     /// Recentring, applied after scaling. Default ENG_MESH_KEEP_ORIGIN.
     eng_mesh_centre centre;
+    /// s, finite, in (0, ENG_MESH_FILE_MAX_TIMEOUT_S]: the most eng_mesh_file_load waits for the
+    /// importer, which runs in a child process and is killed when it runs over (a broken file can
+    /// keep assimp busy for ever). Default ENG_MESH_FILE_DEFAULT_TIMEOUT_S. Not used by
+    /// eng_mesh_data_from_arrays.
+    double timeout_s;
+    /// The folder the importer may read from, or NULL (default): any regular file. With a root,
+    /// the file and every file it refers to (a .gltf's buffers, an .obj's materials) must be
+    /// regular files whose real path (links followed) lies in root or below; others are refused
+    /// as if missing, whether or not they exist. Not used by eng_mesh_data_from_arrays.
+    const char *root;
 } eng_mesh_file_options;
 
-/// Defaults: scale 1, the file's origin kept.
+/// The default eng_mesh_file_options.timeout_s, s: three times what the largest file allowed
+/// (a 60 MB OBJ of 2^20 vertices) takes on two cores.
+#define ENG_MESH_FILE_DEFAULT_TIMEOUT_S 30.0
+/// The largest eng_mesh_file_options.timeout_s, s.
+#define ENG_MESH_FILE_MAX_TIMEOUT_S 3600.0
+
+/// Defaults: scale 1, the file's origin kept, timeout ENG_MESH_FILE_DEFAULT_TIMEOUT_S, no root.
 eng_mesh_file_options eng_default_mesh_file_options(void);
 
 /// A triangle mesh in memory (positions and indices; no GL). Owned: eng_mesh_data_free.
@@ -82,10 +104,13 @@ typedef struct eng_mesh_data {
 
 /// Loads every mesh of the file at `path` into *out (see the top of this header). options
 /// may be NULL (defaults). On failure returns false, *out is zeroed and err says which file
-/// and why: not found (or unreadable), not a format assimp reads, no meshes, no triangles,
-/// more than ENG_MESH_FILE_MAX_VERTICES vertices or ENG_MESH_FILE_MAX_TRIANGLES triangles,
-/// a position that is not finite, a bad option. Time: assimp's parsing dominates; a 60 MB
-/// OBJ of a million vertices takes about 10 s on two cores, a few thousand triangles a few ms.
+/// and why: not found (or unreadable, or not a regular file), outside options->root, not a
+/// format assimp reads, a file it refers to refused (named), no meshes, no triangles, more
+/// than ENG_MESH_FILE_MAX_VERTICES vertices or ENG_MESH_FILE_MAX_TRIANGLES triangles, a
+/// position that is not finite, a bad option, "the importer did not finish within N s", "the
+/// importer crashed (signal N, ...)". Time: assimp's parsing dominates; a 60 MB OBJ of a
+/// million vertices takes about 10 s on two cores; the child process adds a fork and its
+/// page faults (a few ms to tens of ms; docs/meshes.md).
 bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, eng_mesh_data *out, char *err,
                         size_t err_size);
 

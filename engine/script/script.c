@@ -183,6 +183,13 @@ static double now_s(void)
 
 static void budget_hook(lua_State *L, lua_Debug *ar);
 
+double scr_budget_left(const eng_script *s)
+{
+    if (!(s->deadline > 0.0)) return 0.0;
+    double left = s->deadline - now_s();
+    return left > 0.0 ? left : 0.0;
+}
+
 // VM instructions between two looks at the clock: the more memory, the longer one
 // instruction can take.
 static int hook_interval(const eng_script *s)

@@ -520,7 +520,8 @@ eng_script_status scr_fire_events(eng_script *s);
 typedef struct scr_mesh_request {
     char path[1200];                 // where it was found
     char name[256];                  // as the script wrote it, for messages
-    eng_mesh_file_options options;   // scale, centre
+    eng_mesh_file_options options;   // scale, centre; in the sandbox the root and the time left
+    char root[512];                  // the scene's folder: what the file (and what it names) may read
     uint32_t hull_points;            // for a dynamic body's hull
     bool has_hull_points;            // given
 } scr_mesh_request;
@@ -529,6 +530,10 @@ typedef struct scr_mesh_request {
 /// 'mesh' (and then none of the others may be given).
 bool scr_read_mesh_fields(lua_State *L, eng_script *s, int t, const char *fn, bool hull_points_allowed,
                           scr_mesh_request *out);
+/// The scene's folder (that of the script the runner loaded), as scene files are found from it.
+void scr_scene_root(const eng_script *s, char *out, size_t size);
+/// Seconds left of the running call's budget (0 when none runs).
+double scr_budget_left(const eng_script *s);
 /// Reads the file into a new mesh (*out, free with scr_free_mesh); false with a message in err.
 bool scr_load_mesh(const scr_mesh_request *r, eng_mesh_data **out, char *err, size_t size);
 /// The bytes a loaded mesh holds (charged to the script), 0 for NULL.

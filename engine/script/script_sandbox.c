@@ -245,6 +245,8 @@ static void scene_folder(const eng_script *s, char *out, size_t size)
     else snprintf(out, size, "%.*s", (int)(slash - s->path), s->path);
 }
 
+void scr_scene_root(const eng_script *s, char *out, size_t size) { scene_folder(s, out, size); }
+
 static bool valid_module_name(const char *name)
 {
     if (!*name || *name == '.') return false;

@@ -42,6 +42,12 @@ bool scr_read_mesh_fields(lua_State *L, eng_script *s, int t, const char *fn, bo
                   : strncmp(why, "outside", 7) == 0 ? "lies "
                                                     : "is ",
                   strcmp(why, "missing") == 0 || strcmp(why, "unreadable") == 0 ? "" : why);
+    if (!s->trusted) { // the file and what it names (a .gltf's buffers) stay in the scene's folder
+        scr_scene_root(s, out->root, sizeof out->root);
+        out->options.root = out->root;
+    }
+    double left = scr_budget_left(s); // the importer runs apart: it ends with the call's budget
+    if (left > 0.0 && left < out->options.timeout_s) out->options.timeout_s = left > 1e-3 ? left : 1e-3;
     lua_pop(L, 1);
     double v;
     if (scr_opt_number(L, t, fn, "scale", 0, 1e6, OPEN_LO, "(metres per file unit)", &v)) out->options.scale = (float)v;
