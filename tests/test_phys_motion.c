@@ -189,6 +189,41 @@ static void test_held_force_acts_in_every_step_until_released(void **state) {
     assert_int_equal(phys_body_get_held_force(f->world, b, &held, NULL), PHYS_ERR_STALE_ID);
 }
 
+// Bullet integrates in floats: a body given 3.6e27 m/s was NaN two steps later (fuzz_phys_api).
+// Velocities over PHYS_MAX_SPEED are refused; one an impulse or a force makes is held to it,
+// and the log is told once for the body.
+static void test_speed_over_the_limit_is_refused_or_held(void **state) {
+    fixture *f = *state;
+    phys_body_id b = make_weightless_sphere(f, 1.0f);
+    assert_int_equal(phys_body_set_linear_velocity(f->world, b, v3(0, 2e5f, 0)), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "velocity must be at most PHYS_MAX_SPEED = 100000 m/s in size (got 200000)");
+    assert_int_equal(phys_body_set_angular_velocity(f->world, b, v3(0, 0, -3e5f)), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "PHYS_MAX_ANGULAR_SPEED = 100000 rad/s");
+    phys_body_def def = phys_default_body_def();
+    def.shape = make_sphere(f->world, 0.1f);
+    def.linear_velocity = v3(-3.75f, 3.6e27f, 1.45f);
+    phys_body_id other = {0, 0, 0};
+    assert_int_equal(phys_body_create(f->world, &def, &other), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "phys_body_def.linear_velocity must be at most PHYS_MAX_SPEED");
+
+    int logged = f->log_count;
+    assert_ok(phys_body_apply_impulse(f->world, b, v3(1e30f, 0, 0), true));
+    assert_ok(phys_body_apply_angular_impulse(f->world, b, v3(0, 1e30f, 0), true));
+    for (int i = 0; i < 3; i++) {
+        assert_ok(phys_world_step(f->world, 1.0f / 60.0f));
+        assert_ok(phys_body_apply_force(f->world, b, v3(3e38f, 0, 0), true));
+    }
+    phys_vec3 v = velocity_of(f->world, b), p, w;
+    phys_quat q;
+    assert_ok(phys_body_get_angular_velocity(f->world, b, &w));
+    assert_ok(phys_body_get_pose(f->world, b, &p, &q));
+    assert_near(v.x, PHYS_MAX_SPEED, 1.0);
+    assert_near(w.y, PHYS_MAX_ANGULAR_SPEED, 1.0);
+    assert_true(isfinite(p.x) && isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w));
+    assert_int_equal(f->log_count, logged + 1);  // once for the body
+    assert_contains(f->log, "held to PHYS_MAX_SPEED = 100000 m/s");
+}
+
 static void test_impulse_changes_velocity_by_j_over_m_at_once(void **state) {
     fixture *f = *state;
     phys_body_id b = make_weightless_sphere(f, 2.0f);
@@ -381,6 +416,7 @@ int main(void) {
         cmocka_unit_test_setup_teardown(test_kinematic_velocity_moves_body_steadily, setup, teardown),
         cmocka_unit_test_setup_teardown(test_force_changes_velocity_by_f_over_m_dt_for_one_step_only, setup, teardown),
         cmocka_unit_test_setup_teardown(test_held_force_acts_in_every_step_until_released, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_speed_over_the_limit_is_refused_or_held, setup, teardown),
         cmocka_unit_test_setup_teardown(test_impulse_changes_velocity_by_j_over_m_at_once, setup, teardown),
         cmocka_unit_test_setup_teardown(test_mass_data_reports_mass_and_inverse_inertia, setup, teardown),
         cmocka_unit_test_setup_teardown(test_impulse_at_point_spins_body_by_inverse_inertia, setup, teardown),

@@ -462,6 +462,14 @@ typedef enum phys_body_type {
 /// came out of its first step as NaN.
 #define PHYS_MIN_MASS 1.0e-6f
 
+/// The fastest a body may move, m/s and rad/s. A velocity over these (in a body def,
+/// phys_body_set_linear_velocity / _angular_velocity) is refused; a dynamic body that
+/// forces, impulses or gravity drive faster is held to them before and after each
+/// phys_world_step, and the log is told once per body (a warning). Bullet integrates
+/// in floats: a body given 3.6e27 m/s was NaN two steps later.
+#define PHYS_MAX_SPEED 1.0e5f
+#define PHYS_MAX_ANGULAR_SPEED 1.0e5f
+
 /// Body settings. Fill with phys_default_body_def(), then change fields.
 typedef struct phys_body_def {
     phys_body_type type;         ///< default PHYS_BODY_DYNAMIC

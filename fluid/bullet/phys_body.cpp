@@ -73,7 +73,7 @@ static phys_result apply_to_body(phys_world* w, const char* fn, phys_body_id id,
 
 static phys_result set_velocity(phys_world* w, const char* fn, phys_body_id id, phys_vec3 v,
                                 bool angular) {
-    CHECK(check_vec3(w, fn, "velocity", v));
+    CHECK(check_speed(w, fn, "velocity", v, angular));
     BodySlot* b = nullptr;
     CHECK(get_body(w, fn, id, &b));
     if (b->type == PHYS_BODY_STATIC) {
@@ -141,8 +141,8 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
         CHECK(check_vec3(w, fn, "phys_body_def.position", d.position));
         btQuaternion q;
         CHECK(check_quat(w, fn, "phys_body_def.orientation", d.orientation, &q));
-        CHECK(check_vec3(w, fn, "phys_body_def.linear_velocity", d.linear_velocity));
-        CHECK(check_vec3(w, fn, "phys_body_def.angular_velocity", d.angular_velocity));
+        CHECK(check_speed(w, fn, "phys_body_def.linear_velocity", d.linear_velocity, false));
+        CHECK(check_speed(w, fn, "phys_body_def.angular_velocity", d.angular_velocity, true));
         if (!std::isfinite(d.mass) || d.mass < 0) {
             return fail(w, PHYS_ERR_INVALID_ARG,
                         "%s: phys_body_def.mass must be >= 0 and finite (got %g)", fn,
@@ -257,6 +257,7 @@ phys_result phys_body_create(phys_world* world, const phys_body_def* def, phys_b
         b.kin_angular = d.type == PHYS_BODY_KINEMATIC ? to_bt(d.angular_velocity) : btVector3(0, 0, 0);
         b.held_force = btVector3(0, 0, 0);
         b.held_torque = btVector3(0, 0, 0);
+        b.speed_held = false;
         b.alive = true;
         claim_slot(w->free_bodies, slot);
         ++shape.use_count;

@@ -102,6 +102,7 @@ struct BodySlot {
     btVector3 kin_angular{0, 0, 0};
     btVector3 held_force{0, 0, 0};   // phys_body_set_held_force: applied in every step
     btVector3 held_torque{0, 0, 0};
+    bool speed_held = false;         // PHYS_MAX_SPEED held it once (warned)
     std::unique_ptr<btRigidBody> body;
 };
 
@@ -246,6 +247,8 @@ phys_result check_range(phys_world* w, const char* fn, const char* field, float 
                         float hi);
 phys_result check_quat(phys_world* w, const char* fn, const char* field, phys_quat q,
                        btQuaternion* out);
+// A velocity within PHYS_MAX_SPEED (angular: PHYS_MAX_ANGULAR_SPEED), finite.
+phys_result check_speed(phys_world* w, const char* fn, const char* field, phys_vec3 v, bool angular);
 
 // ---- id lookup ---------------------------------------------------------------
 

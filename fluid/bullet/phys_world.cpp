@@ -50,6 +50,15 @@ phys_result check_vec3(phys_world* w, const char* fn, const char* field, phys_ve
     return PHYS_OK;
 }
 
+phys_result check_speed(phys_world* w, const char* fn, const char* field, phys_vec3 v, bool angular) {
+    CHECK(check_vec3(w, fn, field, v));
+    const double len = std::sqrt((double)v.x * v.x + (double)v.y * v.y + (double)v.z * v.z);
+    const double most = angular ? PHYS_MAX_ANGULAR_SPEED : PHYS_MAX_SPEED;
+    if (len <= most) return PHYS_OK;
+    return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s must be at most %s = %g %s in size (got %g)", fn, field,
+                angular ? "PHYS_MAX_ANGULAR_SPEED" : "PHYS_MAX_SPEED", most, angular ? "rad/s" : "m/s", len);
+}
+
 phys_result check_positive(phys_world* w, const char* fn, const char* field, float v) {
     CHECK(check_finite(w, fn, field, v));
     if (v > 0) return PHYS_OK;
@@ -203,6 +212,33 @@ void phys_world_destroy(phys_world* world) {
     }
 }
 
+// Dynamic bodies faster than PHYS_MAX_SPEED / PHYS_MAX_ANGULAR_SPEED slowed to them (an impulse or
+// a huge force or gravity): told once per body through the log.
+static void hold_speeds(phys_world* w) {
+    for (uint32_t i = 0; i < w->bodies.size(); ++i) {
+        BodySlot& b = w->bodies[i];
+        if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
+        btRigidBody* rb = b.body.get();
+        const btVector3 v = rb->getLinearVelocity(), a = rb->getAngularVelocity();
+        // In doubles: a float's square overflows from about 1.8e19.
+        const double lv = std::sqrt((double)v.x() * v.x() + (double)v.y() * v.y() + (double)v.z() * v.z());
+        const double la = std::sqrt((double)a.x() * a.x() + (double)a.y() * a.y() + (double)a.z() * a.z());
+        const bool fast = !(lv <= PHYS_MAX_SPEED), spin = !(la <= PHYS_MAX_ANGULAR_SPEED);
+        if (!fast && !spin) continue;
+        // A velocity that is no longer finite cannot be scaled: the body stops.
+        if (fast) rb->setLinearVelocity(std::isfinite(lv) ? v * (btScalar)(PHYS_MAX_SPEED / lv) : btVector3(0, 0, 0));
+        if (spin) rb->setAngularVelocity(std::isfinite(la) ? a * (btScalar)(PHYS_MAX_ANGULAR_SPEED / la) : btVector3(0, 0, 0));
+        if (b.speed_held || !w->log) continue;
+        b.speed_held = true;
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "phys_world_step: body %u moved at %g m/s and turned at %g rad/s: held to PHYS_MAX_SPEED = %g m/s "
+                      "and PHYS_MAX_ANGULAR_SPEED = %g rad/s (a huge force, impulse or gravity; said once per body)",
+                      (unsigned)(i + 1), lv, la, (double)PHYS_MAX_SPEED, (double)PHYS_MAX_ANGULAR_SPEED);
+        w->log(w->log_user, PHYS_LOG_WARNING, msg);
+    }
+}
+
 phys_result phys_world_step(phys_world* world, float dt) {
     return guarded(world, __func__, [&](const char* fn) -> phys_result {
         phys_world* w = world;
@@ -224,6 +260,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
                 rb->setWorldTransform(next);
             }
         }
+        hold_speeds(w);
         // Held forces (phys_body_set_held_force) join this step's one-step forces.
         for (BodySlot& b : w->bodies) {
             if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
@@ -238,6 +275,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
         prepare_joints(w, dt);
         // maxSubSteps = 0: Bullet's variable-step path, exactly one step of dt.
         w->dynamics->stepSimulation(dt, 0, dt);
+        hold_speeds(w);
         w->last_dt = dt;
         for (BodySlot& b : w->bodies) b.has_target = false;
         sum_step_contacts(w);
