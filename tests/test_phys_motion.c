@@ -222,6 +222,26 @@ static void test_speed_over_the_limit_is_refused_or_held(void **state) {
     assert_true(isfinite(p.x) && isfinite(q.x) && isfinite(q.y) && isfinite(q.z) && isfinite(q.w));
     assert_int_equal(f->log_count, logged + 1);  // once for the body
     assert_contains(f->log, "held to PHYS_MAX_SPEED = 100000 m/s");
+
+    // A force that would add more than the limit in one step is scaled to it before the step
+    // (3e38 N on a milligram made the position infinite inside Bullet's step).
+    def.linear_velocity = v3(0, 0, 0);
+    def.mass = PHYS_MIN_MASS;
+    phys_body_id speck = {0, 0, 0};
+    assert_ok(phys_body_create(f->world, &def, &speck));
+    assert_ok(phys_body_set_held_force(f->world, speck, v3(0, 0, -3e38f), v3(3e38f, 0, 0)));
+    for (int i = 0; i < 4; i++) assert_ok(phys_world_step(f->world, 0.5f));
+    assert_ok(phys_body_get_pose(f->world, speck, &p, &q));
+    assert_true(isfinite(p.z) && isfinite(q.x) && isfinite(q.w));
+    // Each step starts at most at the limit and adds at most the limit: between 1 and 2 times
+    // the limit's distance per step.
+    assert_true(p.z <= -PHYS_MAX_SPEED * 0.5 * 4 && p.z >= -2 * PHYS_MAX_SPEED * 0.5 * 4);
+    assert_contains(f->log, "would change its speed by");
+
+    // Gravity is bounded too (1.7e38 m/s^2 at dt 0.5 s made a position infinite).
+    assert_int_equal(phys_world_set_gravity(f->world, v3(-4, 1.45f, -1.7e38f)), PHYS_ERR_INVALID_ARG);
+    assert_contains(phys_world_last_error(f->world), "gravity must be at most PHYS_MAX_GRAVITY = 10000 m/s^2 in size");
+    assert_ok(phys_world_set_gravity(f->world, v3(0, -PHYS_MAX_GRAVITY, 0)));
 }
 
 static void test_impulse_changes_velocity_by_j_over_m_at_once(void **state) {

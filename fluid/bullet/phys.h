@@ -142,7 +142,8 @@ const char *phys_result_string(phys_result result);
 
 /// World settings. Fill with phys_default_world_def(), then change fields.
 typedef struct phys_world_def {
-    /// Gravitational acceleration, m/s². Default {0, -9.81, 0}. Any finite value.
+    /// Gravitational acceleration, m/s². Default {0, -9.81, 0}. Finite, at most
+    /// PHYS_MAX_GRAVITY in size.
     phys_vec3 gravity;
     /// Sequential-impulse solver iterations per step. Default 10. Range [1, 1000].
     int solver_iterations;
@@ -186,7 +187,8 @@ void phys_world_destroy(phys_world *world);
 /// Kinematic bodies move to their target (or by their velocity) during the step.
 phys_result phys_world_step(phys_world *world, float dt);
 
-/// Set gravity, m/s² (finite). Applies to all bodies from the next step on.
+/// Set gravity, m/s² (finite, at most PHYS_MAX_GRAVITY in size). Applies to all bodies
+/// from the next step on.
 phys_result phys_world_set_gravity(phys_world *world, phys_vec3 gravity);
 
 /// Current gravity, m/s². Zero vector when world is NULL.
@@ -469,6 +471,10 @@ typedef enum phys_body_type {
 /// in floats: a body given 3.6e27 m/s was NaN two steps later.
 #define PHYS_MAX_SPEED 1.0e5f
 #define PHYS_MAX_ANGULAR_SPEED 1.0e5f
+/// The strongest gravity, m/s² in size (about 1000 g); more is refused. A force or
+/// torque that would change a body's speed by more than the limits above in one step is
+/// scaled down to that before the step (and said once per body in the log).
+#define PHYS_MAX_GRAVITY 1.0e4f
 
 /// Body settings. Fill with phys_default_body_def(), then change fields.
 typedef struct phys_body_def {

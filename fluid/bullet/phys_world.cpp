@@ -144,6 +144,13 @@ phys_result phys_world_create(const phys_world_def* def, phys_world** out_world)
             return reject(msg);
         }
     }
+    const double glen = std::sqrt((double)g[0] * g[0] + (double)g[1] * g[1] + (double)g[2] * g[2]);
+    if (glen > PHYS_MAX_GRAVITY) {
+        std::snprintf(msg, sizeof msg,
+                      "phys_world_create: phys_world_def.gravity must be at most PHYS_MAX_GRAVITY = %g m/s^2 in size "
+                      "(got %g)", (double)PHYS_MAX_GRAVITY, glen);
+        return reject(msg);
+    }
     if (def->solver_iterations < 1 || def->solver_iterations > 1000) {
         std::snprintf(msg, sizeof msg,
                       "phys_world_create: phys_world_def.solver_iterations must be in [1, 1000] "
@@ -239,6 +246,43 @@ static void hold_speeds(phys_world* w) {
     }
 }
 
+// A force or torque that would change a body's speed by more than PHYS_MAX_SPEED (or its turning by
+// more than PHYS_MAX_ANGULAR_SPEED) in this step is scaled down to that before Bullet integrates it:
+// Bullet would put the whole change into the position in floats (3e38 N on a milligram is no
+// number), and the speeds are held only between steps.
+static void hold_forces(phys_world* w, float dt) {
+    for (uint32_t i = 0; i < w->bodies.size(); ++i) {
+        BodySlot& b = w->bodies[i];
+        if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
+        btRigidBody* rb = b.body.get();
+        btVector3 f = rb->getTotalForce(), t = rb->getTotalTorque();
+        const double fl = std::sqrt((double)f.x() * f.x() + (double)f.y() * f.y() + (double)f.z() * f.z());
+        const btVector3 dw = rb->getInvInertiaTensorWorld() * t;  // may overflow: then not finite
+        const double wl = std::sqrt((double)dw.x() * dw.x() + (double)dw.y() * dw.y() + (double)dw.z() * dw.z());
+        const double dv = fl * rb->getInvMass() * dt, dom = wl * dt;
+        const bool cut_f = !(dv <= PHYS_MAX_SPEED), cut_t = !(dom <= PHYS_MAX_ANGULAR_SPEED);
+        if (!cut_f && !cut_t) continue;
+        // Scale by what the limit allows (from the torque's own size where its product overflowed).
+        if (cut_f) f *= (btScalar)(std::isfinite(dv) && dv > 0 ? PHYS_MAX_SPEED / dv : 0.0);
+        if (cut_t) {
+            const double tl = std::sqrt((double)t.x() * t.x() + (double)t.y() * t.y() + (double)t.z() * t.z());
+            const double per = std::isfinite(dom) && dom > 0 ? PHYS_MAX_ANGULAR_SPEED / dom : 0.0;
+            t *= (btScalar)(std::isfinite(tl) ? per : 0.0);
+        }
+        rb->clearForces();
+        rb->applyCentralForce(f);
+        rb->applyTorque(t);
+        if (b.speed_held || !w->log) continue;
+        b.speed_held = true;
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "phys_world_step: the force on body %u would change its speed by %g m/s in one step: scaled to "
+                      "PHYS_MAX_SPEED = %g m/s (said once per body)",
+                      (unsigned)(i + 1), cut_f ? dv : dom, (double)PHYS_MAX_SPEED);
+        w->log(w->log_user, PHYS_LOG_WARNING, msg);
+    }
+}
+
 phys_result phys_world_step(phys_world* world, float dt) {
     return guarded(world, __func__, [&](const char* fn) -> phys_result {
         phys_world* w = world;
@@ -269,6 +313,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
             b.body->applyCentralForce(b.held_force);
             b.body->applyTorque(b.held_torque);
         }
+        hold_forces(w, dt);
         for (ConstraintSlot& c : w->constraints) {
             if (c.alive) c.constraint->m_setting.m_impulseClamp = c.max_force * dt;
         }
@@ -286,6 +331,13 @@ phys_result phys_world_step(phys_world* world, float dt) {
 phys_result phys_world_set_gravity(phys_world* world, phys_vec3 gravity) {
     return guarded(world, __func__, [&](const char* fn) -> phys_result {
         CHECK(check_vec3(world, fn, "gravity", gravity));
+        const double glen = std::sqrt((double)gravity.x * gravity.x + (double)gravity.y * gravity.y +
+                                      (double)gravity.z * gravity.z);
+        if (glen > PHYS_MAX_GRAVITY) {
+            return fail(world, PHYS_ERR_INVALID_ARG,
+                        "%s: gravity must be at most PHYS_MAX_GRAVITY = %g m/s^2 in size (got %g)", fn,
+                        (double)PHYS_MAX_GRAVITY, glen);
+        }
         world->dynamics->setGravity(to_bt(gravity));
         return PHYS_OK;
     });
