@@ -219,6 +219,19 @@ void phys_world_destroy(phys_world* world) {
     }
 }
 
+// A warning through the log, the first time a body was held to the speed limits.
+static void warn_once(phys_world* w, BodySlot& b, const char* fmt, ...) PRINTF_LIKE(3, 4);
+static void warn_once(phys_world* w, BodySlot& b, const char* fmt, ...) {
+    if (b.speed_held || !w->log) return;
+    b.speed_held = true;
+    char msg[320];
+    va_list args;
+    va_start(args, fmt);
+    format_message(msg, sizeof msg, fmt, args);
+    va_end(args);
+    w->log(w->log_user, PHYS_LOG_WARNING, msg);
+}
+
 // Dynamic bodies faster than PHYS_MAX_SPEED / PHYS_MAX_ANGULAR_SPEED slowed to them (an impulse or
 // a huge force or gravity): told once per body through the log.
 static void hold_speeds(phys_world* w) {
@@ -235,14 +248,9 @@ static void hold_speeds(phys_world* w) {
         // A velocity that is no longer finite cannot be scaled: the body stops.
         if (fast) rb->setLinearVelocity(std::isfinite(lv) ? v * (btScalar)(PHYS_MAX_SPEED / lv) : btVector3(0, 0, 0));
         if (spin) rb->setAngularVelocity(std::isfinite(la) ? a * (btScalar)(PHYS_MAX_ANGULAR_SPEED / la) : btVector3(0, 0, 0));
-        if (b.speed_held || !w->log) continue;
-        b.speed_held = true;
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      "phys_world_step: body %u moved at %g m/s and turned at %g rad/s: held to PHYS_MAX_SPEED = %g m/s "
-                      "and PHYS_MAX_ANGULAR_SPEED = %g rad/s (a huge force, impulse or gravity; said once per body)",
-                      (unsigned)(i + 1), lv, la, (double)PHYS_MAX_SPEED, (double)PHYS_MAX_ANGULAR_SPEED);
-        w->log(w->log_user, PHYS_LOG_WARNING, msg);
+        warn_once(w, b, "phys_world_step: body %u moved at %g m/s and turned at %g rad/s: held to PHYS_MAX_SPEED = %g "
+                  "m/s and PHYS_MAX_ANGULAR_SPEED = %g rad/s (a huge force, impulse or gravity; said once per body)",
+                  (unsigned)(i + 1), lv, la, (double)PHYS_MAX_SPEED, (double)PHYS_MAX_ANGULAR_SPEED);
     }
 }
 
@@ -272,14 +280,9 @@ static void hold_forces(phys_world* w, float dt) {
         rb->clearForces();
         rb->applyCentralForce(f);
         rb->applyTorque(t);
-        if (b.speed_held || !w->log) continue;
-        b.speed_held = true;
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      "phys_world_step: the force on body %u would change its speed by %g m/s in one step: scaled to "
-                      "PHYS_MAX_SPEED = %g m/s (said once per body)",
-                      (unsigned)(i + 1), cut_f ? dv : dom, (double)PHYS_MAX_SPEED);
-        w->log(w->log_user, PHYS_LOG_WARNING, msg);
+        warn_once(w, b, "phys_world_step: the force on body %u would change its speed by %g in one step: scaled to "
+                  "PHYS_MAX_SPEED = %g m/s and PHYS_MAX_ANGULAR_SPEED = %g rad/s (said once per body)",
+                  (unsigned)(i + 1), cut_f ? dv : dom, (double)PHYS_MAX_SPEED, (double)PHYS_MAX_ANGULAR_SPEED);
     }
 }
 
