@@ -61,7 +61,7 @@ FUZZ_ARGS ?=
 FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-pointer \
 	-fsanitize=fuzzer,address,undefined,float-cast-overflow -fno-sanitize-recover=all \
 	-Wall -Wextra -pedantic -Wmissing-prototypes -Wstrict-prototypes -Wno-unused-function
-FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli fuzz_lua_script fuzz_phys_api
+FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli fuzz_lua_script fuzz_phys_api fuzz_cpl_api
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
 FLUID_SOURCES = $(filter-out fluid/pbf_cpu%.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
 FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
@@ -117,6 +117,14 @@ build/fuzz/bin/fuzz_phys_api: tests/fuzz/fuzz_phys_api.c $(patsubst %.cpp,build/
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize-link-c++-runtime -o $@ $(filter %.c %.o,$^) \
 		-lBulletDynamics -lBulletCollision -lLinearMath -lstdc++ -lm
+
+FUZZ_CPL_OBJECTS = $(patsubst %.c,build/fuzz/obj/%.o,$(FLUID_SOURCES) fluid/bullet/coupling.c fluid/bullet/coupling_mesh.c \
+	fluid/bullet/coupling_settings.c engine/gl/context.c engine/gl/gl_strict.c engine/core/log.c) \
+	$(patsubst %.cpp,build/fuzz/obj/%.o,$(wildcard fluid/bullet/phys*.cpp))
+build/fuzz/bin/fuzz_cpl_api: tests/fuzz/fuzz_cpl_api.c $(FUZZ_CPL_OBJECTS) $(FLUID_HEADERS) fluid/bullet/coupling.h
+	@mkdir -p $(@D)
+	$(FUZZ_CC) $(FUZZ_CFLAGS) -fsanitize-link-c++-runtime -I/usr/include/bullet -o $@ $(filter %.c %.o,$^) \
+		-lepoxy -lEGL -lglfw -lBulletDynamics -lBulletCollision -lLinearMath -lstdc++ -lm -ldl -lpthread
 
 # Written by premake with build/Makefile (and rewritten when a shader changes).
 build/gen/shaders_fluid.c build/gen/shaders_render.c: | build/Makefile

@@ -60,8 +60,8 @@ extern "C" {
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
 #define PBF_VERSION_MINOR 19
-#define PBF_VERSION_PATCH 3
-#define PBF_VERSION_STRING "0.19.3"
+#define PBF_VERSION_PATCH 4
+#define PBF_VERSION_STRING "0.19.4"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
