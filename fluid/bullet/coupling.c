@@ -533,35 +533,33 @@ static void apply_fluid(cpl_coupling *c, body_entry *e)
     phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
 
-// The fluid may stop the body's sinking and lift it with at most impulse_limit times the
-// acceleration of full submersion plus g/4, for one step. The bound keeps the late force of a
-// plunge from throwing a light body back out; the smoothed state keeps the bounded force, so its
-// tail does not carry the excess either. It acts on the force's component against gravity only:
-// the plunge is along gravity, and a bound made of g has nothing to say about a jet or a current
-// across it, nor about anything at all without gravity (in zero g it stopped every push: a block
-// of water at 1 m/s hitting a ball at rest left it at rest). The torque is left alone: a body on
-// an axle or a hinge takes the force on its bearing and turns under the torque (scaled with the
-// force, a water wheel received 30 % of the water's angular impulse).
+// The fluid may stop the body's motion against the force and push it with at most
+// impulse_limit times the acceleration of full submersion plus g/4, for one step. The bound keeps
+// the late force of a plunge from throwing a light body back out (along gravity, and across it: a
+// thin plate thrown face on through water at 10 m/s was thrown back to the wall by a bound on the
+// lift alone); the smoothed state keeps the bounded force, so its tail does not carry the excess
+// either. The torque is left alone: a body on an axle or a hinge takes the force on its bearing and
+// turns under the torque (scaled with the force, a plate on an axle under a jet received 32 % of
+// the water's angular impulse). Known limit: a bound made of g lets the water only stop a body in
+// zero gravity, not push it (docs/coupling.md: impulse_limit 0 there).
 static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
 {
     if (c->def.impulse_limit <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
+    float f = sqrtf(e->force[0] * e->force[0] + e->force[1] * e->force[1] + e->force[2] * e->force[2]);
+    if (!(f > 0.0f)) return;
     phys_vec3 v, g = phys_world_get_gravity(c->def.phys);
-    float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
-    if (!(gmag > 0.0f)) return;
-    const float up[3] = { -g.x / gmag, -g.y / gmag, -g.z / gmag };
-    float lift = e->force[0] * up[0] + e->force[1] * up[1] + e->force[2] * up[2]; // N against gravity
-    if (!(lift > 0.0f)) return;
     if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) return;
-    float sinking = -(v.x * up[0] + v.y * up[1] + v.z * up[2]); // m/s along gravity
+    float against = -(v.x * e->force[0] + v.y * e->force[1] + v.z * e->force[2]) / f; // m/s into the force
+    float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
     float rho_fluid = pbf_world_params(c->def.fluid)->rest_density;
     // Plus a quarter of g: the bound then sits above the lift that holds a neutral body, so
     // the noise of that lift is not cut on one side only (it made such a body sink).
     float accel = c->def.impulse_limit * gmag * (rho_fluid / (e->mass / e->volume) + 0.25f);
-    float dv_max = (sinking > 0.0f ? sinking : 0.0f) + accel * dt;
-    float dv = lift * dt / e->mass;
+    float dv_max = (against > 0.0f ? against : 0.0f) + accel * dt;
+    float dv = f * dt / e->mass;
     if (dv <= dv_max) return;
-    float cut = lift - dv_max * e->mass / dt; // N taken off the lift
-    for (int k = 0; k < 3; k++) e->force[k] -= cut * up[k];
+    float s = dv_max / dv;
+    for (int k = 0; k < 3; k++) e->force[k] *= s;
     e->stats.limited_steps++;
 }
 

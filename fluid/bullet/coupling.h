@@ -67,14 +67,14 @@ typedef struct cpl_def {
     /// exponential average keeps the mean (buoyancy) and removes the noise, at the cost of
     /// keep / (1 - keep) steps of extra lag (1 step at 0.5).
     float force_smoothing;
-    /// Bound on the fluid's lift on a dynamic body per step (its force's component against
-    /// gravity), as a multiple of the acceleration full submersion gives it plus a quarter
-    /// of g, g (rho_fluid / rho_body + 1/4), [0, 100]; default 1. Per step the fluid may
-    /// take away the body's sinking and add at most that acceleration times dt; 0 turns
-    /// the bound off. Without it the one-step-late force (measured while a light body
-    /// plunged in, applied after) throws light bodies out of the water faster than they hit
-    /// it (docs/coupling.md). Forces across gravity, the torque, and everything in zero
-    /// gravity are not bounded.
+    /// Bound on the fluid's push on a dynamic body per step, as a multiple of the
+    /// acceleration full submersion gives it plus a quarter of g, g (rho_fluid / rho_body
+    /// + 1/4), [0, 100]; default 1. Per step the fluid may take away the body's velocity
+    /// against the force and add at most that acceleration times dt; 0 turns the bound off.
+    /// Without it the one-step-late force (measured while a light body plunged in, applied
+    /// after) throws light bodies out of the water faster than they hit it (docs/coupling.md).
+    /// The torque is not bounded. In zero gravity the bound lets the water stop a body but not
+    /// push it: set 0 there.
     float impulse_limit;
     /// Heave damping that cancels what the force's lag does to a floating body, as a
     /// multiple of that lag's negative damping, [0, 4]; default 1.5 (1 cancels it for small

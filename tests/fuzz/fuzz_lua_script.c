@@ -576,6 +576,10 @@ static void take_scene(run *r)
     if (p.substeps > 4) p.substeps = 4;
     (void)pbf_world_set_params(base, &p); // a refusal keeps the old ones
     if (c->has_container) (void)pbf_world_set_container(base, c->container_min, c->container_max, c->closed_top);
+    // What the world uses, for the script's checks (as the app does): without it every emitter
+    // and block was refused at a domain of [0, 0].
+    memcpy(c->domain_min, base_def.domain_min, sizeof c->domain_min);
+    memcpy(c->domain_max, base_def.domain_max, sizeof c->domain_max);
     const pbf_params *now = pbf_world_params(base);
     phys_world_set_gravity(r->phys, (phys_vec3){ now->gravity[0], now->gravity[1], now->gravity[2] });
     eng_camera_look_at(&r->camera, c->camera_eye, c->camera_target);
