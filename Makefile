@@ -64,7 +64,7 @@ FUZZ_CFLAGS = -std=c11 -D_POSIX_C_SOURCE=200809L -I. -g -O1 -fno-omit-frame-poin
 FUZZ_NAMES = fuzz_params fuzz_glsl_preprocess fuzz_pbf_api fuzz_cli fuzz_lua_script fuzz_phys_api fuzz_cpl_api
 FUZZ_BINS = $(addprefix build/fuzz/bin/,$(FUZZ_NAMES))
 FLUID_SOURCES = $(filter-out fluid/pbf_cpu%.c,$(wildcard fluid/*.c)) build/gen/shaders_fluid.c
-FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h
+FLUID_HEADERS = $(wildcard fluid/*.h) shaders/fluid/pbf_shared.h tests/fuzz/fuzz_input.h tests/fuzz/fuzz_gl.h
 
 build/fuzz/bin/fuzz_params: tests/fuzz/fuzz_params.c $(FLUID_SOURCES) $(FLUID_HEADERS)
 	@mkdir -p $(@D)

@@ -71,8 +71,8 @@ static inline void fuzz_gl_reset_base(pbf_world *base, const pbf_params *first)
     for (int i = 0; i < PBF_MAX_SINKS; i++)
         if (base->sinks[i].used) pbf_world_remove_sink(base, (pbf_sink_id){ (uint16_t)(i + 1), base->sinks[i].generation });
     pbf_world_remove_container(base);
+    pbf_world_clear(base); // first: a new particle_radius waits for an empty world
     if (pbf_world_set_params(base, first) != PBF_OK) abort();
-    pbf_world_clear(base);
 }
 
 #endif
