@@ -554,7 +554,7 @@ static void missing_file_is_named(void **state)
     (void)state;
     eng_script *s = script();
     assert_int_equal(eng_script_load(s, "/nonexistent/scene.lua"), ENG_SCRIPT_ERROR);
-    assert_string_equal(eng_script_error(s), "/nonexistent/scene.lua: cannot open the script file");
+    assert_string_equal(eng_script_error(s), "/nonexistent/scene.lua: cannot open the script file: No such file or directory");
     eng_script_destroy(s);
 }
 

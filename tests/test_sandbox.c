@@ -531,8 +531,14 @@ static void binary_and_odd_script_files_are_refused(void **state)
     assert_int_equal(mkfifo(path, 0600), 0);
     s = new_script(1.0, false);
     assert_int_equal(eng_script_load(s, path), ENG_SCRIPT_ERROR);
-    assert_non_null(strstr(eng_script_error(s), "cannot open the script file (not a regular file)"));
+    assert_non_null(strstr(eng_script_error(s), "cannot open the script file (not a regular file: a FIFO)"));
     assert_int_equal(eng_script_load(s, dir), ENG_SCRIPT_ERROR);
+    assert_non_null(strstr(eng_script_error(s), "cannot open the script file (not a regular file: a directory)"));
+    // A link to itself: the system's reason.
+    snprintf(path, sizeof path, "%s/loop.lua", dir);
+    assert_int_equal(symlink("loop.lua", path), 0);
+    assert_int_equal(eng_script_load(s, path), ENG_SCRIPT_ERROR);
+    assert_non_null(strstr(eng_script_error(s), "cannot open the script file: Too many levels of symbolic links"));
     eng_script_destroy(s);
     // Over 64 MiB (sparse): refused by its size.
     snprintf(path, sizeof path, "%s/huge.lua", dir);

@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -552,10 +553,19 @@ eng_script_status eng_script_load(eng_script *s, const char *path)
 {
     snprintf(s->path, sizeof s->path, "%s", path);
     struct stat st;
-    FILE *f = stat(path, &st) == 0 && S_ISREG(st.st_mode) ? fopen(path, "rb") : NULL;
+    errno = 0;
+    bool found = stat(path, &st) == 0;
+    int why = errno;
+    FILE *f = found && S_ISREG(st.st_mode) ? fopen(path, "rb") : NULL;
     if (!f) {
-        snprintf(s->error, sizeof s->error, "%s: cannot open the script file%s", path,
-                 stat(path, &st) == 0 && !S_ISREG(st.st_mode) ? " (not a regular file)" : "");
+        if (found && !why) why = errno;
+        const char *kind = !found                ? NULL
+                           : S_ISDIR(st.st_mode)  ? "a directory"
+                           : S_ISFIFO(st.st_mode) ? "a FIFO"
+                           : S_ISREG(st.st_mode)  ? NULL
+                                                  : "a device or socket";
+        if (kind) snprintf(s->error, sizeof s->error, "%s: cannot open the script file (not a regular file: %s)", path, kind);
+        else snprintf(s->error, sizeof s->error, "%s: cannot open the script file: %s", path, strerror(why ? why : ENOENT));
         return ENG_SCRIPT_ERROR;
     }
     fclose(f);
