@@ -553,19 +553,15 @@ eng_script_status eng_script_load(eng_script *s, const char *path)
 {
     snprintf(s->path, sizeof s->path, "%s", path);
     struct stat st;
-    errno = 0;
-    bool found = stat(path, &st) == 0;
-    int why = errno;
-    FILE *f = found && S_ISREG(st.st_mode) ? fopen(path, "rb") : NULL;
+    const char *kind = NULL; // what the path names when that is not a regular file
+    int why = 0;             // else the system's reason
+    FILE *f = NULL;
+    if (stat(path, &st) != 0) why = errno;
+    else if (!S_ISREG(st.st_mode)) kind = S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO" : "a device or socket";
+    else if (!(f = fopen(path, "rb"))) why = errno;
     if (!f) {
-        if (found && !why) why = errno;
-        const char *kind = !found                ? NULL
-                           : S_ISDIR(st.st_mode)  ? "a directory"
-                           : S_ISFIFO(st.st_mode) ? "a FIFO"
-                           : S_ISREG(st.st_mode)  ? NULL
-                                                  : "a device or socket";
         if (kind) snprintf(s->error, sizeof s->error, "%s: cannot open the script file (not a regular file: %s)", path, kind);
-        else snprintf(s->error, sizeof s->error, "%s: cannot open the script file: %s", path, strerror(why ? why : ENOENT));
+        else snprintf(s->error, sizeof s->error, "%s: cannot open the script file: %s", path, strerror(why));
         return ENG_SCRIPT_ERROR;
     }
     fclose(f);

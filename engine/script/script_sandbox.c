@@ -237,15 +237,13 @@ static int co_wrap(lua_State *L)
 // ---- require: Lua modules from the scene's folder -----------------------------------------------
 
 // The folder of the script's file ("." for a bare name).
-static void scene_folder(const eng_script *s, char *out, size_t size)
+void scr_scene_root(const eng_script *s, char *out, size_t size)
 {
     const char *slash = strrchr(s->path, '/');
     if (!slash) snprintf(out, size, ".");
     else if (slash == s->path) snprintf(out, size, "/");
     else snprintf(out, size, "%.*s", (int)(slash - s->path), s->path);
 }
-
-void scr_scene_root(const eng_script *s, char *out, size_t size) { scene_folder(s, out, size); }
 
 static bool valid_module_name(const char *name)
 {
@@ -290,7 +288,7 @@ static int sb_require(lua_State *L)
         return luaL_error(L, "require: bad module name '%s': names are letters, digits and _ joined by dots, as in "
                           "require 'lib.waves' for lib/waves.lua in the scene's folder (no paths, no '..')", name);
     char folder[512], folder_real[PATH_MAX], rel[512], path[2][1100], real[PATH_MAX];
-    scene_folder(s, folder, sizeof folder);
+    scr_scene_root(s, folder, sizeof folder);
     if (!realpath(folder, folder_real)) return luaL_error(L, "require: cannot read the scene's folder '%s'", folder);
     snprintf(rel, sizeof rel, "%s", name);
     for (char *p = rel; *p; p++)
@@ -343,7 +341,7 @@ static void calling_folder(lua_State *L, const eng_script *s, char *out, size_t 
         else snprintf(out, size, "%.*s", (int)(slash - file), file);
         return;
     }
-    scene_folder(s, out, size);
+    scr_scene_root(s, out, size);
 }
 
 const char *scr_scene_file(lua_State *L, const eng_script *s, const char *rel, char *out, size_t size)
@@ -367,7 +365,7 @@ const char *scr_scene_file(lua_State *L, const eng_script *s, const char *rel, c
         return NULL;
     }
     char scene[512], scene_real[PATH_MAX], real[PATH_MAX];
-    scene_folder(s, scene, sizeof scene);
+    scr_scene_root(s, scene, sizeof scene);
     if (!realpath(scene, scene_real)) return "in a scene whose folder cannot be read";
     const char *why = check_module_file(path, scene_real, real, sizeof real);
     if (why) return why;

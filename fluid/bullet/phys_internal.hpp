@@ -36,6 +36,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <cmath>
 #include <memory>
 #include <new>
 #include <stdexcept>
@@ -151,6 +152,12 @@ inline uint16_t next_generation(uint16_t g) {
 inline btVector3 to_bt(phys_vec3 v) { return btVector3(v.x, v.y, v.z); }
 inline phys_vec3 from_bt(const btVector3& v) { return phys_vec3{v.x(), v.y(), v.z()}; }
 inline phys_quat from_bt(const btQuaternion& q) { return phys_quat{q.x(), q.y(), q.z(), q.w()}; }
+
+// A vector's length in doubles: a float's square overflows from about 1.8e19, and the speed and
+// gravity limits must see a huge value as huge, not as infinity.
+inline double length_of(double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); }
+inline double length_of(const btVector3& v) { return length_of(v.x(), v.y(), v.z()); }
+inline double length_of(phys_vec3 v) { return length_of(v.x, v.y, v.z); }
 
 } // namespace phys_internal
 

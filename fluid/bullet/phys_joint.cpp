@@ -83,7 +83,7 @@ phys_result check_bodies(phys_world* w, const char* fn, const char* def, phys_bo
 phys_result check_axis(phys_world* w, const char* fn, const char* field, phys_vec3 v,
                        btVector3* out) {
     CHECK(check_vec3(w, fn, field, v));
-    const double len = std::sqrt((double)v.x * v.x + (double)v.y * v.y + (double)v.z * v.z);
+    const double len = length_of(v);
     if (!(len >= kMinAxisLength)) {
         return fail(w, PHYS_ERR_INVALID_ARG,
                     "%s: %s must be a direction of length >= %g (got %g, %g, %g)", fn, field,

@@ -52,7 +52,7 @@ phys_result check_vec3(phys_world* w, const char* fn, const char* field, phys_ve
 
 phys_result check_speed(phys_world* w, const char* fn, const char* field, phys_vec3 v, bool angular) {
     CHECK(check_vec3(w, fn, field, v));
-    const double len = std::sqrt((double)v.x * v.x + (double)v.y * v.y + (double)v.z * v.z);
+    const double len = length_of(v);
     const double most = angular ? PHYS_MAX_ANGULAR_SPEED : PHYS_MAX_SPEED;
     if (len <= most) return PHYS_OK;
     return fail(w, PHYS_ERR_INVALID_ARG, "%s: %s must be at most %s = %g %s in size (got %g)", fn, field,
@@ -144,7 +144,7 @@ phys_result phys_world_create(const phys_world_def* def, phys_world** out_world)
             return reject(msg);
         }
     }
-    const double glen = std::sqrt((double)g[0] * g[0] + (double)g[1] * g[1] + (double)g[2] * g[2]);
+    const double glen = length_of(g[0], g[1], g[2]);
     if (glen > PHYS_MAX_GRAVITY) {
         std::snprintf(msg, sizeof msg,
                       "phys_world_create: phys_world_def.gravity must be at most PHYS_MAX_GRAVITY = %g m/s^2 in size "
@@ -240,9 +240,7 @@ static void hold_speeds(phys_world* w) {
         if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
         btRigidBody* rb = b.body.get();
         const btVector3 v = rb->getLinearVelocity(), a = rb->getAngularVelocity();
-        // In doubles: a float's square overflows from about 1.8e19.
-        const double lv = std::sqrt((double)v.x() * v.x() + (double)v.y() * v.y() + (double)v.z() * v.z());
-        const double la = std::sqrt((double)a.x() * a.x() + (double)a.y() * a.y() + (double)a.z() * a.z());
+        const double lv = length_of(v), la = length_of(a);
         const bool fast = !(lv <= PHYS_MAX_SPEED), spin = !(la <= PHYS_MAX_ANGULAR_SPEED);
         if (!fast && !spin) continue;
         // A velocity that is no longer finite cannot be scaled: the body stops.
@@ -254,28 +252,31 @@ static void hold_speeds(phys_world* w) {
     }
 }
 
-// A force or torque that would change a body's speed by more than PHYS_MAX_SPEED (or its turning by
-// more than PHYS_MAX_ANGULAR_SPEED) in this step is scaled down to that before Bullet integrates it:
-// Bullet would put the whole change into the position in floats (3e38 N on a milligram is no
-// number), and the speeds are held only between steps.
-static void hold_forces(phys_world* w, float dt) {
+// The held forces (phys_body_set_held_force) join the step's one-step forces; then a force or
+// torque that would change a body's speed by more than PHYS_MAX_SPEED (or its turning by more than
+// PHYS_MAX_ANGULAR_SPEED) in this step is scaled down to that before Bullet integrates it: Bullet
+// would put the whole change into the position in floats (3e38 N on a milligram is no number), and
+// the speeds are held only between steps.
+static void add_held_forces(phys_world* w, float dt) {
     for (uint32_t i = 0; i < w->bodies.size(); ++i) {
         BodySlot& b = w->bodies[i];
         if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
         btRigidBody* rb = b.body.get();
+        if (!b.held_force.isZero() || !b.held_torque.isZero()) {
+            rb->activate(true);
+            rb->applyCentralForce(b.held_force);
+            rb->applyTorque(b.held_torque);
+        }
         btVector3 f = rb->getTotalForce(), t = rb->getTotalTorque();
-        const double fl = std::sqrt((double)f.x() * f.x() + (double)f.y() * f.y() + (double)f.z() * f.z());
         const btVector3 dw = rb->getInvInertiaTensorWorld() * t;  // may overflow: then not finite
-        const double wl = std::sqrt((double)dw.x() * dw.x() + (double)dw.y() * dw.y() + (double)dw.z() * dw.z());
-        const double dv = fl * rb->getInvMass() * dt, dom = wl * dt;
+        const double dv = length_of(f) * rb->getInvMass() * dt, dom = length_of(dw) * dt;
         const bool cut_f = !(dv <= PHYS_MAX_SPEED), cut_t = !(dom <= PHYS_MAX_ANGULAR_SPEED);
         if (!cut_f && !cut_t) continue;
         // Scale by what the limit allows (from the torque's own size where its product overflowed).
         if (cut_f) f *= (btScalar)(std::isfinite(dv) && dv > 0 ? PHYS_MAX_SPEED / dv : 0.0);
         if (cut_t) {
-            const double tl = std::sqrt((double)t.x() * t.x() + (double)t.y() * t.y() + (double)t.z() * t.z());
             const double per = std::isfinite(dom) && dom > 0 ? PHYS_MAX_ANGULAR_SPEED / dom : 0.0;
-            t *= (btScalar)(std::isfinite(tl) ? per : 0.0);
+            t *= (btScalar)(std::isfinite(length_of(t)) ? per : 0.0);
         }
         rb->clearForces();
         rb->applyCentralForce(f);
@@ -308,15 +309,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
             }
         }
         hold_speeds(w);
-        // Held forces (phys_body_set_held_force) join this step's one-step forces.
-        for (BodySlot& b : w->bodies) {
-            if (!b.alive || b.type != PHYS_BODY_DYNAMIC) continue;
-            if (b.held_force.isZero() && b.held_torque.isZero()) continue;
-            b.body->activate(true);
-            b.body->applyCentralForce(b.held_force);
-            b.body->applyTorque(b.held_torque);
-        }
-        hold_forces(w, dt);
+        add_held_forces(w, dt);
         for (ConstraintSlot& c : w->constraints) {
             if (c.alive) c.constraint->m_setting.m_impulseClamp = c.max_force * dt;
         }
@@ -334,8 +327,7 @@ phys_result phys_world_step(phys_world* world, float dt) {
 phys_result phys_world_set_gravity(phys_world* world, phys_vec3 gravity) {
     return guarded(world, __func__, [&](const char* fn) -> phys_result {
         CHECK(check_vec3(world, fn, "gravity", gravity));
-        const double glen = std::sqrt((double)gravity.x * gravity.x + (double)gravity.y * gravity.y +
-                                      (double)gravity.z * gravity.z);
+        const double glen = length_of(gravity);
         if (glen > PHYS_MAX_GRAVITY) {
             return fail(world, PHYS_ERR_INVALID_ARG,
                         "%s: gravity must be at most PHYS_MAX_GRAVITY = %g m/s^2 in size (got %g)", fn,
