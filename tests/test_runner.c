@@ -314,6 +314,19 @@ static void numbers_with_space_sign_or_hex_are_refused(void **state)
     }
 }
 
+// A value too small for a double is still a number (strtod rounds it to zero or a
+// subnormal and reports ERANGE); one too large for it is not.
+static void underflowing_number_is_taken_and_overflowing_refused(void **state)
+{
+    (void)state;
+    run_result r;
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "1", "--set", "gravity.y=-1e-400", GOOD, NULL });
+    if (r.status != 0) fail_msg("gravity.y=-1e-400: exit %d, stderr %s", r.status, r.err);
+    run(&r, NULL, (const char *const[]){ "--headless", "--frames", "1", "--set", "gravity.y=-1e400", GOOD, NULL });
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--set gravity.y: value must be a finite number (got '-1e400')"));
+}
+
 static void unknown_set_key_lists_the_known_ones(void **state)
 {
     (void)state;
@@ -573,6 +586,7 @@ int main(void)
         cmocka_unit_test(shader_missing_from_the_directory_is_one_message_naming_the_option),
         cmocka_unit_test(scalar_option_given_twice_is_refused_naming_it),
         cmocka_unit_test(numbers_with_space_sign_or_hex_are_refused),
+        cmocka_unit_test(underflowing_number_is_taken_and_overflowing_refused),
         cmocka_unit_test(unknown_set_key_lists_the_known_ones),
         cmocka_unit_test(failed_check_exits_1_with_file_and_line),
         cmocka_unit_test(no_compute_context_exits_3),

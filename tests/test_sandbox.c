@@ -576,6 +576,43 @@ static void trusted_scripts_get_every_library_and_handles_keep_their_kind(void *
     eng_script_destroy(s);
 }
 
+// warn() and the state's own warnings reach the log as whole messages: pieces joined,
+// "@off" / "@on" obeyed, and an error in a trusted script's finaliser (which Lua turns
+// into a warning) is not lost.
+typedef struct warn_log {
+    char text[2048];
+    int count;
+} warn_log;
+
+static void keep_warning(void *user, eng_log_level level, const char *message)
+{
+    warn_log *w = user;
+    if (level != ENG_LOG_WARN) return;
+    w->count++;
+    size_t n = strlen(w->text);
+    snprintf(w->text + n, sizeof w->text - n, "%s\n", message);
+}
+
+static void warnings_reach_the_log(void **state)
+{
+    (void)state;
+    warn_log w = { { 0 }, 0 };
+    eng_script_def d = eng_default_script_def();
+    d.log.fn = keep_warning;
+    d.log.user = &w;
+    d.trusted = true;
+    eng_script *s = eng_script_create(&d);
+    assert_non_null(s);
+    expect_ok(s, "warn('water ', 'is ', 'wet')\n"
+                 "warn('@off') warn('not shown') warn('@on')\n"
+                 "setmetatable({}, { __gc = function() error('finaliser failed') end })\n"
+                 "collectgarbage() collectgarbage()\n");
+    if (w.count != 2 || !strstr(w.text, "case.lua: water is wet\n") || strstr(w.text, "not shown") ||
+        !strstr(w.text, "__gc") || !strstr(w.text, "finaliser failed"))
+        fail_msg("%d warnings:\n%s", w.count, w.text);
+    eng_script_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -588,6 +625,7 @@ int main(void)
         cmocka_unit_test(require_stays_in_the_scene_folder),
         cmocka_unit_test(binary_and_odd_script_files_are_refused),
         cmocka_unit_test(trusted_scripts_get_every_library_and_handles_keep_their_kind),
+        cmocka_unit_test(warnings_reach_the_log),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

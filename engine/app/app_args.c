@@ -97,6 +97,18 @@ static bool plain_number(const char *s)
     return true;
 }
 
+// A whole-string decimal number. A value that underflows (1e-400) is taken as strtod
+// rounds it (to zero or a subnormal): it is a number, only smaller than a double holds.
+// An overflow (HUGE_VAL) or inf/nan is refused.
+static bool parse_real(const char *s, double *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtod(s, &end);
+    if (!plain_number(s) || end == s || *end || !isfinite(*v)) return false;
+    return errno == 0 || errno == ERANGE;
+}
+
 // The options that take one value and may be given once; --set is repeatable.
 static const char *const SCALAR_OPTIONS[] = { "--frames", "--dt",   "--metrics", "--screenshot", "--record", "--size",
                                               "--shaders", "--budget", "--render", "--junit",     "--tap" };
@@ -149,10 +161,8 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
         } else if (strcmp(a, "--trusted") == 0) {
             o->trusted = true;
         } else if (strcmp(a, "--budget") == 0) {
-            char *end;
-            errno = 0;
-            double b = strtod(v, &end);
-            if (!plain_number(v) || *end || end == v || errno || !isfinite(b) || b <= 0.0 || b > 3600.0)
+            double b;
+            if (!parse_real(v, &b) || b <= 0.0 || b > 3600.0)
                 return bad(out, "--budget must be a number of seconds in (0, 3600] (got '%s')", v);
             o->budget_s = b;
             i++;
@@ -165,10 +175,8 @@ eng_app_args_action eng_app_parse_args(int argc, char *const *argv, eng_app_args
             o->frames = n;
             i++;
         } else if (strcmp(a, "--dt") == 0) {
-            char *end;
-            errno = 0;
-            double dt = strtod(v, &end);
-            if (!plain_number(v) || *end || end == v || errno || !isfinite(dt) || dt < 1e-5 || dt > 1.0)
+            double dt;
+            if (!parse_real(v, &dt) || dt < 1e-5 || dt > 1.0)
                 return bad(out, "--dt must be a number of seconds in [0.00001, 1] (got '%s')", v);
             o->dt = dt;
             i++;
@@ -265,10 +273,8 @@ int eng_app_apply_sets(const eng_app_options *options, eng_scene_config *c, char
             return ENG_EXIT_USAGE;
         }
         snprintf(key, sizeof key, "%.*s", (int)(eq - kv), kv);
-        char *end;
-        errno = 0;
-        double v = strtod(eq + 1, &end);
-        if (!plain_number(eq + 1) || end == eq + 1 || *end || errno || !isfinite(v)) {
+        double v;
+        if (!parse_real(eq + 1, &v)) {
             snprintf(err, err_size, "seiche: --set %s: value must be a finite number (got '%s')", key, eq + 1);
             return ENG_EXIT_USAGE;
         }

@@ -465,6 +465,29 @@ eng_script_def eng_default_script_def(void)
     return d;
 }
 
+// Lua's warnings: the script's warn(...) and the state's own (an error in a trusted script's
+// __gc finaliser, which Lua cannot raise). A message comes in pieces (tocont) and goes to
+// the log as one warning; a single piece "@off" / "@on" turns them off and on, as in Lua's
+// standalone interpreter, but they start on: a scene's warning is meant to be read.
+static void script_warn(void *ud, const char *msg, int tocont)
+{
+    eng_script *s = ud;
+    if (s->warning_len == 0 && !tocont && msg[0] == '@') {
+        if (strcmp(msg, "@off") == 0) s->warnings_off = true;
+        else if (strcmp(msg, "@on") == 0) s->warnings_off = false;
+        return; // other controls are ignored, as Lua's own warn function does
+    }
+    size_t room = sizeof s->warning - 1 - s->warning_len;
+    size_t n = strlen(msg);
+    if (n > room) n = room;
+    memcpy(s->warning + s->warning_len, msg, n);
+    s->warning_len += n;
+    s->warning[s->warning_len] = '\0';
+    if (tocont) return;
+    if (!s->warnings_off) eng_log(&s->log, ENG_LOG_WARN, "%s: %s", s->path[0] ? s->path : "script", s->warning);
+    s->warning_len = 0;
+}
+
 // The libraries and the API, in a protected call (they allocate).
 static int open_state(lua_State *L)
 {
@@ -493,6 +516,7 @@ eng_script *eng_script_create(const eng_script_def *def)
         return NULL;
     }
     *(eng_script **)lua_getextraspace(s->L) = s; // every coroutine copies it
+    lua_setwarnf(s->L, script_warn, s);
     lua_pushcfunction(s->L, open_state);
     lua_pushlightuserdata(s->L, s);
     if (lua_pcall(s->L, 1, 0, 0) != LUA_OK) { // out of memory: no Lua state

@@ -149,6 +149,19 @@ double scr_arg_number(lua_State *L, int idx, const char *fn, const char *name, d
     return scr_check_number_at(L, idx, fn, what, lo, hi, flags, unit);
 }
 
+lua_Integer scr_len(lua_State *L, int idx, const char *fn, const char *what)
+{
+    char got[64];
+    lua_len(L, idx);
+    int whole;
+    lua_Integer n = lua_tointegerx(L, -1, &whole);
+    if (!whole)
+        scr_raise(L, "%s: %s: its length (from __len) must be a whole number (got %s)", fn, what,
+                  scr_describe(L, -1, got, sizeof got));
+    lua_pop(L, 1);
+    return n;
+}
+
 // A vector of n numbers: {a, b, c} or {x = a, y = b, z = c} (w for the fourth).
 void scr_check_vec_at(lua_State *L, int idx, const char *fn, const char *what, int n, double lo, double hi,
                       int flags, const char *unit, float *out)
@@ -163,9 +176,9 @@ void scr_check_vec_at(lua_State *L, int idx, const char *fn, const char *what, i
     lua_geti(L, idx, 1);
     bool named = lua_isnil(L, -1);
     lua_pop(L, 1);
-    if (!named && luaL_len(L, idx) != n)
-        scr_raise(L, "%s: %s must be a table of %d numbers %s (got a table of %lld)", fn, what, n, shape,
-                  (long long)luaL_len(L, idx));
+    lua_Integer len = named ? n : scr_len(L, idx, fn, what);
+    if (len != n)
+        scr_raise(L, "%s: %s must be a table of %d numbers %s (got a table of %lld)", fn, what, n, shape, (long long)len);
     for (int k = 0; k < n; k++) {
         if (named) lua_getfield(L, idx, names[k]);
         else lua_geti(L, idx, k + 1);
@@ -378,7 +391,9 @@ float *scr_read_point_list(lua_State *L, int t, const char *fn, const char *fiel
     int v = lua_gettop(L);
     if (!lua_istable(L, v))
         scr_raise(L, "%s: field '%s' must be a list of points {{x, y, z}, ...} (got %s)", fn, field, scr_describe(L, v, got, sizeof got));
-    lua_Integer n = luaL_len(L, v);
+    char list[96];
+    snprintf(list, sizeof list, "field '%s'", field);
+    lua_Integer n = scr_len(L, v, fn, list);
     if (n < (lua_Integer)min_n || n > (lua_Integer)max_n)
         scr_raise(L, "%s: field '%s' must hold %u to %u points (got %lld)", fn, field, min_n, max_n, (long long)n);
     float *out = lua_newuserdatauv(L, (size_t)(n > 0 ? n : 1) * 3 * sizeof(float), 0);

@@ -298,6 +298,11 @@ struct eng_script {
     // "file:line: " of the instruction the budget hook last ran at (script.c): where a memory
     // error that Lua raises itself (no message handler runs for it) happened.
     char hook_where[320];
+    // warn() and the state's own warnings (an error in a trusted script's finaliser): the
+    // pieces of the message being built (script.c, script_warn), and "@off" / "@on".
+    char warning[1024];
+    size_t warning_len;
+    bool warnings_off;
 };
 
 // ---- registration (script.c) -----------------------------------------------------------
@@ -412,6 +417,9 @@ int scr_raise(lua_State *L, const char *fmt, ...)
 #endif
     ;
 const char *scr_describe(lua_State *L, int idx, char *buf, size_t size);
+// #t of the table at idx (its __len may run): a length that is not a whole number raises,
+// naming fn and what ("field 'positions'").
+lua_Integer scr_len(lua_State *L, int idx, const char *fn, const char *what);
 /// A number as messages write it: whole numbers in full ("1000000000"), others in %g style.
 const char *scr_fmt_number(double v, char *buf, size_t size);
 /// The number messages give argument `idx` of `fn`: a method ("body:grab") does not count self.

@@ -138,7 +138,7 @@ static body_part *read_parts(lua_State *L, int t, const char *fn, uint32_t *coun
     if (!lua_istable(L, pt))
         scr_raise(L, "%s: field 'parts' must be a list of parts {shape, size | radius, height, position, rotation} (got %s)",
                   fn, scr_describe(L, pt, got, sizeof got));
-    lua_Integer n = luaL_len(L, pt);
+    lua_Integer n = scr_len(L, pt, fn, "field 'parts'");
     if (n < 1 || n > MAX_BODY_PARTS)
         scr_raise(L, "%s: field 'parts' must hold 1 to %d parts (each part is one of the fluid's %d colliders; got %lld)", fn,
                   MAX_BODY_PARTS, MAX_BODY_PARTS, (long long)n);
@@ -302,7 +302,7 @@ static int l_body(lua_State *L)
             char got[64];
             if (!lua_istable(L, it))
                 scr_raise(L, "seiche.body: field 'indices' must be a list of vertex numbers (got %s)", scr_describe(L, it, got, sizeof got));
-            lua_Integer m = luaL_len(L, it);
+            lua_Integer m = scr_len(L, it, "seiche.body", "field 'indices'");
             if (m < 3 || m % 3 != 0 || m > 3 * 262144)
                 scr_raise(L, "seiche.body: field 'indices' must hold 3 to %d vertex numbers, a multiple of 3 (got %lld)",
                           3 * 262144, (long long)m);

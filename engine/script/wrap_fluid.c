@@ -209,7 +209,7 @@ static int l_particles(lua_State *L)
         lua_pop(L, 1);
         if (both) scr_raise(L, "seiche.particles: give either 'velocities' (one per point) or 'velocity' (one for all), not both");
         lua_getfield(L, 1, "velocities");
-        lua_Integer nv_given = lua_istable(L, -1) ? luaL_len(L, -1) : -1;
+        lua_Integer nv_given = lua_istable(L, -1) ? scr_len(L, -1, "seiche.particles", "field 'velocities'") : -1;
         lua_pop(L, 1);
         if (nv_given >= 0 && nv_given != (lua_Integer)n)
             scr_raise(L, "seiche.particles: field 'velocities' must hold one velocity per position (%u) (got %lld)", n,

@@ -52,7 +52,7 @@ static void read_limits(lua_State *L, int t, const char *fn, const char *what, p
     char got[64];
     const char *unit = unit_of(type);
     double range = limit_of(type);
-    if (!lua_istable(L, t) || luaL_len(L, t) != 2)
+    if (!lua_istable(L, t) || scr_len(L, t, fn, what) != 2)
         scr_raise(L, "%s: %s must be a table {lo, hi} of 2 numbers in [%.7g, %.7g] %s, lo <= hi (got %s)", fn, what, -range,
                   range, unit, lua_istable(L, t) ? "a table of another length" : scr_describe(L, t, got, sizeof got));
     double v[2];

@@ -64,7 +64,7 @@ static int read_field_list(lua_State *L, const char *fn)
         scr_raise(L, "%s: field 'fields' must be a list of \"position\", \"velocity\", \"density\" (got %s)", fn,
                   scr_describe(L, -1, got, sizeof got));
     int mask = 0;
-    lua_Integer n = luaL_len(L, -1);
+    lua_Integer n = scr_len(L, -1, fn, "field 'fields'");
     for (lua_Integer i = 1; i <= n && i <= 8; i++) {
         lua_geti(L, -1, i);
         const char *name = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : NULL;

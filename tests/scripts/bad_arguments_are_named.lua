@@ -57,6 +57,9 @@ local cases = {
     { "seiche.surface_height('a', 0)", "seiche.surface_height: argument #1 'x' must be a number" },
     { "seiche.ray_cast({0, 0, 0}, {0, 0, 0})", "seiche.ray_cast: arguments 'from' and 'to' must differ" },
     { "seiche.scene{}", "seiche.scene: the scene is described once, in the script's main chunk" },
+    -- A __len that answers a fraction or a string names the field, not only Lua's own words.
+    { "seiche.particles{positions = setmetatable({}, {__len = function() return 1.5 end})}", "seiche.particles: field 'positions': its length (from __len) must be a whole number (got 1.5)" },
+    { "seiche.body{shape = 'box', size = setmetatable({}, {__len = function() return 'x' end, __index = function() return 0.1 end})}", "seiche.body: field 'size': its length (from __len) must be a whole number (got \"x\")" },
 }
 
 -- In on_start the world exists, so the emitter's rate bound is known.
