@@ -24,6 +24,11 @@
 // pbf_world_remove_container and pbf_world_destroy refuse (the last three return nothing:
 // they are ignored, with the reason in pbf_world_last_error and the world's log).
 //
+// The calls that issue GL commands need the context the world was made in current on the
+// calling thread: with none current, create, step, set_params, set_container, add_block,
+// add_particles and read_fields return an error that says so (PBF_ERR_GL; read_particles
+// and state_hash return 0) rather than doing nothing.
+//
 // GL state and synchronisation (the contract; docs/architecture.md has the reasons):
 // - Calls that issue GL commands (create, destroy, set_params, set_container, add_*,
 //   clear, step, collider and emitter calls, poll_stats, read_particles, state_hash)

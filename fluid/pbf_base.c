@@ -225,6 +225,17 @@ pbf_result pbf_append(pbf_world *w, const float *pos4, const float *vel4, uint32
     return PBF_OK;
 }
 
+bool pbf_without_context(pbf_world *w, const char *fn)
+{
+    // With no context current a GL call does nothing (libglvnd's stubs), so a step or an
+    // upload would "succeed" and a read would return nothing. glGetString is answered by
+    // the driver on the CPU, with no wait on the GPU.
+    if (glGetString(GL_VERSION)) return false;
+    pbf_fail(w, PBF_ERR_GL, "%s: no OpenGL context is current on this thread (make the context the world was created "
+             "in current before calling)", fn);
+    return true;
+}
+
 bool pbf_refused_in_step(pbf_world *w, const char *fn, const char *tail)
 {
     if (!w->in_step) return false;

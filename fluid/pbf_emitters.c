@@ -23,6 +23,7 @@ pbf_result pbf_world_add_particles(pbf_world *w, const float *positions, const f
 {
     if (!w) return PBF_ERR_INVALID_ARG;
     if (pbf_refused_in_step(w, "pbf_world_add_particles", "")) return PBF_ERR_INVALID_ARG;
+    if (pbf_without_context(w, "pbf_world_add_particles")) return PBF_ERR_GL;
     if (!positions && n > 0) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_particles: positions must not be NULL");
     if (n > w->capacity - w->count && !(pbf_count_settle(w) && n <= w->capacity - w->count))
         return pbf_fail(w, PBF_ERR_CAPACITY, "pbf_world_add_particles: %u particles do not fit: %u of capacity %u in use",
@@ -55,6 +56,7 @@ pbf_result pbf_world_add_block(pbf_world *w, const pbf_block_def *b, uint32_t *a
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!b) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_add_block: block must not be NULL");
     if (pbf_refused_in_step(w, "pbf_world_add_block", "")) return PBF_ERR_INVALID_ARG;
+    if (pbf_without_context(w, "pbf_world_add_block")) return PBF_ERR_GL;
     if (added) *added = 0;
     float s = w->k.spacing;
     uint32_t n[3];

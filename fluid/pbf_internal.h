@@ -183,6 +183,9 @@ struct pbf_world {
 /// "FN: called from inside a step (the substep hook)" and `tail` (": ignored" for the calls
 /// that return nothing).
 bool pbf_refused_in_step(pbf_world *w, const char *fn, const char *tail);
+/// True when no GL context is current on the calling thread: the error (PBF_ERR_GL) is then
+/// set, naming `fn`.
+bool pbf_without_context(pbf_world *w, const char *fn);
 pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

@@ -30,6 +30,7 @@ pbf_result pbf_world_read_fields(pbf_world *w, const float box_min[3], const flo
     if (!box_ok(box_min, box_max))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_read_fields: the box needs both corners, finite, "
                                                 "with min <= max on every axis");
+    if (pbf_without_context(w, "pbf_world_read_fields")) return PBF_ERR_GL;
     uint32_t n = w->count;
     if (n == 0) return PBF_OK;
     float *p = malloc((size_t)n * 16), *v = malloc((size_t)n * 16), *vol = malloc((size_t)n * 4);
@@ -168,12 +169,13 @@ done:
 
 uint32_t pbf_world_read_particles(pbf_world *w, float *positions, float *velocities, uint32_t *ids, uint32_t max)
 {
-    return w ? pbf_read_sorted(w, positions, velocities, NULL, ids, max) : 0;
+    if (!w || pbf_without_context(w, "pbf_world_read_particles")) return 0;
+    return pbf_read_sorted(w, positions, velocities, NULL, ids, max);
 }
 
 uint64_t pbf_world_state_hash(pbf_world *w)
 {
-    if (!w) return 0;
+    if (!w || pbf_without_context(w, "pbf_world_state_hash")) return 0;
     uint32_t n = gpu_count(w);
     float *p = malloc((size_t)n * 16 + 16), *v = malloc((size_t)n * 16 + 16);
     uint64_t h = 1469598103934665603ull;

@@ -273,6 +273,11 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
                  def->shader_dir);
         return NULL;
     }
+    if (!glGetString(GL_VERSION)) {
+        snprintf(err, err_size, "pbf_world_create: no OpenGL context is current on this thread (make the host's 4.3+ "
+                 "context current first)");
+        return NULL;
+    }
     if (epoxy_gl_version() < 43 && !epoxy_has_gl_extension("GL_ARB_compute_shader")) {
         snprintf(err, err_size, "pbf_world_create: the current GL context is %d.%d; Seiche needs OpenGL 4.3 compute shaders",
                  epoxy_gl_version() / 10, epoxy_gl_version() % 10);
@@ -412,6 +417,7 @@ pbf_result pbf_world_set_params(pbf_world *w, const pbf_params *p)
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!p) return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_params: params must not be NULL");
     if (pbf_refused_in_step(w, "pbf_world_set_params", "")) return PBF_ERR_INVALID_ARG;
+    if (pbf_without_context(w, "pbf_world_set_params")) return PBF_ERR_GL;
     char err[256];
     if (pbf_params_validate(p, err, sizeof err) != PBF_OK) return pbf_fail(w, PBF_ERR_INVALID_ARG, "%s", err);
     if (p->particle_radius != w->params.particle_radius && w->count > 0 && (pbf_count_settle(w), w->count > 0))
@@ -497,6 +503,7 @@ pbf_result pbf_world_set_container(pbf_world *w, const float min[3], const float
     if (!w) return PBF_ERR_INVALID_ARG;
     if (!min || !max)
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_set_container: %s must not be NULL", !min ? "min" : "max");
+    if (pbf_without_context(w, "pbf_world_set_container")) return PBF_ERR_GL;
     char err[256];
     float planes[PBF_MAX_PLANES][4];
     int n = pbf_container_planes(min, max, closed_top, w->domain_min, w->domain_max, planes, err, sizeof err);
@@ -796,6 +803,7 @@ pbf_result pbf_world_step_with(pbf_world *w, float dt, pbf_substep_fn *hook, voi
     if (!w) return PBF_ERR_INVALID_ARG;
     if (pbf_refused_in_step(w, "pbf_world_step", "; set poses or forces there, step after it returns"))
         return PBF_ERR_INVALID_ARG;
+    if (pbf_without_context(w, "pbf_world_step")) return PBF_ERR_GL;
     if (!(dt >= PBF_MIN_DT && dt <= 1.0f))
         return pbf_fail(w, PBF_ERR_INVALID_ARG, "pbf_world_step: dt must be in [%g, 1] s (got %g)", (double)PBF_MIN_DT,
                         (double)dt);

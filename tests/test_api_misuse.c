@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <epoxy/egl.h>
+
 #include "fluid/pbf.h"
 
 typedef struct fixture {
@@ -259,6 +261,46 @@ static void coarse_level_beyond_its_grid_is_refused(void **state)
     pbf_world_destroy(w);
 }
 
+// With no context current, GL calls do nothing: the calls that need one say so instead of
+// returning OK with nothing done (or, for a read, nothing read).
+static void calls_without_a_current_context_are_refused(void **state)
+{
+    fixture *f = *state;
+    pbf_world *w = f->world;
+    EGLDisplay dpy = eglGetCurrentDisplay();
+    EGLContext ctx = eglGetCurrentContext();
+    EGLSurface draw = eglGetCurrentSurface(EGL_DRAW), read = eglGetCurrentSurface(EGL_READ);
+    assert_true(ctx != EGL_NO_CONTEXT);
+    assert_true(eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT));
+    const char *want = "no OpenGL context is current on this thread";
+    pbf_block_def b = pbf_default_block_def();
+    b.min[0] = b.min[1] = b.min[2] = 0.1f;
+    b.max[0] = b.max[1] = b.max[2] = 0.2f;
+    const float lo[3] = { 0, 0, 0 }, hi[3] = { 1, 1, 1 }, p[3] = { 0.3f, 0.3f, 0.3f };
+    float out[3];
+    uint32_t got = 7;
+    assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_ERR_GL);
+    assert_non_null(strstr(pbf_world_last_error(w), "pbf_world_step: no OpenGL context is current"));
+    assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_ERR_GL);
+    assert_int_equal(pbf_world_add_particles(w, p, NULL, 1), PBF_ERR_GL);
+    assert_int_equal(pbf_world_set_params(w, pbf_world_params(w)), PBF_ERR_GL);
+    assert_int_equal(pbf_world_set_container(w, lo, hi, false), PBF_ERR_GL);
+    assert_int_equal(pbf_world_read_fields(w, lo, hi, out, NULL, NULL, 1, &got), PBF_ERR_GL);
+    assert_int_equal(got, 0);
+    assert_non_null(strstr(pbf_world_last_error(w), want));
+    assert_int_equal(pbf_world_state_hash(w), 0);
+    pbf_world_def d = pbf_default_world_def();
+    char err[256] = "";
+    assert_null(pbf_world_create(&d, err, sizeof err));
+    assert_non_null(strstr(err, "pbf_world_create: no OpenGL context is current"));
+    // Current again: the same calls work, and nothing was half done.
+    assert_true(eglMakeCurrent(dpy, draw, read, ctx));
+    assert_int_equal(pbf_world_add_block(w, &b, &got), PBF_OK);
+    assert_true(got > 0);
+    assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_world_clear(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -268,6 +310,7 @@ int main(void)
         cmocka_unit_test(destroy_and_clear_from_a_hook_are_ignored),
         cmocka_unit_test(collider_strength_is_checked),
         cmocka_unit_test(coarse_level_beyond_its_grid_is_refused),
+        cmocka_unit_test(calls_without_a_current_context_are_refused),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
