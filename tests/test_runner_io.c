@@ -513,6 +513,7 @@ static void control_characters_in_script_names_are_escaped(void **state)
     assert_int_equal(system("rm -rf " TMP "/ctl && mkdir -p " TMP "/ctl"), 0);
     write_file(TMP "/ctl/a\nline\x01.lua", "seiche.scene { capacity = 10 }\n");
     write_file(TMP "/ctl/b # TODO.lua", "seiche.scene { capacity = 10 }\nerror('boom')\n");
+    write_file(TMP "/ctl/c\\nx.lua", "seiche.scene { capacity = 10 }\n"); // a backslash and an 'n', no newline
     assert_int_equal(run("--frames 1 --tap ctl.tap --junit ctl.xml ctl", err, sizeof err), 2);
     slurp(TMP "/stdout.txt", out, sizeof out);
     assert_non_null(strstr(out, "ok      ctl/a\\nline\\x01.lua (exit 0)\n"));
@@ -520,10 +521,12 @@ static void control_characters_in_script_names_are_escaped(void **state)
     assert_non_null(strstr(tap, "\nok 1 - ctl/a\\nline\\x01.lua: run (exit 0, ok)\n"));
     assert_non_null(strstr(tap, "\nnot ok 2 - ctl/b \\# TODO.lua: run (exit 2, usage or script error)\n"));
     assert_null(strstr(tap, "\x01"));
+    assert_non_null(strstr(tap, "\nok 3 - ctl/c\\\\nx.lua: run (exit 0, ok)\n"));
     slurp(TMP "/ctl.xml", xml, sizeof xml);
     assert_non_null(strstr(xml, "<testsuite name=\"ctl/a\\nline\\x01.lua\""));
     assert_non_null(strstr(xml, "classname=\"ctl/a\\nline\\x01.lua\""));
     assert_null(strstr(xml, "a\nline"));
+    assert_non_null(strstr(xml, "<testsuite name=\"ctl/c\\\\nx.lua\""));
 }
 
 // A --set key given twice is refused naming it, as an option given twice is: the last one

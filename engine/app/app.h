@@ -73,7 +73,9 @@ const char *eng_app_set_keys(void);
 
 /// A file name as the runner writes it into its log lines and reports: each control
 /// character (bytes below 0x20, and 0x7f) escaped, so that a name holding a newline stays
-/// on its line (and a TAP line stays one line): `\n`, `\r`, `\t`, else `\xNN`.
+/// on its line (and a TAP line stays one line): `\n`, `\r`, `\t`, else `\xNN`; and a
+/// backslash as `\\`, so that an escape is never ambiguous (a name holding a backslash and
+/// an 'n' is not one holding a newline).
 /// eng_app_name_escape writes the escape of byte c into out (NUL-terminated) and returns
 /// its length, or returns 0 when c stands for itself.
 int eng_app_name_escape(unsigned char c, char out[5]);

@@ -63,6 +63,7 @@ const char *eng_app_set_keys(void)
 
 int eng_app_name_escape(unsigned char c, char out[5])
 {
+    if (c == '\\') return snprintf(out, 5, "\\\\"); // so that "\\n" in a name is not read as a newline
     if (c >= 0x20 && c != 0x7f) return 0;
     if (c == '\n') return snprintf(out, 5, "\\n");
     if (c == '\r') return snprintf(out, 5, "\\r");
