@@ -529,6 +529,35 @@ static void control_characters_in_script_names_are_escaped(void **state)
     assert_non_null(strstr(xml, "<testsuite name=\"ctl/c\\\\nx.lua\""));
 }
 
+// Each script of a suite runs in its own process: one that ends it (a crash, a kill, an
+// os.exit of a --trusted script) fails with status 6 and a message that says how, the
+// scripts after it still run, and the reports are written. In one process the first kill
+// ended the suite with no report, and os.exit(0) ended it with status 0.
+static void a_script_that_ends_its_process_fails_alone(void **state)
+{
+    (void)state;
+    char err[4096], out[4096], tap[4096], xml[8192];
+    assert_int_equal(system("rm -rf " TMP "/die && mkdir -p " TMP "/die"), 0);
+    write_file(TMP "/die/a.lua", "seiche.scene { capacity = 10 }\nseiche.check(true, 'a ran')\n");
+    write_file(TMP "/die/b.lua", "seiche.scene { capacity = 10 }\nos.exit(0)\n");
+    write_file(TMP "/die/c.lua", "seiche.scene { capacity = 10 }\n"
+                                 "function on_start() os.execute('kill -KILL ' .. io.open('/proc/self/stat'):read('n')) end\n");
+    write_file(TMP "/die/d.lua", "seiche.scene { capacity = 10 }\nseiche.check(true, 'd ran')\n");
+    assert_int_equal(run("--trusted --frames 2 --tap die.tap --junit die.xml die", err, sizeof err), 6);
+    slurp(TMP "/stdout.txt", out, sizeof out);
+    if (!strstr(out, "ok      die/a.lua (exit 0)\n") || !strstr(out, "FAILED  die/b.lua (exit 6)\n") ||
+        !strstr(out, "FAILED  die/c.lua (exit 6)\n") || !strstr(out, "ok      die/d.lua (exit 0)\n") ||
+        !strstr(out, "2 passed, 2 failed\n"))
+        fail_msg("stdout:\n%s\nstderr:\n%s", out, err);
+    assert_non_null(strstr(err, "seiche: die/b.lua: the run's process exited with status 0 before the run ended"));
+    assert_non_null(strstr(err, "seiche: die/c.lua: the run's process was ended by signal 9 (Killed)"));
+    slurp(TMP "/die.tap", tap, sizeof tap);
+    assert_non_null(strstr(tap, "\nnot ok 4 - die/c.lua: run (exit 6, the run's process ended before the run)\n"));
+    assert_non_null(strstr(tap, "\nok 6 - die/d.lua: run (exit 0, ok)\n"));
+    slurp(TMP "/die.xml", xml, sizeof xml);
+    assert_non_null(strstr(xml, "message=\"the run&apos;s process was ended by signal 9 (Killed)\""));
+}
+
 // A --set key given twice is refused naming it, as an option given twice is: the last one
 // silently won.
 static void set_key_given_twice_is_refused_naming_it(void **state)
@@ -564,6 +593,7 @@ int main(void)
         cmocka_unit_test(suite_names_read_plainly_and_a_dangling_link_says_why),
         cmocka_unit_test(a_report_never_overwrites_a_script_of_the_suite),
         cmocka_unit_test(control_characters_in_script_names_are_escaped),
+        cmocka_unit_test(a_script_that_ends_its_process_fails_alone),
         cmocka_unit_test(set_key_given_twice_is_refused_naming_it),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

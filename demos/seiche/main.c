@@ -2,11 +2,15 @@
 // Command line and exit statuses: docs/runner.md (and `seiche --help`).
 // realpath (X/Open): the suite's reports are compared with its scripts by real path.
 #define _XOPEN_SOURCE 700
+#define _DEFAULT_SOURCE // MAP_ANONYMOUS: the memory a run's process hands its report back in
 #include <dirent.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdbool.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +18,7 @@
 #include "demos/seiche/report.h"
 #include "engine/app/app.h"
 #include "engine/app/app_args.h"
+#include "engine/gl/gl_strict.h"
 #include "fluid/pbf.h"
 
 static void usage(FILE *f)
@@ -62,7 +67,9 @@ static void usage(FILE *f)
             "exit status: 0 ok, 1 a check in the script failed, 2 usage or script error,\n"
             "             3 no OpenGL 4.3 compute context (or no display without --headless),\n"
             "             4 the solver diverged,\n"
-            "             5 a GL error or synchronisation hazard (a bug in Seiche)\n");
+            "             5 a GL error or synchronisation hazard (a bug in Seiche),\n"
+            "             6 (a suite or a report) a script's run ended its process: a crash, a kill\n"
+            "               or an exit the runner did not make\n");
 }
 
 // A path that does not exist (yet) as its directory's real path and its own name, for
@@ -94,6 +101,71 @@ static bool same_file(const char *a, const char *b)
 static int bad(const char *fmt, const char *a, const char *b);
 
 static int by_name(const void *x, const void *y) { return strcmp(*(char *const *)x, *(char *const *)y); }
+
+// What a run's process hands back: the report, and whether eng_app_run returned at all.
+typedef struct run_outcome {
+    eng_app_report report;
+    int finished;
+} run_outcome;
+
+// In a run's process: a GL failure (the strict mode's hazard, a driver error) ends the
+// process at once; its message goes into the report first, then as the default handler does.
+static void gl_failure_in_child(void *user, const char *message)
+{
+    run_outcome *shared = user;
+    shared->report.status = ENG_GL_EXIT_STATUS;
+    snprintf(shared->report.message, sizeof shared->report.message, "%.*s", (int)strcspn(message, "\n"), message);
+    shared->finished = 1;
+    fprintf(stderr, "seiche: %s\n", message);
+    fflush(NULL);
+    _exit(ENG_GL_EXIT_STATUS);
+}
+
+// Runs one script in a child process, so that a run that ends its process (a crash in a
+// driver or a library, the OOM killer, os.exit in a --trusted script) ends only its own run:
+// it is recorded with status 6 and the suite goes on, and its report is still written.
+// `shared` is memory the child writes its outcome into.
+static int run_isolated(const eng_app_options *o, run_outcome *shared, eng_app_report *out)
+{
+    fflush(stdout);
+    fflush(stderr);
+    memset(shared, 0, sizeof *shared);
+    pid_t pid = fork();
+    if (pid == 0) {
+        eng_app_options c = *o;
+        c.report = &shared->report;
+        eng_gl_strict_set_handler(gl_failure_in_child, shared, NULL, NULL);
+        int st = eng_app_run(&c);
+        shared->finished = 1;
+        exit(st);
+    }
+    memset(out, 0, sizeof *out);
+    if (pid < 0) {
+        out->status = ENG_EXIT_USAGE;
+        snprintf(out->message, sizeof out->message, "the run could not be started: fork: %s", strerror(errno));
+        fprintf(stderr, "seiche: %s\n", out->message);
+        return out->status;
+    }
+    int ws = 0;
+    while (waitpid(pid, &ws, 0) < 0 && errno == EINTR) {
+    }
+    *out = shared->report;
+    if (WIFEXITED(ws) && shared->finished && WEXITSTATUS(ws) == shared->report.status) return out->status;
+    char why[160];
+    if (WIFSIGNALED(ws))
+        snprintf(why, sizeof why, "was ended by signal %d (%s)", WTERMSIG(ws), strsignal(WTERMSIG(ws)));
+    else if (shared->finished)
+        snprintf(why, sizeof why, "exited with status %d after the run's status %d", WEXITSTATUS(ws), shared->report.status);
+    else
+        snprintf(why, sizeof why, "exited with status %d before the run ended (an exit the runner did not make, "
+                 "such as os.exit in a --trusted script)", WIFEXITED(ws) ? WEXITSTATUS(ws) : -1);
+    out->status = SEICHE_EXIT_PROCESS_ENDED;
+    snprintf(out->message, sizeof out->message, "the run's process %s", why);
+    fprintf(stderr, "seiche: ");
+    eng_app_write_name(stderr, o->script);
+    fprintf(stderr, ": %s\n", out->message);
+    return out->status;
+}
 
 // One script with a report, or every *.lua of a directory in name order as one suite
 // (headless): each runs as its own run; the status is the worst of them.
@@ -141,15 +213,18 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
                 }
     }
     seiche_run *runs = calloc(dir ? (size_t)count : 1u, sizeof *runs);
-    if (!runs) return bad("out of memory%s%s", "", "");
+    run_outcome *shared = mmap(NULL, sizeof *shared, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    if (!runs || shared == MAP_FAILED) {
+        free(runs);
+        return bad("out of memory%s%s", "", "");
+    }
     if (!dir) count = 1;
     int worst = 0, failed = 0;
     for (int i = 0; i < count; i++) {
         eng_app_options o = *base;
         o.script = runs[i].script = dir ? scripts[i] : base->script;
-        o.report = &runs[i].report;
         o.name_script = dir; // one log holds many runs: each message says whose it is
-        int st = eng_app_run(&o);
+        int st = run_isolated(&o, shared, &runs[i].report);
         if (st > worst) worst = st;
         failed += st != 0;
         if (dir) { // a name holding a newline stays on its line
@@ -171,6 +246,7 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
     for (int i = 0; dir && i < count; i++) free(scripts[i]);
     free(scripts);
     free(runs);
+    munmap(shared, sizeof *shared);
     return worst;
 }
 

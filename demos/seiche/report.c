@@ -13,7 +13,9 @@ static const char *status_text(int status)
     case ENG_EXIT_USAGE: return "usage or script error";
     case ENG_EXIT_NO_COMPUTE: return "no OpenGL 4.3 compute context";
     case ENG_EXIT_DIVERGED: return "the solver diverged";
-    default: return "GL error";
+    case 5: return "GL error or synchronisation hazard"; // ENG_GL_EXIT_STATUS
+    case SEICHE_EXIT_PROCESS_ENDED: return "the run's process ended before the run";
+    default: return "unknown status";
     }
 }
 

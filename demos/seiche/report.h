@@ -11,6 +11,11 @@
 
 #include "engine/app/app.h"
 
+/// The status of a run (of a suite, or with a report: each runs in its own process) whose
+/// process ended before the run did: a signal (a crash, a kill), or an exit the runner did
+/// not make (os.exit in a --trusted script).
+#define SEICHE_EXIT_PROCESS_ENDED 6
+
 typedef struct seiche_run {
     const char *script;
     eng_app_report report;
