@@ -527,6 +527,10 @@ static void control_characters_in_script_names_are_escaped(void **state)
     assert_non_null(strstr(xml, "classname=\"ctl/a\\nline\\x01.lua\""));
     assert_null(strstr(xml, "a\nline"));
     assert_non_null(strstr(xml, "<testsuite name=\"ctl/c\\\\nx.lua\""));
+    // The runner's own messages about a path escape it too: one line, not two.
+    assert_int_equal(run("--frames 1 'no\nsuch.lua'", err, sizeof err), 2);
+    if (!strstr(err, "seiche: cannot open script 'no\\nsuch.lua': No such file or directory\n(try 'seiche --help')\n"))
+        fail_msg("stderr: %s", err);
 }
 
 // Each script of a suite runs in its own process: one that ends it (a crash, a kill, an

@@ -6,6 +6,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <signal.h>
+#include <stdarg.h>
 #include <stdbool.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -98,7 +99,11 @@ static bool same_file(const char *a, const char *b)
     return real_path_to_be(a, ra, sizeof ra) && real_path_to_be(b, rb, sizeof rb) && strcmp(ra, rb) == 0;
 }
 
-static int bad(const char *fmt, const char *a, const char *b);
+static int bad(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
 
 static int by_name(const void *x, const void *y) { return strcmp(*(char *const *)x, *(char *const *)y); }
 
@@ -198,15 +203,15 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
         qsort(scripts, (size_t)count, sizeof *scripts, by_name);
         if (count == 0) {
             free(scripts);
-            return bad("no *.lua scripts in the directory '%s'%s", base->script, "");
+            return bad("no *.lua scripts in the directory '%s'", base->script);
         }
         // A report may not overwrite a script of the suite (checked before any runs).
         const char *outputs[2][2] = { { "--junit", junit }, { "--tap", tap } };
         for (int k = 0; k < 2; k++)
             for (int i = 0; outputs[k][1] && i < count; i++)
                 if (same_file(outputs[k][1], scripts[i])) {
-                    fprintf(stderr, "seiche: %s would overwrite a script of the suite ('%s'): give each output its "
-                            "own file\n(try 'seiche --help')\n", outputs[k][0], scripts[i]);
+                    bad("%s would overwrite a script of the suite ('%s'): give each output its own file", outputs[k][0],
+                        scripts[i]);
                     for (int j = 0; j < count; j++) free(scripts[j]);
                     free(scripts);
                     return 2;
@@ -216,7 +221,7 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
     run_outcome *shared = mmap(NULL, sizeof *shared, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     if (!runs || shared == MAP_FAILED) {
         free(runs);
-        return bad("out of memory%s%s", "", "");
+        return bad("out of memory");
     }
     if (!dir) count = 1;
     int worst = 0, failed = 0;
@@ -250,10 +255,18 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
     return worst;
 }
 
-static int bad(const char *fmt, const char *a, const char *b)
+// A usage error: status 2. The message names paths as given, so its control characters (and
+// backslashes) are escaped as in the runner's other lines (eng_app_write_name): a name
+// holding a newline does not make a second line.
+static int bad(const char *fmt, ...)
 {
+    char msg[8192];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
     fprintf(stderr, "seiche: ");
-    fprintf(stderr, fmt, a, b);
+    eng_app_write_name(stderr, msg);
     fprintf(stderr, "\n(try 'seiche --help')\n");
     return 2;
 }
@@ -273,7 +286,7 @@ int main(int argc, char **argv)
         printf("seiche %s\n", pbf_version());
         return 0;
     case ENG_APP_ARGS_ERROR: {
-        int st = bad("%s%s", args.error ? args.error : "out of memory", "");
+        int st = bad("%s", args.error ? args.error : "out of memory");
         eng_app_args_free(&args);
         return st;
     }
@@ -286,8 +299,8 @@ int main(int argc, char **argv)
     bool dir = S_ISDIR(st.st_mode);
     if (dir && (o.metrics_path || o.screenshot_path || o.record_path))
         return bad("--metrics, --screenshot and --record name one file: they cannot go with a directory of scripts "
-                   "('%s')%s", o.script, "");
-    if (dir && !o.headless) return bad("a directory of scripts runs headless: add --headless ('%s')%s", o.script, "");
+                   "('%s')", o.script);
+    if (dir && !o.headless) return bad("a directory of scripts runs headless: add --headless ('%s')", o.script);
     if (!dir) {
         FILE *f = fopen(o.script, "rb");
         if (!f) return bad("cannot open script '%s': %s", o.script, strerror(errno));
@@ -299,9 +312,7 @@ int main(int argc, char **argv)
     for (int i = 1; i < 6; i++)
         for (int j = 0; j < i; j++)
             if (paths[i] && paths[j] && same_file(paths[i], paths[j])) {
-                fprintf(stderr, "seiche: %s would overwrite %s ('%s'): give each output its own file\n"
-                        "(try 'seiche --help')\n", names[i], names[j], paths[i]);
-                return 2;
+                return bad("%s would overwrite %s ('%s'): give each output its own file", names[i], names[j], paths[i]);
             }
     // A video whose reader (ffmpeg) stops must not kill the runner: writes fail with EPIPE
     // and are reported instead.
