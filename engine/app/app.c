@@ -69,14 +69,6 @@ static bool find_shader_dir(app *a, const char **from)
     return true;
 }
 
-// The renderer's logger: the app's, except that while the renderer is being built its
-// errors are held back, because they come back in `err` too and are printed once, naming
-// the shader directory.
-typedef struct held_log {
-    eng_logger to;
-    bool hold_errors;
-} held_log;
-
 static void held_log_fn(void *user, eng_log_level level, const char *msg)
 {
     held_log *h = user;

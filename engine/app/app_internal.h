@@ -38,6 +38,14 @@ typedef struct instance {
     eng_mesh_id wall_mesh[WALL_COUNT];
 } instance;
 
+// The renderer's logger (app.c, held_log_fn): the app's, except that while a renderer is
+// being built its errors are held back, because they come back in `err` too and are printed
+// once, with what they mean for the run (the shader directory; the ground kept).
+typedef struct held_log {
+    eng_logger to;
+    bool hold_errors;
+} held_log;
+
 typedef struct app {
     const eng_app_options *opt;
     eng_logger log;

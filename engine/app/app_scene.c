@@ -259,7 +259,10 @@ static void apply_look(app *a, const eng_look *k)
         rd.ground = k->ground;
         rd.ground_height = k->ground_height;
         char err[1024];
+        held_log *h = rd.logger.user; // run_app's
+        h->hold_errors = true;
         eng_renderer *r = eng_renderer_create(&rd, err, sizeof err);
+        h->hold_errors = false;
         if (r) {
             eng_renderer_destroy(a->renderer);
             a->renderer = r;
