@@ -6,6 +6,7 @@
 // writer's traps: a consistent particle / kernel radius pair is accepted in any order.
 #include "tests/support.h"
 
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -562,6 +563,45 @@ static void a_script_that_ends_its_process_fails_alone(void **state)
     assert_non_null(strstr(xml, "message=\"the run&apos;s process was ended by signal 9 (Killed)\""));
 }
 
+// A CI job's timeout (SIGTERM to the runner) during a suite: the run in progress is ended
+// and recorded, the suite stops there, the reports are written, and the runner ends by the
+// signal. Before each run had its own process, the reports were never written.
+static void a_stopped_suite_still_writes_its_reports(void **state)
+{
+    (void)state;
+    char err[4096], out[4096], tap[4096], xml[8192];
+    assert_int_equal(system("rm -rf " TMP "/stop && mkdir -p " TMP "/stop"), 0);
+    write_file(TMP "/stop/a.lua", "seiche.scene { capacity = 10 }\nfunction on_step() seiche.quit() end\n");
+    // b runs its 10^8 frames; it says when it is under way (a file), and the runner is sent
+    // SIGTERM then (at most 30 s on).
+    write_file(TMP "/stop/b.lua", "seiche.scene { capacity = 10 }\n"
+                                  "function on_step() if not told then io.open('ready', 'w'):close() told = true end end\n");
+    write_file(TMP "/stop/c.lua", "seiche.scene { capacity = 10 }\n");
+    unlink(TMP "/stop.tap");
+    unlink(TMP "/stop.xml");
+    unlink(TMP "/ready");
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "cd " TMP " && { '%s' --headless --quiet --trusted --frames 100000000 --tap stop.tap "
+             "--junit stop.xml stop 2>stderr.txt >stdout.txt & p=$!; n=0; while [ ! -e ready ] && [ $n -lt 300 ]; "
+             "do sleep 0.1; n=$((n+1)); done; kill -TERM $p; wait $p; }", exe);
+    int st = system(cmd);
+    assert_true(WIFEXITED(st));
+    assert_int_equal(WEXITSTATUS(st), 128 + SIGTERM); // the runner ended by SIGTERM
+    slurp(TMP "/stderr.txt", err, sizeof err);
+    slurp(TMP "/stdout.txt", out, sizeof out);
+    if (!strstr(out, "ok      stop/a.lua (exit 0)\n") || !strstr(out, "FAILED  stop/b.lua (exit 6)\n") ||
+        strstr(out, "stop/c.lua") ||
+        !strstr(out, "1 passed, 1 failed, 1 not run: the runner was stopped by signal 15 (Terminated)\n"))
+        fail_msg("stdout:\n%s\nstderr:\n%s", out, err);
+    slurp(TMP "/stop.tap", tap, sizeof tap);
+    assert_non_null(strstr(tap, "1..2\n"));
+    assert_non_null(strstr(tap, "\nnot ok 2 - stop/b.lua: run (exit 6, the run's process ended before the run)\n"));
+    assert_non_null(strstr(tap, "message: 'the run''s process was ended by signal 15 (Terminated)'"));
+    slurp(TMP "/stop.xml", xml, sizeof xml);
+    assert_non_null(strstr(xml, "<testsuite name=\"stop/b.lua\""));
+    assert_null(strstr(xml, "stop/c.lua"));
+}
+
 // A --set key given twice is refused naming it, as an option given twice is: the last one
 // silently won.
 static void set_key_given_twice_is_refused_naming_it(void **state)
@@ -598,6 +638,7 @@ int main(void)
         cmocka_unit_test(a_report_never_overwrites_a_script_of_the_suite),
         cmocka_unit_test(control_characters_in_script_names_are_escaped),
         cmocka_unit_test(a_script_that_ends_its_process_fails_alone),
+        cmocka_unit_test(a_stopped_suite_still_writes_its_reports),
         cmocka_unit_test(set_key_given_twice_is_refused_naming_it),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

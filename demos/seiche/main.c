@@ -9,6 +9,7 @@
 #include <stdarg.h>
 #include <stdbool.h>
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -126,6 +127,26 @@ static void gl_failure_in_child(void *user, const char *message)
     _exit(ENG_GL_EXIT_STATUS);
 }
 
+// SIGTERM, SIGINT or SIGHUP to the runner during a suite (a CI job's timeout, Ctrl-C): passed
+// on to the run in progress, whose end is then recorded; the suite stops there and its
+// reports are written before the runner ends by the same signal.
+static volatile sig_atomic_t stop_signal;
+static volatile sig_atomic_t running_child; // the pid of the run in progress, 0 between runs
+static const int STOP_SIGNALS[] = { SIGTERM, SIGINT, SIGHUP };
+#define STOP_SIGNAL_COUNT ((int)(sizeof STOP_SIGNALS / sizeof STOP_SIGNALS[0]))
+
+static void forward_stop(int sig)
+{
+    stop_signal = sig;
+    if (running_child > 0) kill((pid_t)running_child, sig);
+}
+
+static void stop_signals_mask(sigset_t *set)
+{
+    sigemptyset(set);
+    for (int k = 0; k < STOP_SIGNAL_COUNT; k++) sigaddset(set, STOP_SIGNALS[k]);
+}
+
 // Runs one script in a child process, so that a run that ends its process (a crash in a
 // driver or a library, the OOM killer, os.exit in a --trusted script) ends only its own run:
 // it is recorded with status 6 and the suite goes on, and its report is still written.
@@ -135,8 +156,18 @@ static int run_isolated(const eng_app_options *o, run_outcome *shared, eng_app_r
     fflush(stdout);
     fflush(stderr);
     memset(shared, 0, sizeof *shared);
+    // The stop signals are held across the fork: the child must not run the runner's
+    // handler, and the parent must know the child before it can pass one on.
+    sigset_t stops, before;
+    stop_signals_mask(&stops);
+    sigprocmask(SIG_BLOCK, &stops, &before);
+    pid_t parent = getpid();
     pid_t pid = fork();
     if (pid == 0) {
+        for (int k = 0; k < STOP_SIGNAL_COUNT; k++) signal(STOP_SIGNALS[k], SIG_DFL);
+        prctl(PR_SET_PDEATHSIG, SIGKILL); // a runner killed outright takes its run with it
+        if (getppid() != parent) _exit(SEICHE_EXIT_PROCESS_ENDED);
+        sigprocmask(SIG_SETMASK, &before, NULL);
         eng_app_options c = *o;
         c.report = &shared->report;
         eng_gl_strict_set_handler(gl_failure_in_child, shared, NULL, NULL);
@@ -144,6 +175,8 @@ static int run_isolated(const eng_app_options *o, run_outcome *shared, eng_app_r
         shared->finished = 1;
         exit(st);
     }
+    if (pid > 0) running_child = (sig_atomic_t)pid;
+    sigprocmask(SIG_SETMASK, &before, NULL); // one that came meanwhile is passed on now
     memset(out, 0, sizeof *out);
     if (pid < 0) {
         out->status = ENG_EXIT_USAGE;
@@ -154,6 +187,7 @@ static int run_isolated(const eng_app_options *o, run_outcome *shared, eng_app_r
     int ws = 0;
     while (waitpid(pid, &ws, 0) < 0 && errno == EINTR) {
     }
+    running_child = 0;
     *out = shared->report;
     if (WIFEXITED(ws) && shared->finished && WEXITSTATUS(ws) == shared->report.status) return out->status;
     char why[160];
@@ -224,8 +258,13 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
         return bad("out of memory");
     }
     if (!dir) count = 1;
-    int worst = 0, failed = 0;
-    for (int i = 0; i < count; i++) {
+    struct sigaction stop, previous[STOP_SIGNAL_COUNT];
+    memset(&stop, 0, sizeof stop);
+    stop.sa_handler = forward_stop; // no SA_RESTART: waitpid returns, and waits again
+    sigemptyset(&stop.sa_mask);
+    for (int k = 0; k < STOP_SIGNAL_COUNT; k++) sigaction(STOP_SIGNALS[k], &stop, &previous[k]);
+    int worst = 0, failed = 0, ran = 0;
+    for (int i = 0; i < count && !stop_signal; i++, ran++) {
         eng_app_options o = *base;
         o.script = runs[i].script = dir ? scripts[i] : base->script;
         o.name_script = dir; // one log holds many runs: each message says whose it is
@@ -238,8 +277,11 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
             printf(" (exit %d)\n", st);
         }
     }
-    if (dir) printf("%d passed, %d failed\n", count - failed, failed);
+    if (dir && ran == count) printf("%d passed, %d failed\n", count - failed, failed);
+    else if (dir) printf("%d passed, %d failed, %d not run: the runner was stopped by signal %d (%s)\n", ran - failed, failed,
+                         count - ran, (int)stop_signal, strsignal(stop_signal));
     char err[1200];
+    count = ran; // the reports hold the runs made
     if (junit && !seiche_write_junit(junit, runs, count, err, sizeof err)) {
         fprintf(stderr, "seiche: --junit: %s\n", err);
         worst = worst > 2 ? worst : 2;
@@ -252,6 +294,12 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
     free(scripts);
     free(runs);
     munmap(shared, sizeof *shared);
+    for (int k = 0; k < STOP_SIGNAL_COUNT; k++) sigaction(STOP_SIGNALS[k], &previous[k], NULL);
+    if (stop_signal) { // the reports are written: now end as that signal ends a program
+        fflush(NULL);
+        signal(stop_signal, SIG_DFL);
+        raise(stop_signal);
+    }
     return worst;
 }
 
