@@ -64,9 +64,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 19
-#define PBF_VERSION_PATCH 4
-#define PBF_VERSION_STRING "0.19.4"
+#define PBF_VERSION_MINOR 20
+#define PBF_VERSION_PATCH 0
+#define PBF_VERSION_STRING "0.20.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).
@@ -482,6 +482,13 @@ typedef struct pbf_collider_report {
     float torque[3];      ///< N m about the centre of mass given with the pose
     uint32_t contacts;    ///< particle-boundary contacts, summed over iterations and substeps
     uint32_t pushed_out;  ///< particles moved out from inside it, summed over iterations and substeps
+    /// The water that pushes it (two-way colliders; zero for others): the velocity (m/s) of
+    /// the particles whose pressure pushed it, each weighted by the magnitude of its push (zero
+    /// when none did), and the sum of those magnitudes (N, averaged over the substeps as force
+    /// is: at least |force|; pressure from every side makes it larger). The coupling lets the
+    /// water bring a body up to the pushing water's speed.
+    float fluid_velocity[3];
+    float fluid_push;
     uint64_t step;        ///< 0-based index of the step these belong to
     bool ready;           ///< false: not complete yet (everything else zero)
     bool existed;         ///< the collider took part in that step (false: it was added

@@ -372,7 +372,8 @@ void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot)
         s->step_scale[ring_slot] = s->gpu.center_of_mass.w;
     }
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
-    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32I, 0, PBF_MAX_COLLIDERS * 8 * 4, GL_RED_INTEGER, GL_INT, NULL);
+    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32I, 0, PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4, GL_RED_INTEGER,
+                         GL_INT, NULL);
 }
 
 // Copies this step's force accumulators into the ring slot read back later, and makes the
@@ -386,7 +387,8 @@ void pbf_colliders_end_step(pbf_world *w)
     glBindBuffer(GL_COPY_READ_BUFFER, w->forces);
     glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces_ring);
     glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0,
-                        (GLintptr)slot_index * PBF_MAX_COLLIDERS * 8 * 4, PBF_MAX_COLLIDERS * 8 * 4);
+                        (GLintptr)slot_index * PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4,
+                        PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
         collider_slot *s = &w->slots[i];
@@ -405,10 +407,10 @@ void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r)
 {
     int ring_slot = (int)(r - w->ring);
     if (r->colliders <= 0) return;
-    int32_t f[PBF_MAX_COLLIDERS * 8];
+    int32_t f[PBF_MAX_COLLIDERS * PBF_FORCE_WORDS];
     glBindBuffer(GL_COPY_READ_BUFFER, w->forces_ring);
-    glGetBufferSubData(GL_COPY_READ_BUFFER, (GLintptr)ring_slot * PBF_MAX_COLLIDERS * 8 * 4,
-                       (GLsizeiptr)r->colliders * 8 * 4, f);
+    glGetBufferSubData(GL_COPY_READ_BUFFER, (GLintptr)ring_slot * PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4,
+                       (GLsizeiptr)r->colliders * PBF_FORCE_WORDS * 4, f);
     double per = 1.0 / (r->substeps > 0 ? r->substeps : 1);
     for (int g = 0; g < r->colliders; g++) {
         int sl = r->collider_slot_of[g];
@@ -419,12 +421,14 @@ void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r)
         double k = per / (double)s->step_scale[ring_slot];
         pbf_collider_report rep;
         memset(&rep, 0, sizeof rep);
+        const int32_t *fg = f + g * PBF_FORCE_WORDS;
         for (int c = 0; c < 3; c++) {
-            rep.force[c] = (float)(f[g * 8 + c] * k);
-            rep.torque[c] = (float)(f[g * 8 + 4 + c] * k);
+            rep.force[c] = (float)(fg[c] * k);
+            rep.torque[c] = (float)(fg[4 + c] * k);
         }
-        rep.contacts = (uint32_t)f[g * 8 + 3];
-        rep.pushed_out = (uint32_t)f[g * 8 + 7];
+        rep.contacts = (uint32_t)fg[3];
+        rep.pushed_out = (uint32_t)fg[7];
+        pbf_water_of_sums(fg, s->step_scale[ring_slot], r->substeps, &rep);
         rep.step = r->step;
         rep.ready = true;
         rep.existed = true;

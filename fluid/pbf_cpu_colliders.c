@@ -66,12 +66,41 @@ static void add_force(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 at)
     }
 }
 
+pbf_vec3 pbf_cpu_particle_velocity(const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x)
+{
+    pbf_vec3 v = pbf_scale(P->inv_dt, pbf_sub(x, xs));
+    float speed = sqrtf(pbf_dot(v, v));
+    return speed > P->max_speed ? pbf_scale(P->max_speed / speed, v) : v;
+}
+
+/// add_wide: v into the 64-bit sum at acc[0] (low, unsigned) and acc[1] (high), as
+/// colliders.glsl's add_wide does with two atomics.
+static void accumulate_wide(int32_t *acc, int32_t v)
+{
+    uint64_t s = ((uint64_t)(uint32_t)acc[1] << 32 | (uint32_t)acc[0]) + (uint64_t)(int64_t)v;
+    acc[0] = (int32_t)(uint32_t)s;
+    acc[1] = (int32_t)(uint32_t)(s >> 32);
+}
+
+/// add_water: a particle's velocity v weighted by the magnitude of its push f on two-way
+/// collider b into b's sums of the water that pushes it (in its force scale).
+static void add_water(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 v)
+{
+    float s = w->gpu[b].center_of_mass.w;
+    float m = fminf(sqrtf(pbf_dot(f, f)) * s, PBF_WIDE_MAX);
+    const float vs[3] = { fmaxf(fminf(m * v.x, PBF_WIDE_MAX), -PBF_WIDE_MAX), fmaxf(fminf(m * v.y, PBF_WIDE_MAX), -PBF_WIDE_MAX),
+                          fmaxf(fminf(m * v.z, PBF_WIDE_MAX), -PBF_WIDE_MAX) };
+    for (int k = 0; k < 3; k++) accumulate_wide(&w->forces[b][8 + 2 * k], (int32_t)rintf(vs[k]));
+    accumulate_wide(&w->forces[b][14], (int32_t)rintf(m));
+}
+
 /// colliders_delta: the colliders' part of the position correction of a particle at x with
 /// multiplier lambda, and the reaction on two-way colliders (f = -m relax bdp / dt^2), plus
 /// in the coarse level's iteration their reaction to its push as to a multiplier
-/// level_lambda = -p(x) (no motion of the particle; 0 otherwise).
+/// level_lambda = -p(x) (no motion of the particle; 0 otherwise); the particle's velocity v
+/// joins the sums of the water that pushes each two-way collider, weighted by its push.
 void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
-                             float level_lambda, pbf_vec3 *dp)
+                             float level_lambda, pbf_vec3 v, pbf_vec3 *dp)
 {
     float to_force = -P->mass * P->inv_dt * P->inv_dt * relax;
     float to_level = -P->mass * P->inv_dt * P->inv_dt;
@@ -94,6 +123,7 @@ void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3
             pbf_vec3 f = pbf_scale(to_force, bdp);
             if (level_lambda != 0.0f) f = pbf_add(f, pbf_scale(to_level * level_lambda, gradV));
             add_force(w, b, f, pbf_sub(x, pbf_scale(d, n)));
+            add_water(w, b, f, v);
         }
     }
 }
@@ -141,7 +171,9 @@ pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pb
         float dn = shape_distance(w, c, lnew, &n1);
         if (dn < r) lnew = pbf_add(lnew, pbf_scale(r - dn, n1));
         pbf_vec3 xn = pbf_add(p1, quat_rotate(q1, lnew));
-        add_force(w, b, pbf_scale(to_force, pbf_sub(xn, x)), pbf_sub(xn, pbf_scale(r, quat_rotate(q1, nh))));
+        pbf_vec3 f = pbf_scale(to_force, pbf_sub(xn, x));
+        add_force(w, b, f, pbf_sub(xn, pbf_scale(r, quat_rotate(q1, nh))));
+        if ((c->info.y & PBF_COLLIDER_TWO_WAY) != 0u) add_water(w, b, f, pbf_cpu_particle_velocity(P, xs, x));
         x = xn;
     }
     return x;
@@ -323,6 +355,7 @@ pbf_result pbf_cpu_world_collider_report(const pbf_cpu_world *w, uint32_t index,
     }
     out->contacts = (uint32_t)f[3];
     out->pushed_out = (uint32_t)f[7];
+    pbf_water_of_sums(f, w->gpu[index].center_of_mass.w, (int)w->report_substeps, out);
     out->step = w->steps - 1;
     out->ready = true;
     out->existed = true;

@@ -195,6 +195,11 @@ bool pbf_points_check(const char *fn, const float *positions, const float *veloc
 /// A collider's bounding radius about its origin, m (pbf_gpu_collider.position.w).
 float pbf_collider_bounding_radius(const pbf_collider_def *d);
 
+/// A report's fluid_velocity and fluid_push from a collider's accumulators (`words`, its
+/// PBF_FORCE_WORDS: the 64-bit sums at 8..15) of a step of `substeps` at the force scale it
+/// had (units per N).
+void pbf_water_of_sums(const int32_t *words, float force_scale, int substeps, pbf_collider_report *rep);
+
 /// Floats of collider data a collider takes: a hull's planes (4 each) and its faces'
 /// exponents (1 each), a grid's samples, none otherwise.
 uint32_t pbf_collider_data_count(const pbf_collider_def *d);

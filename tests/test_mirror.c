@@ -68,7 +68,7 @@
 enum {
     C_PREDICT_X, C_PREDICT_V, C_GRID_COUNT, C_GRID_SCAN, C_GRID_SCATTER, C_GRID_SORT, C_REORDER,
     C_NEIGHBOURS, C_NEIGHBOURS_CUTOFF, C_NEIGHBOURS_RHO, C_NEIGHBOURS_LAMBDA, C_DENSITY_RHO, C_DENSITY_LAMBDA, C_DELTA_X,
-    C_COLLIDE_X, C_COLLIDE_BAND, C_COLLIDE_F, C_COLLIDE_T, C_COLLIDE_COUNTS, C_VELOCITY_V,
+    C_COLLIDE_X, C_COLLIDE_BAND, C_COLLIDE_F, C_COLLIDE_T, C_COLLIDE_COUNTS, C_COLLIDE_WATER, C_VELOCITY_V,
     C_VELOCITY_VOLUME, C_VELOCITY_X, C_VORTICITY, C_VISCOSITY_V, C_TENSION_A, C_TENSION_X, C_LEVEL_E, C_LEVEL_P,
     C_METRICS, C_HANDOVER, C_COUNT
 };
@@ -108,6 +108,7 @@ static const check checks[C_COUNT] = {
     [C_COLLIDE_F] = { "collide: force on each body (of its allowance)", 1 },
     [C_COLLIDE_T] = { "collide: torque on each body (of its allowance)", 1 },
     [C_COLLIDE_COUNTS] = { "collide: contacts and push-outs (mismatches, at a support's edge)", COUNT_FLIPS },
+    [C_COLLIDE_WATER] = { "collide: the sums of the water pushing each body, velocity and push (of their allowance)", 1 },
     [C_VELOCITY_V] = { "velocity: v (m/s)", 2e-6 },
     [C_VELOCITY_VOLUME] = { "velocity: volume m / rho in v.w (relative)", 1e-6 },
     [C_VELOCITY_X] = { "velocity: x = x* (mismatches)", 0 },
@@ -240,11 +241,18 @@ static double share_rounding(mirror *m, uint32_t i)
     return sqrt((double)grad[0] * grad[0] + (double)grad[1] * grad[1] + (double)grad[2] * grad[2]) * SHARE_ROUNDING;
 }
 
+/// A 64-bit sum of the force accumulators (the water that pushes a body): words[0] the low
+/// half, unsigned, words[1] the high.
+static double wide(const int32_t *words)
+{
+    return (double)(int64_t)((uint64_t)(uint32_t)words[1] << 32 | (uint32_t)words[0]);
+}
+
 /// Bytes of the live part of a binding: the CPU reference's size (the same layout), but for
 /// the force accumulators, which it sizes at the start of its step.
 static size_t live_bytes(mirror *m, int binding)
 {
-    if (binding == PBF_B_FORCES) return (size_t)m->bodies * 8 * 4;
+    if (binding == PBF_B_FORCES) return (size_t)m->bodies * PBF_FORCE_WORDS * 4;
     size_t bytes = 0;
     assert_non_null(pbf_cpu_world_binding(m->cpu, binding, &bytes));
     return bytes;
@@ -475,7 +483,15 @@ static void compare(mirror *m, const snapshot *s, const output *o, const void *g
         // Per body: force xyz, contacts, torque xyz, push-outs (int32 in the body's own
         // fixed-point scale, units per N); the counts go to their own check.
         // Each is compared to its allowance (above): the ratio must stay at most 1.
+        // Words 8..11: the water that pushes the body, each particle's velocity so far,
+        // (x* - x) / dt, weighted by its push |f|, and the sum of |f|. The pushes differ as the
+        // force does (its allowance, and the multipliers' share of all of them), the velocities
+        // by x*'s tolerance over dt (the sweep band's for its 2 particles), and each sum rounds
+        // by half a unit per contact.
+        const int W = PBF_FORCE_WORDS;
         const int32_t *gi = gpu, *ci = cpu;
+        double water = 0.0;
+        uint32_t water_at = 0;
         double counts = 0.0, allowance = FORCE_FLOOR + 2.0 * m->sweep_push;
         uint32_t counts_at = 0;
         for (uint32_t b = 0; b < m->bodies; b++) {
@@ -483,12 +499,12 @@ static void compare(mirror *m, const snapshot *s, const output *o, const void *g
             double scale = body->center_of_mass.w, f2 = 0.0, t2 = 0.0, gf2 = 0.0, gt2 = 0.0;
             double lever = body->position.w + pbf_cpu_world_params(m->cpu)->particle_radius;
             for (int k = 0; k < 3; k++) {
-                double df = ((double)gi[8 * b + k] - ci[8 * b + k]) / scale;
-                double dt = ((double)gi[8 * b + 4 + k] - ci[8 * b + 4 + k]) / scale;
+                double df = ((double)gi[W * b + k] - ci[W * b + k]) / scale;
+                double dt = ((double)gi[W * b + 4 + k] - ci[W * b + 4 + k]) / scale;
                 f2 += df * df;
                 t2 += dt * dt;
-                gf2 += ((double)gi[8 * b + k] / scale) * ((double)gi[8 * b + k] / scale);
-                gt2 += ((double)gi[8 * b + 4 + k] / scale) * ((double)gi[8 * b + 4 + k] / scale);
+                gf2 += ((double)gi[W * b + k] / scale) * ((double)gi[W * b + k] / scale);
+                gt2 += ((double)gi[W * b + 4 + k] / scale) * ((double)gi[W * b + 4 + k] / scale);
             }
             // The force is linear in the multipliers, which the two sides may hold apart by
             // the density check's tolerance (of the largest): that share of the force too.
@@ -496,10 +512,23 @@ static void compare(mirror *m, const snapshot *s, const output *o, const void *g
             double fa = allowance + rel * sqrt(gf2), ta = allowance * lever + rel * sqrt(gt2);
             if (!(sqrt(f2) / fa <= worst)) worst = sqrt(f2) / fa, at = b;
             if (!(sqrt(t2) / ta <= worst2)) worst2 = sqrt(t2) / ta, at2 = b;
-            double flips = fabs((double)gi[8 * b + 3] - ci[8 * b + 3]) + fabs((double)gi[8 * b + 7] - ci[8 * b + 7]);
+            double flips = fabs((double)gi[W * b + 3] - ci[W * b + 3]) + fabs((double)gi[W * b + 7] - ci[W * b + 7]);
             if (flips > 0.0 && counts == 0.0) counts_at = b;
             counts += flips;
+            double push = wide(gi + W * b + 14) / scale, units = 0.5 * (double)gi[W * b + 3], speed = 0.0;
+            for (int k = 0; k < 3; k++) speed += pow(wide(gi + W * b + 8 + 2 * k) / scale, 2.0);
+            speed = push > 0.0 ? sqrt(speed) / push : 0.0; // the pushing water's mean speed
+            double dv_bulk = checks[C_COLLIDE_X].tol * m->spacing / m->dt, dv_band = SWEEP_BAND * m->spacing / m->dt;
+            double wa = fa + rel * push + units / scale;
+            double va = wa * (speed + dv_band) + push * dv_bulk + units / scale;
+            for (int k = 0; k < 3; k++) {
+                double d = fabs(wide(gi + W * b + 8 + 2 * k) - wide(ci + W * b + 8 + 2 * k)) / scale / va;
+                if (!(d <= water)) water = d, water_at = b;
+            }
+            double dw = fabs(wide(gi + W * b + 14) - wide(ci + W * b + 14)) / scale / wa;
+            if (!(dw <= water)) water = dw, water_at = b;
         }
+        note(t, C_COLLIDE_WATER, water, step, sub, it, water_at);
         note(t, C_COLLIDE_COUNTS, counts, step, sub, it, counts_at);
         break;
     }
@@ -805,7 +834,7 @@ static void every_stage_matches_the_cpu_reference_in_a_dam_break(void **state)
     // Every stage the scene runs was compared (collide only runs with bodies, tension only
     // with surface_tension > 0, the level only with level_sweeps > 0).
     for (int c = 0; c < C_COUNT; c++)
-        if ((c < C_COLLIDE_X || c > C_COLLIDE_COUNTS) && c != C_TENSION_A && c != C_TENSION_X && c != C_LEVEL_E &&
+        if ((c < C_COLLIDE_X || c > C_COLLIDE_WATER) && c != C_TENSION_A && c != C_TENSION_X && c != C_LEVEL_E &&
             c != C_LEVEL_P)
             assert_true(t.calls[c] > 0);
 }

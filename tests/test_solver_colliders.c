@@ -599,12 +599,87 @@ static void bad_colliders_are_rejected_naming_the_field_on_cpu_and_gpu(void **st
     pbf_world_destroy(g);
 }
 
+// A report carries the water that pushes a two-way body (pbf_collider_report.fluid_velocity
+// and fluid_push; the coupling lets the water bring a body up to that speed): a block of
+// water moving at u in zero gravity hits a ball at rest; the water pressing on it moves
+// along u, between 0.3 |u| (slowed on its front) and 1.5 |u| (potential flow's speed at its
+// equator), the magnitudes of the pushes add up to at least the net force, and a ball away
+// from the water reports none; the CPU reference the same.
+static void a_report_carries_the_water_that_pushes_the_body(void **state)
+{
+    fixture *f = *state;
+    support_scene s = support_dam_break();
+    s.params.gravity[1] = 0.0f;
+    s.container = false;
+    for (int k = 0; k < 3; k++) s.domain_min[k] = 0.0f, s.domain_max[k] = 1.2f;
+    s.block.max[0] = s.block.min[0]; // no block: the particles below
+    const float u[3] = { 0.4f, 0.0f, -0.2f }, centre[3] = { 0.4f, 0.4f, 0.6f }, ball = 0.06f;
+    float spacing = pbf_derive_constants(&s.params).spacing;
+    enum { SIDE = 16 };
+    static float pos[SIDE * SIDE * SIDE * 3], vel[SIDE * SIDE * SIDE * 3];
+    uint32_t n = 0;
+    for (int i = 0; i < SIDE; i++)
+        for (int j = 0; j < SIDE; j++)
+            for (int k = 0; k < SIDE; k++) {
+                float p[3] = { 0.2f + (i + 0.5f) * spacing, 0.2f + (j + 0.5f) * spacing, 0.4f + (k + 0.5f) * spacing };
+                float d2 = 0.0f;
+                for (int a = 0; a < 3; a++) d2 += (p[a] - centre[a]) * (p[a] - centre[a]);
+                if (d2 < (ball + 0.5f * spacing) * (ball + 0.5f * spacing)) continue; // the ball's room
+                for (int a = 0; a < 3; a++) pos[3 * n + a] = p[a], vel[3 * n + a] = u[a];
+                n++;
+            }
+    s.positions = pos;
+    s.velocities = vel;
+    s.extra = n;
+    s.capacity = n;
+    pbf_world *g = support_gpu_world(f, &s);
+    pbf_cpu_world *c = support_cpu_world(&s);
+    pbf_collider_def d[2] = { pbf_default_collider_def(), pbf_default_collider_def() };
+    pbf_collider_id ids[2];
+    for (int b = 0; b < 2; b++) {
+        d[b].type = PBF_SHAPE_SPHERE;
+        d[b].size[0] = ball;
+        d[b].two_way = true;
+        for (int a = 0; a < 3; a++) d[b].position[a] = b == 0 ? centre[a] : 1.0f;
+        assert_int_equal(pbf_world_add_collider(g, &d[b], &ids[b]), PBF_OK);
+        uint32_t index;
+        assert_int_equal(pbf_cpu_world_add_collider(c, &d[b], &index), PBF_OK);
+    }
+    const float zero[3] = { 0.0f, 0.0f, 0.0f };
+    double speed = norm3(u, zero);
+    for (int step = 1; step <= 3; step++) {
+        assert_int_equal(pbf_world_step(g, 1.0f / 60.0f), PBF_OK);
+        assert_int_equal(pbf_cpu_world_step(c, 1.0f / 60.0f), PBF_OK);
+        pbf_collider_report rg[2], rc[2];
+        for (int b = 0; b < 2; b++) {
+            assert_int_equal(pbf_world_collider_report(g, ids[b], 1, true, &rg[b]), PBF_OK);
+            assert_int_equal(pbf_cpu_world_collider_report(c, (uint32_t)b, &rc[b]), PBF_OK);
+        }
+        const float *w = rg[0].fluid_velocity;
+        double along = ((double)w[0] * u[0] + (double)w[1] * u[1] + (double)w[2] * u[2]) / speed;
+        double across = sqrt(fmax(norm3(w, zero) * norm3(w, zero) - along * along, 0.0));
+        print_message("step %d: the water pushing the ball moves at (%.4f, %.4f, %.4f) m/s: %.3f of |u| along u, %.3f "
+                      "across (CPU reference %.1e m/s apart); pushes %.4f N for a net force of %.4f N; the dry ball "
+                      "%.3g m/s, %.3g N\n", step, (double)w[0], (double)w[1], (double)w[2], along / speed,
+                      across / speed, norm3(w, rc[0].fluid_velocity), (double)rg[0].fluid_push,
+                      norm3(rg[0].force, zero), norm3(rg[1].fluid_velocity, zero), (double)rg[1].fluid_push);
+        assert_true(along > 0.3 * speed && along < 1.5 * speed && across < 0.2 * speed);
+        assert_true(norm3(w, rc[0].fluid_velocity) < 1e-3 * speed);
+        assert_true(fabs((double)rg[0].fluid_push / rc[0].fluid_push - 1.0) < 1e-3);
+        assert_true(rg[0].fluid_push >= 0.999f * (float)norm3(rg[0].force, zero) && rg[0].fluid_push > 0.0f);
+        assert_true(rg[1].fluid_push == 0.0f && norm3(rg[1].fluid_velocity, zero) == 0.0);
+    }
+    pbf_cpu_world_destroy(c);
+    pbf_world_destroy(g);
+}
+
 static const struct CMUnitTest tests[] = {
     cmocka_unit_test(collider_share_gradient_matches_its_differences),
     cmocka_unit_test(gpu_matches_cpu_reference_around_colliders),
     cmocka_unit_test(gpu_matches_cpu_reference_around_hulls_grids_and_planes),
     cmocka_unit_test(gpu_matches_cpu_reference_around_moving_colliders),
     cmocka_unit_test(bad_colliders_are_rejected_naming_the_field_on_cpu_and_gpu),
+    cmocka_unit_test(a_report_carries_the_water_that_pushes_the_body),
 };
 
 int main(void) { return cmocka_run_group_tests(tests, support_gpu_setup, support_gpu_teardown); }

@@ -530,6 +530,17 @@ static int m_body_fluid_torque(lua_State *L)
     return 1;
 }
 
+// The velocity of the water pushing the body (the pushes' weighted mean) and the sum of the
+// pushes' magnitudes (N), of the same measured step as body:fluid_force.
+static int m_body_fluid_velocity(lua_State *L)
+{
+    cpl_body_stats st;
+    body_fluid_stats(L, "body:fluid_velocity", &st);
+    scr_push_vec3(L, st.fluid_velocity[0], st.fluid_velocity[1], st.fluid_velocity[2]);
+    lua_pushnumber(L, st.fluid_push);
+    return 2;
+}
+
 // A queued edit of a body that must be dynamic (forces) or may not be static (velocities).
 static command *body_edit(lua_State *L, const char *fn, cmd_type type, bool dynamic_only)
 {
@@ -870,7 +881,7 @@ static const luaL_Reg body_methods[] = {
     { "position", m_body_position }, { "rotation", m_body_rotation }, { "velocity", m_body_velocity },
     { "angular_velocity", m_body_angular_velocity }, { "velocity_at", m_body_velocity_at }, { "mass", m_body_mass },
     { "kind", m_body_kind }, { "shape", m_body_shape }, { "fluid_force", m_body_fluid_force },
-    { "fluid_torque", m_body_fluid_torque },
+    { "fluid_torque", m_body_fluid_torque }, { "fluid_velocity", m_body_fluid_velocity },
     { "apply_force", m_body_apply_force }, { "apply_torque", m_body_apply_torque },
     { "apply_impulse", m_body_apply_impulse }, { "apply_angular_impulse", m_body_apply_angular_impulse },
     { "set_velocity", m_body_set_velocity }, { "set_angular_velocity", m_body_set_angular_velocity },

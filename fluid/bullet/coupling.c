@@ -46,6 +46,7 @@ typedef struct body_entry {
     float share;               // the share of full submersion's lift it is taken for (slowly followed)
     float step_accel[CPL_ACCEL_RING][3]; // m/s^2: its acceleration in coupling step k, at k % CPL_ACCEL_RING
     float mass, volume;        // kg, m^3 (dynamic bodies; for the impulse limit)
+    int stopping;              // steps left since the water last stopped its motion (limit_impulse)
     float placed;              // s: held while being set down in water (placing)
     float v0[3];               // velocity it was made with, m/s
     float fall[3], gained[3];  // what gravity did to it before its first measurement: m, m/s
@@ -533,16 +534,23 @@ static void apply_fluid(cpl_coupling *c, body_entry *e)
     phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
 
-// The fluid may stop the body's motion against the force and push it with at most
-// impulse_limit times the acceleration of full submersion plus g/4, for one step. The bound keeps
-// the late force of a plunge from throwing a light body back out (along gravity, and across it: a
-// thin plate thrown face on through water at 10 m/s was thrown back to the wall by a bound on the
-// lift alone); the smoothed state keeps the bounded force, so its tail does not carry the excess
-// either. The torque is left alone: a body on an axle or a hinge takes the force on its bearing and
-// turns under the torque (scaled with the force, a plate on an axle under a jet received 32 % of
-// the water's angular impulse). Known limit: a bound made of g lets the water only stop a body in
-// zero gravity, not push it (docs/coupling.md: impulse_limit 0 there).
-static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
+// The fluid may stop the body's motion against the force, bring it to the speed of the water
+// that pushes it along the force (`water`: the push-weighted mean velocity the step's report
+// measured), and push it with at most impulse_limit times the acceleration of full submersion
+// plus g/4, for one step. The bound keeps the late force of a plunge from throwing a light body
+// back out (along gravity, and across it: a thin plate thrown face on through water at 10 m/s
+// was thrown back to the wall by a bound on the lift alone): the water a plunging body pushes
+// moves with it, not against it, so it adds nothing then (the mean of all the water near it
+// did: the water flowing back round a thin plate's rim let its late force throw it back). The smoothed state keeps the bounded
+// force, so its tail does not carry the excess either. The torque is left alone: a body on an
+// axle or a hinge takes the force on its bearing and turns under the torque (scaled with the
+// force, a plate on an axle under a jet received 32 % of the water's angular impulse). Without
+// the water's speed (before 0.20.0) a bound made of g let the water only stop a body in zero
+// gravity, and push a heavy one only weakly however fast the water came (docs/coupling.md).
+// m/s: a body moving into the water's force faster than this is being stopped by it.
+#define CPL_STOPPING_SPEED 0.01f
+
+static void limit_impulse(cpl_coupling *c, body_entry *e, const float water[3], float dt)
 {
     if (c->def.impulse_limit <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
     float f = sqrtf(e->force[0] * e->force[0] + e->force[1] * e->force[1] + e->force[2] * e->force[2]);
@@ -550,6 +558,17 @@ static void limit_impulse(cpl_coupling *c, body_entry *e, float dt)
     phys_vec3 v, g = phys_world_get_gravity(c->def.phys);
     if (phys_body_get_linear_velocity(c->def.phys, e->body, &v) != PHYS_OK) return;
     float against = -(v.x * e->force[0] + v.y * e->force[1] + v.z * e->force[2]) / f; // m/s into the force
+    float behind = ((water[0] - v.x) * e->force[0] + (water[1] - v.y) * e->force[1] + (water[2] - v.z) * e->force[2]) /
+                   f; // m/s the water is faster than the body along the force
+    // While (and a little after) the water stops a body's motion into it, the water pressed
+    // ahead of it springs back (PBF's water is slightly compressible: a plate at 10 m/s left
+    // it coming back at 3 m/s): that is no stream to be carried by, so its speed counts only
+    // once the water has not opposed the body for the force's latency and smoothing and a
+    // step more.
+    if (against > CPL_STOPPING_SPEED) e->stopping = c->def.force_latency + 2 + (int)ceilf(c->def.force_smoothing /
+                                                                                        (1.0f - c->def.force_smoothing));
+    else if (e->stopping > 0) e->stopping--;
+    if (e->stopping == 0 && behind > against) against = behind;
     float gmag = sqrtf(g.x * g.x + g.y * g.y + g.z * g.z);
     float rho_fluid = pbf_world_params(c->def.fluid)->rest_density;
     // Plus a quarter of g: the bound then sits above the lift that holds a neutral body, so
@@ -795,6 +814,9 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
         pbf_collider_report rep;
         if (pbf_world_collider_report(c->def.fluid, e->colliders[0], back, true, &rep) != PBF_OK)
             return fail(c, CPL_ERR_FLUID, "cpl_step: %s", pbf_world_last_error(c->def.fluid));
+        // The pushing water's velocity: the mean over the parts, by their pushes.
+        float water[3];
+        for (int i = 0; i < 3; i++) water[i] = rep.fluid_velocity[i] * rep.fluid_push;
         for (uint32_t k = 1; k < e->collider_count; k++) {
             pbf_collider_report part;
             if (pbf_world_collider_report(c->def.fluid, e->colliders[k], back, true, &part) != PBF_OK)
@@ -802,14 +824,19 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             for (int i = 0; i < 3; i++) {
                 rep.force[i] += part.force[i];
                 rep.torque[i] += part.torque[i];
+                water[i] += part.fluid_velocity[i] * part.fluid_push;
             }
+            rep.fluid_push += part.fluid_push;
             rep.contacts += part.contacts;
             rep.pushed_out += part.pushed_out;
         }
+        for (int i = 0; i < 3; i++) water[i] = rep.fluid_push > 0.0f ? water[i] / rep.fluid_push : 0.0f;
         for (int k = 0; k < 3; k++) {
             e->stats.force[k] = rep.force[k];
             e->stats.torque[k] = rep.torque[k];
+            e->stats.fluid_velocity[k] = water[k];
         }
+        e->stats.fluid_push = rep.fluid_push;
         e->stats.force_step = rep.step;
         e->stats.contacts = rep.contacts;
         e->stats.pushed_out = rep.pushed_out;
@@ -823,7 +850,7 @@ cpl_result cpl_step(cpl_coupling *c, float dt)
             e->force[k] = keep * e->force[k] + (1.0f - keep) * rep.force[k];
             e->torque[k] = keep * e->torque[k] + (1.0f - keep) * rep.torque[k];
         }
-        limit_impulse(c, e, dt);
+        limit_impulse(c, e, water, dt);
         lag_damping(c, e, rep.force, dt);
         added_mass(c, e, back, keep, dt);
         e->has_force = true;

@@ -199,6 +199,9 @@ typedef struct cpl_body_stats {
     uint64_t force_step;    ///< the fluid step (0-based) in which that force was measured
     uint32_t contacts;      ///< particle-boundary contacts in that step (all iterations)
     uint32_t pushed_out;    ///< particles moved out from inside the body in that step
+    float fluid_velocity[3]; ///< m/s, the velocity of the water that pushed it in that step, each
+                             ///< particle weighted by its push (pbf_collider_report; 0: none did)
+    float fluid_push;       ///< N, the sum of those pushes' magnitudes (at least |force|)
     uint64_t limited_steps; ///< steps whose applied force the impulse limit scaled down
     bool two_way;           ///< the fluid pushes the body
     bool measured;          ///< force, torque, contacts and pushed_out are measured (else zero)

@@ -91,7 +91,7 @@ void add_force(uint b, vec3 f, vec3 at)
     float scale = colliders[b].center_of_mass.w;
     vec3 t = cross(at - colliders[b].center_of_mass.xyz, f);
     ivec3 fi = ivec3(round(f * scale)), ti = ivec3(round(t * scale));
-    int base = int(b) * 8;
+    int base = int(b) * PBF_FORCE_WORDS;
     if (fi.x != 0) atomicAdd(forces[base + 0], fi.x);
     if (fi.y != 0) atomicAdd(forces[base + 1], fi.y);
     if (fi.z != 0) atomicAdd(forces[base + 2], fi.z);
@@ -100,12 +100,48 @@ void add_force(uint b, vec3 f, vec3 at)
     if (ti.z != 0) atomicAdd(forces[base + 6], ti.z);
 }
 
+// A particle's velocity so far in the substep, from where it started (xs) to x, at most
+// max_speed (the solver's clamp).
+vec3 particle_velocity(vec3 xs, vec3 x)
+{
+    vec3 v = (x - xs) * P.inv_dt;
+    float speed = length(v);
+    return speed > P.max_speed ? v * (P.max_speed / speed) : v;
+}
+
+// Adds v (units) to the 64-bit sum at forces[at] (low word, taken as unsigned) and
+// forces[at + 1] (high): the low word's carry and v's sign go to the high word.
+void add_wide(int at, int v)
+{
+    if (v == 0) return;
+    uint old = uint(atomicAdd(forces[at], v));
+    int high = (old + uint(v) < old ? 1 : 0) + (v < 0 ? -1 : 0);
+    if (high != 0) atomicAdd(forces[at + 1], high);
+}
+
+// Adds a particle's velocity v (m/s, at most max_speed) weighted by the magnitude of its
+// push f (N) on two-way collider b to b's sums of the water that pushes it
+// (PBF_FORCE_WORDS), in its force scale.
+void add_water(uint b, vec3 f, vec3 v)
+{
+    // One particle's share fits an int by far (the clamp only keeps a conversion defined).
+    float m = min(length(f) * colliders[b].center_of_mass.w, PBF_WIDE_MAX);
+    ivec3 vi = ivec3(round(clamp(m * v, -PBF_WIDE_MAX, PBF_WIDE_MAX)));
+    int base = int(b) * PBF_FORCE_WORDS;
+    add_wide(base + 8, vi.x);
+    add_wide(base + 10, vi.y);
+    add_wide(base + 12, vi.z);
+    add_wide(base + 14, int(round(m)));
+}
+
 // The colliders' part of the position correction of particle x with multiplier lambda;
 // the particle's reaction pushes two-way colliders (f = -m dx / dt^2, dx = relax * bdp).
 // level_lambda (0 but in the coarse level's iteration): -p(x), the level's push, which has
 // no reaction of its own (it moves the water by -grad p); the colliders take it as the
 // reaction to that multiplier, once per substep, and the particle does not move for it.
-void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, inout vec3 dp)
+// v: the particle's velocity so far in the substep, which joins the sums of the water that
+// pushes each two-way collider, weighted by its push.
+void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, vec3 v, inout vec3 dp)
 {
     float to_force = -P.mass * P.inv_dt * P.inv_dt * relax;
     float to_level = -P.mass * P.inv_dt * P.inv_dt;
@@ -116,7 +152,7 @@ void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, inou
         vec3 bdp = lambda * gradV;
         dp += bdp;
         if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) == 0u) continue;
-        atomicAdd(forces[int(b) * 8 + 3], 1);
+        atomicAdd(forces[int(b) * PBF_FORCE_WORDS + 3], 1);
         if (lambda != 0.0 || level_lambda != 0.0) {
             // Acting at the particle's nearest surface point.
             vec3 p1, n;
@@ -126,6 +162,7 @@ void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, inou
             vec3 f = to_force * bdp;
             if (level_lambda != 0.0) f += to_level * level_lambda * gradV;
             add_force(b, f, x - d * n);
+            add_water(b, f, v);
         }
     }
 }
@@ -156,7 +193,7 @@ vec3 colliders_collide(uint i, vec3 x)
             float target = min(r, d0 + PBF_PUSH_OUT_SPEED * P.dt);
             if (d1 < target) {
                 lnew = l1 + (target - d1) * n1;
-                if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) atomicAdd(forces[int(b) * 8 + 7], 1);
+                if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) atomicAdd(forces[int(b) * PBF_FORCE_WORDS + 7], 1);
             }
             x = p1 + quat_rotate(q1, lnew);
             continue;
@@ -175,7 +212,9 @@ vec3 colliders_collide(uint i, vec3 x)
         float dn = shape_distance(b, lnew, n1);
         if (dn < r) lnew += (r - dn) * n1;
         vec3 xn = p1 + quat_rotate(q1, lnew);
-        add_force(b, to_force * (xn - x), xn - r * quat_rotate(q1, nh));
+        vec3 f = to_force * (xn - x);
+        add_force(b, f, xn - r * quat_rotate(q1, nh));
+        if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) add_water(b, f, particle_velocity(xs, x));
         x = xn;
     }
     return x;

@@ -73,7 +73,7 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_B_OMEGA 13     // vec4[cap]: vorticity (1/s)
 #define PBF_B_SCAN 14      // uint[]: block sums of the scan
 #define PBF_B_COLLIDERS 15 // pbf_gpu_collider[PBF_MAX_COLLIDERS]
-#define PBF_B_FORCES 16    // int[PBF_MAX_COLLIDERS * 8]: fixed-point force, torque
+#define PBF_B_FORCES 16    // int[PBF_MAX_COLLIDERS * PBF_FORCE_WORDS]: fixed-point force, torque, the water near it
 #define PBF_B_REDUCE 17    // pbf_gpu_reduce[groups]: partial metrics
 #define PBF_B_METRICS 18   // pbf_gpu_metrics[ring]: reduced metrics
 #define PBF_B_DRAW 19      // uint[4]: DrawArraysIndirectCommand for the renderer
@@ -108,12 +108,20 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 #define PBF_COLLIDER_TWO_WAY 1u // accumulate the fluid's force and torque on it
 #define PBF_COLLIDER_BLOCKS_SINKS 2u // sinks do not drain what it shields (pbf_collider_def.blocks_sinks)
 
-// Force accumulators: PBF_B_FORCES[index * 8 + k], k = 0..2 force, 4..6 torque, as fixed
-// point int(f * scale) summed with atomicAdd (exact and order independent), where scale
-// is the collider's own (pbf_gpu_collider.center_of_mass.w, units per N) chosen from its
-// size so that the range is about 1000 times the weight of the fluid it can displace;
-// k = 3 counts particle-boundary contacts, k = 7 particles pushed out from inside.
+// Force accumulators: PBF_B_FORCES[index * PBF_FORCE_WORDS + k], k = 0..2 force, 4..6
+// torque, as fixed point int(f * scale) summed with atomicAdd (exact and order
+// independent), where scale is the collider's own (pbf_gpu_collider.center_of_mass.w,
+// units per N) chosen from its size so that the range is about 1000 times the weight of
+// the fluid it can displace; k = 3 counts particle-boundary contacts, k = 7 particles
+// pushed out from inside. k = 8..15: the water that pushes it, as four 64-bit sums (low
+// word, taken as unsigned, then high word; add_wide carries): at k = 8, 10, 12 the sums of
+// each particle's velocity (at most max_speed) times the magnitude of its push |f| (the
+// boundary's share of its correction, as in the force), and at k = 14 the sum of |f|, in
+// the force's scale (units per N m/s, per N). The magnitudes add up where the forces cancel
+// (pressure from every side), times a speed: 64 bits leave them room.
 // Colliders without a size of their own (planes) use PBF_FORCE_SCALE.
+#define PBF_FORCE_WORDS 16
+#define PBF_WIDE_MAX 2147483520.0f // 2^31 - 128, the largest float below 2^31: one particle's share
 #define PBF_FORCE_SCALE 1024.0
 // Fastest a particle found inside a collider is moved out of it, m/s.
 #define PBF_PUSH_OUT_SPEED 0.5
@@ -188,7 +196,7 @@ PBF_STRUCT(pbf_gpu_params) {
 } PBF_END(pbf_gpu_params);
 
 // A collider on the GPU: a shape in a rigid frame at two poses (previous and current
-// substep end) so moving walls sweep; forces land in PBF_B_FORCES[index * 8 ...].
+// substep end) so moving walls sweep; forces land in PBF_B_FORCES[index * PBF_FORCE_WORDS ...].
 PBF_STRUCT(pbf_gpu_collider) {
     PBF_VEC4 position;       // xyz m, w = bounding radius about position (m)
     PBF_VEC4 rotation;       // quaternion xyzw (body to world)
