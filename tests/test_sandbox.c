@@ -398,6 +398,10 @@ static void c_library_calls_stop_at_the_budget(void **state)
     // The same inside a coroutine that was made while the script was small.
     expect_budget_stop("coroutine.wrap(function() local s = string.rep('x', 1 << 26)\n"
                        "while true do local _ = s:upper() end end)()");
+    // Mesh files, each read by a child process that the budget left bounds: once the budget
+    // is spent, the next load stops the call instead of starting an importer with its own
+    // 30 s (the hook looks at the clock every 1000 instructions: a hundred loads apart).
+    expect_budget_stop("for i = 1, 1e4 do seiche.body{mesh = 'tests/fixtures/cup.obj', density = 300, scale = 0.5} end");
     // And what stays quick: nothing to repeat.
     eng_script *s = new_script(0.2, false);
     expect_ok(s, "assert(string.rep('', 1e15) == '' and string.rep('', 1e15, '') == '')");

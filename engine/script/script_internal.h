@@ -357,6 +357,9 @@ eng_script_status scr_callback(eng_script *s, const char *name, int nargs, const
 /// Counts `units` of work done in C (a step of pattern matching, an element moved): every
 /// 2^16 units the clock and the memory are looked at and the call stops when over.
 void scr_tick(lua_State *L, eng_script *s, size_t units);
+/// Looks at the clock and the memory now (as the hook does): raises when the call is over its
+/// budget. For a C function about to start work that takes the budget left as its time limit.
+void scr_check_now(lua_State *L, eng_script *s);
 /// Stops the running call: raises "file:line: message" now and again at every Lua
 /// instruction and every scr_tick until the host's protected call returns, so no pcall
 /// in the script can swallow it.

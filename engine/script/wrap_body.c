@@ -348,6 +348,7 @@ static int l_body(lua_State *L)
         if (!scr_load_mesh(&mesh_file, &b.file, err, sizeof err)) {
             s->command_count--;
             scr_obj_release(s, slot);
+            scr_check_now(L, s); // an importer the budget's end stopped: the budget is the reason
             scr_raise(L, "seiche.body: %s", err);
         }
         b.hull_points = mesh_file.hull_points;
