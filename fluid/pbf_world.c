@@ -197,6 +197,14 @@ static void stats_alloc(pbf_world *w)
     // were dropped: 35.8 ms a step read for 63.2 at 200 N/m).
     int need = 1 + per_substep * pbf_most_substeps(p) + 4;
     if (need <= w->max_queries) return;
+    // The steps in flight read their timestamps from these queries: read them first (their
+    // records wait for the next poll). Deleted under them, a poll read queries that were
+    // never issued (GL_INVALID_OPERATION; found by fuzz_pbf_api: more iterations set between
+    // steps and a poll).
+    for (int k = 0; k < RING; k++) {
+        stats_slot *r = &w->ring[(w->ring_head + k) % RING];
+        if (r->pending) pbf_read_early(w, r);
+    }
     for (int s = 0; s < RING; s++) {
         stats_slot *r = &w->ring[s];
         if (r->queries) glDeleteQueries(w->max_queries, r->queries);

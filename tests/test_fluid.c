@@ -621,6 +621,37 @@ static void larger_kernel_at_run_time_grows_the_neighbour_lists(void **state)
     pbf_world_destroy(w);
 }
 
+/// More iterations set between steps, with steps in flight (not yet polled): the step records
+/// need more timestamps, and the records of the steps in flight are read first, then kept
+/// for the poll, with their timings. The queries were deleted under them: the poll read
+/// queries never issued (GL_INVALID_OPERATION, which the strict mode ends the run on; found
+/// by fuzz_pbf_api).
+static void more_iterations_between_steps_keep_the_records_in_flight(void **state)
+{
+    (void)state;
+    float lo[3] = { 0, 0, 0 }, hi[3] = { 0.3f, 0.3f, 0.3f };
+    pbf_world *w = make_world(0.01f, lo, hi, 8000);
+    pbf_world_set_container(w, lo, hi, false);
+    pbf_block_def b = pbf_default_block_def();
+    b.max[0] = b.max[1] = b.max[2] = 0.1f;
+    assert_int_equal(pbf_world_add_block(w, &b, NULL), PBF_OK);
+    for (int s = 0; s < 3; s++) assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_params p = *pbf_world_params(w);
+    p.iterations = 12;
+    p.substeps = 8;
+    assert_int_equal(pbf_world_set_params(w, &p), PBF_OK);
+    assert_int_equal(pbf_world_step(w, 1.0f / 60.0f), PBF_OK);
+    pbf_step_stats st[8];
+    int got = pbf_world_poll_stats(w, st, 8, true);
+    assert_int_equal(got, 4);
+    for (int i = 0; i < got; i++) {
+        assert_int_equal(st[i].step, (uint64_t)i);
+        assert_int_equal(st[i].substeps, i < 3 ? 4 : 8);
+        if (!(st[i].step_ms > 0.0 && st[i].step_ms < 60000.0)) fail_msg("step %d: %g ms", i, st[i].step_ms);
+    }
+    pbf_world_destroy(w);
+}
+
 /// The GPU's reductions of a step (mass, kinetic energy, momentum, centre of mass, speed_max)
 /// against the same sums over the particles read back (pbf_world_region_stats), in a block
 /// thrown sideways in zero gravity; and a box's statistics against a hand count.
@@ -811,6 +842,7 @@ int main(void)
         cmocka_unit_test(rows_of_water_seldom_share_buckets),
         cmocka_unit_test(adding_beyond_capacity_is_refused),
         cmocka_unit_test(larger_kernel_at_run_time_grows_the_neighbour_lists),
+        cmocka_unit_test(more_iterations_between_steps_keep_the_records_in_flight),
         cmocka_unit_test(step_stats_match_the_particles_read_back),
         cmocka_unit_test(time_step_guard_takes_substeps_for_fast_particles),
     };
