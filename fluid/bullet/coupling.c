@@ -534,22 +534,23 @@ static void apply_fluid(cpl_coupling *c, body_entry *e)
     phys_body_apply_torque(c->def.phys, e->body, (phys_vec3){ e->torque[0], e->torque[1], e->torque[2] }, true);
 }
 
-// The fluid may stop the body's motion against the force, bring it to the speed of the water
-// that pushes it along the force (`water`: the push-weighted mean velocity the step's report
-// measured), and push it with at most impulse_limit times the acceleration of full submersion
-// plus g/4, for one step. The bound keeps the late force of a plunge from throwing a light body
-// back out (along gravity, and across it: a thin plate thrown face on through water at 10 m/s
-// was thrown back to the wall by a bound on the lift alone): the water a plunging body pushes
-// moves with it, not against it, so it adds nothing then (the mean of all the water near it
-// did: the water flowing back round a thin plate's rim let its late force throw it back). The smoothed state keeps the bounded
-// force, so its tail does not carry the excess either. The torque is left alone: a body on an
-// axle or a hinge takes the force on its bearing and turns under the torque (scaled with the
-// force, a plate on an axle under a jet received 32 % of the water's angular impulse). Without
-// the water's speed (before 0.20.0) a bound made of g let the water only stop a body in zero
-// gravity, and push a heavy one only weakly however fast the water came (docs/coupling.md).
 // m/s: a body moving into the water's force faster than this is being stopped by it.
 #define CPL_STOPPING_SPEED 0.01f
 
+// The fluid may stop the body's motion against the force, bring it up to the speed of the
+// water that pushes it along the force (`water`: the push-weighted mean velocity the step's
+// report measured), and push it with at most impulse_limit times the acceleration of full
+// submersion plus g/4, for one step. The bound keeps the late force of a plunge from throwing
+// a light body back out (along gravity, and across it: a thin plate thrown face on through
+// water at 10 m/s was thrown back to the wall by a bound on the lift alone): the water a
+// plunging body pushes moves with it, so its speed adds nothing then (the share-weighted mean
+// of all the water near a thin plate, tried first, took in the water flowing back round its
+// rim and threw it back). The smoothed state keeps the bounded force, so its tail does not
+// carry the excess either. The torque is left alone: a body on an axle or a hinge takes the
+// force on its bearing and turns under the torque (scaled with the force, a plate on an axle
+// under a jet received 32 % of the water's angular impulse). Before 0.20.0 the bound knew no
+// water speed, so in zero gravity the water could stop a body but not push it
+// (docs/coupling.md, "Latency and lockstep").
 static void limit_impulse(cpl_coupling *c, body_entry *e, const float water[3], float dt)
 {
     if (c->def.impulse_limit <= 0.0f || e->type != PHYS_BODY_DYNAMIC || !(e->mass > 0.0f) || !(e->volume > 0.0f)) return;
