@@ -66,7 +66,8 @@ static void add_force(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 at)
     }
 }
 
-pbf_vec3 pbf_cpu_particle_velocity(const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x)
+/// particle_velocity: (x - xs) / dt, at most max_speed.
+static pbf_vec3 particle_velocity(const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x)
 {
     pbf_vec3 v = pbf_scale(P->inv_dt, pbf_sub(x, xs));
     float speed = sqrtf(pbf_dot(v, v));
@@ -82,10 +83,12 @@ static void accumulate_wide(int32_t *acc, int32_t v)
     acc[1] = (int32_t)(uint32_t)(s >> 32);
 }
 
-/// add_water: a particle's velocity v weighted by the magnitude of its push f on two-way
-/// collider b into b's sums of the water that pushes it (in its force scale).
-static void add_water(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 v)
+/// add_water: the velocity of a particle that started the substep at xs and is now at x,
+/// weighted by the magnitude of its push f on two-way collider b, into b's sums of the water
+/// that pushes it (in its force scale).
+static void add_water(pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t b, pbf_vec3 f, pbf_vec3 xs, pbf_vec3 x)
 {
+    pbf_vec3 v = particle_velocity(P, xs, x);
     float s = w->gpu[b].center_of_mass.w;
     float m = fminf(sqrtf(pbf_dot(f, f)) * s, PBF_WIDE_MAX);
     const float vs[3] = { fmaxf(fminf(m * v.x, PBF_WIDE_MAX), -PBF_WIDE_MAX), fmaxf(fminf(m * v.y, PBF_WIDE_MAX), -PBF_WIDE_MAX),
@@ -97,10 +100,11 @@ static void add_water(pbf_cpu_world *w, uint32_t b, pbf_vec3 f, pbf_vec3 v)
 /// colliders_delta: the colliders' part of the position correction of a particle at x with
 /// multiplier lambda, and the reaction on two-way colliders (f = -m relax bdp / dt^2), plus
 /// in the coarse level's iteration their reaction to its push as to a multiplier
-/// level_lambda = -p(x) (no motion of the particle; 0 otherwise); the particle's velocity v
-/// joins the sums of the water that pushes each two-way collider, weighted by its push.
+/// level_lambda = -p(x) (no motion of the particle; 0 otherwise); its velocity since xs (where
+/// it started the substep) joins the sums of the water that pushes each two-way collider,
+/// weighted by its push.
 void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
-                             float level_lambda, pbf_vec3 v, pbf_vec3 *dp)
+                             float level_lambda, pbf_vec3 xs, pbf_vec3 *dp)
 {
     float to_force = -P->mass * P->inv_dt * P->inv_dt * relax;
     float to_level = -P->mass * P->inv_dt * P->inv_dt;
@@ -123,7 +127,7 @@ void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3
             pbf_vec3 f = pbf_scale(to_force, bdp);
             if (level_lambda != 0.0f) f = pbf_add(f, pbf_scale(to_level * level_lambda, gradV));
             add_force(w, b, f, pbf_sub(x, pbf_scale(d, n)));
-            add_water(w, b, f, v);
+            add_water(w, P, b, f, xs, x);
         }
     }
 }
@@ -173,7 +177,7 @@ pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pb
         pbf_vec3 xn = pbf_add(p1, quat_rotate(q1, lnew));
         pbf_vec3 f = pbf_scale(to_force, pbf_sub(xn, x));
         add_force(w, b, f, pbf_sub(xn, pbf_scale(r, quat_rotate(q1, nh))));
-        if ((c->info.y & PBF_COLLIDER_TWO_WAY) != 0u) add_water(w, b, f, pbf_cpu_particle_velocity(P, xs, x));
+        if ((c->info.y & PBF_COLLIDER_TWO_WAY) != 0u) add_water(w, P, b, f, xs, x);
         x = xn;
     }
     return x;

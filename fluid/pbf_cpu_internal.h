@@ -113,11 +113,9 @@ void pbf_cpu_level(pbf_cpu_world *w, const pbf_gpu_params *P);
 float pbf_cpu_density_at(const pbf_cpu_world *w, const pbf_gpu_params *P, uint32_t i);
 
 // ---- pbf_cpu_colliders.c: colliders.glsl and pbf_colliders.c's step bookkeeping ---------
-/// colliders.glsl's particle_velocity: (x - xs) / dt, at most max_speed.
-pbf_vec3 pbf_cpu_particle_velocity(const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x);
 void pbf_cpu_colliders_density(const pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float *rho, pbf_vec3 *grad_i);
 void pbf_cpu_colliders_delta(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 x, float lambda, float relax,
-                             float level_lambda, pbf_vec3 v, pbf_vec3 *dp);
+                             float level_lambda, pbf_vec3 xs, pbf_vec3 *dp);
 pbf_vec3 pbf_cpu_colliders_collide(pbf_cpu_world *w, const pbf_gpu_params *P, pbf_vec3 xs, pbf_vec3 x);
 void pbf_cpu_colliders_begin_step(pbf_cpu_world *w);
 void pbf_cpu_colliders_end_step(pbf_cpu_world *w);

@@ -309,9 +309,8 @@ void pbf_cpu_collide(pbf_cpu_world *w, const pbf_gpu_params *P, float relax, boo
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_float4 pi = w->pred[i];
         pbf_vec3 bdp = { 0.0f, 0.0f, 0.0f };
-        pbf_vec3 v = pbf_cpu_particle_velocity(P, pbf_xyz(w->pos[i]), pbf_xyz(pi));
         float level_lambda = apply_level ? -level_pressure(P, w->level, pbf_xyz(pi)) : 0.0f;
-        pbf_cpu_colliders_delta(w, P, pbf_xyz(pi), pi.w, relax, level_lambda, v, &bdp);
+        pbf_cpu_colliders_delta(w, P, pbf_xyz(pi), pi.w, relax, level_lambda, pbf_xyz(w->pos[i]), &bdp);
         pbf_vec3 x = pbf_add(pbf_xyz(w->pred_out[i]), pbf_scale(relax, bdp));
         x = pbf_cpu_colliders_collide(w, P, pbf_xyz(w->pos[i]), x);
         container_collide(w, P, i, x);

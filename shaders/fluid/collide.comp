@@ -25,8 +25,7 @@ void main()
     if (i >= particle_count()) return;
     vec4 pi = pred[i];   // the iteration's start: position, and lambda in w
     vec3 bdp = vec3(0.0);
-    vec3 v = particle_velocity(collider_start(i), pi.xyz);
-    colliders_delta(pi.xyz, pi.w, relax, apply_level ? -level_pressure(pi.xyz) : 0.0, v, bdp);
+    colliders_delta(pi.xyz, pi.w, relax, apply_level ? -level_pressure(pi.xyz) : 0.0, collider_start(i), bdp);
     vec3 x = pred_out[i].xyz + relax * bdp;
     x = colliders_collide(i, x);
     for (uint p = 0u; p < P.plane_count; p++) {

@@ -119,11 +119,12 @@ void add_wide(int at, int v)
     if (high != 0) atomicAdd(forces[at + 1], high);
 }
 
-// Adds a particle's velocity v (m/s, at most max_speed) weighted by the magnitude of its
-// push f (N) on two-way collider b to b's sums of the water that pushes it
-// (PBF_FORCE_WORDS), in its force scale.
-void add_water(uint b, vec3 f, vec3 v)
+// Adds the velocity of a particle that started the substep at xs and is now at x (m/s, at
+// most max_speed) weighted by the magnitude of its push f (N) on two-way collider b to b's
+// sums of the water that pushes it (PBF_FORCE_WORDS), in its force scale.
+void add_water(uint b, vec3 f, vec3 xs, vec3 x)
 {
+    vec3 v = particle_velocity(xs, x);
     // One particle's share fits an int by far (the clamp only keeps a conversion defined).
     float m = min(length(f) * colliders[b].center_of_mass.w, PBF_WIDE_MAX);
     ivec3 vi = ivec3(round(clamp(m * v, -PBF_WIDE_MAX, PBF_WIDE_MAX)));
@@ -139,9 +140,9 @@ void add_water(uint b, vec3 f, vec3 v)
 // level_lambda (0 but in the coarse level's iteration): -p(x), the level's push, which has
 // no reaction of its own (it moves the water by -grad p); the colliders take it as the
 // reaction to that multiplier, once per substep, and the particle does not move for it.
-// v: the particle's velocity so far in the substep, which joins the sums of the water that
-// pushes each two-way collider, weighted by its push.
-void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, vec3 v, inout vec3 dp)
+// xs: where the particle started the substep; its velocity so far joins the sums of the water
+// that pushes each two-way collider, weighted by its push.
+void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, vec3 xs, inout vec3 dp)
 {
     float to_force = -P.mass * P.inv_dt * P.inv_dt * relax;
     float to_level = -P.mass * P.inv_dt * P.inv_dt;
@@ -162,7 +163,7 @@ void colliders_delta(vec3 x, float lambda, float relax, float level_lambda, vec3
             vec3 f = to_force * bdp;
             if (level_lambda != 0.0) f += to_level * level_lambda * gradV;
             add_force(b, f, x - d * n);
-            add_water(b, f, v);
+            add_water(b, f, xs, x);
         }
     }
 }
@@ -214,7 +215,7 @@ vec3 colliders_collide(uint i, vec3 x)
         vec3 xn = p1 + quat_rotate(q1, lnew);
         vec3 f = to_force * (xn - x);
         add_force(b, f, xn - r * quat_rotate(q1, nh));
-        if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) add_water(b, f, particle_velocity(xs, x));
+        if ((colliders[b].info.y & PBF_COLLIDER_TWO_WAY) != 0u) add_water(b, f, xs, x);
         x = xn;
     }
     return x;
