@@ -128,7 +128,7 @@ void pbf_bind_all(pbf_world *w)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_TENSION, w->tension);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_LEVEL, w->level);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_COLLIDERS, w->colliders);
-    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_FORCES, w->forces, 0, PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, PBF_B_FORCES, w->forces, 0, PBF_FORCES_BYTES);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_REDUCE, w->reduce);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_METRICS, w->metrics);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, PBF_B_NB_LIST, w->nb_list);

@@ -372,8 +372,7 @@ void pbf_colliders_begin_step(pbf_world *w, stats_slot *slot)
         s->step_scale[ring_slot] = s->gpu.center_of_mass.w;
     }
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, w->forces);
-    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32I, 0, PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4, GL_RED_INTEGER,
-                         GL_INT, NULL);
+    glClearBufferSubData(GL_SHADER_STORAGE_BUFFER, GL_R32I, 0, PBF_FORCES_BYTES, GL_RED_INTEGER, GL_INT, NULL);
 }
 
 // Copies this step's force accumulators into the ring slot read back later, and makes the
@@ -387,8 +386,7 @@ void pbf_colliders_end_step(pbf_world *w)
     glBindBuffer(GL_COPY_READ_BUFFER, w->forces);
     glBindBuffer(GL_COPY_WRITE_BUFFER, w->forces_ring);
     glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0,
-                        (GLintptr)slot_index * PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4,
-                        PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4);
+                        (GLintptr)slot_index * PBF_FORCES_BYTES, PBF_FORCES_BYTES);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
     for (int i = 0; i < PBF_MAX_COLLIDERS; i++) {
         collider_slot *s = &w->slots[i];
@@ -409,8 +407,8 @@ void pbf_colliders_read_forces(pbf_world *w, const stats_slot *r)
     if (r->colliders <= 0) return;
     int32_t f[PBF_MAX_COLLIDERS * PBF_FORCE_WORDS];
     glBindBuffer(GL_COPY_READ_BUFFER, w->forces_ring);
-    glGetBufferSubData(GL_COPY_READ_BUFFER, (GLintptr)ring_slot * PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4,
-                       (GLsizeiptr)r->colliders * PBF_FORCE_WORDS * 4, f);
+    glGetBufferSubData(GL_COPY_READ_BUFFER, (GLintptr)ring_slot * PBF_FORCES_BYTES,
+                       (GLsizeiptr)r->colliders * PBF_COLLIDER_FORCE_BYTES, f);
     double per = 1.0 / (r->substeps > 0 ? r->substeps : 1);
     for (int g = 0; g < r->colliders; g++) {
         int sl = r->collider_slot_of[g];

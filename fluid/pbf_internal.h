@@ -186,6 +186,10 @@ bool pbf_refused_in_step(pbf_world *w, const char *fn, const char *tail);
 /// True when no GL context is current on the calling thread: the error (PBF_ERR_GL) is then
 /// set, naming `fn`.
 bool pbf_without_context(pbf_world *w, const char *fn);
+
+/// Bytes of one collider's force accumulators, and of a step's (pbf.forces; a slot of pbf.forces_ring).
+#define PBF_COLLIDER_FORCE_BYTES (PBF_FORCE_WORDS * 4)
+#define PBF_FORCES_BYTES (PBF_MAX_COLLIDERS * PBF_COLLIDER_FORCE_BYTES)
 pbf_result pbf_fail(pbf_world *w, pbf_result r, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

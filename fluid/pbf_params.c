@@ -826,8 +826,7 @@ float pbf_collider_bounding_radius(const pbf_collider_def *d)
     return 1e30f;
 }
 
-// A 64-bit sum of the accumulators: words[0] the low half (unsigned), words[1] the high.
-static double wide_sum(const int32_t *words)
+double pbf_wide_sum(const int32_t *words)
 {
     uint64_t u = (uint64_t)(uint32_t)words[1] << 32 | (uint32_t)words[0];
     return (double)(int64_t)u;
@@ -835,9 +834,9 @@ static double wide_sum(const int32_t *words)
 
 void pbf_water_of_sums(const int32_t *words, float force_scale, int substeps, pbf_collider_report *rep)
 {
-    double push = wide_sum(words + 14);
+    double push = pbf_wide_sum(words + 14);
     rep->fluid_push = (float)(push / (double)force_scale / (double)(substeps > 0 ? substeps : 1));
-    for (int k = 0; k < 3; k++) rep->fluid_velocity[k] = push > 0.0 ? (float)(wide_sum(words + 8 + 2 * k) / push) : 0.0f;
+    for (int k = 0; k < 3; k++) rep->fluid_velocity[k] = push > 0.0 ? (float)(pbf_wide_sum(words + 8 + 2 * k) / push) : 0.0f;
 }
 
 pbf_result pbf_block_lattice(const pbf_block_def *b, float spacing, const float domain_min[3],

@@ -195,6 +195,9 @@ bool pbf_points_check(const char *fn, const float *positions, const float *veloc
 /// A collider's bounding radius about its origin, m (pbf_gpu_collider.position.w).
 float pbf_collider_bounding_radius(const pbf_collider_def *d);
 
+/// A 64-bit sum of the force accumulators (add_wide, colliders.glsl): words[0] the low half,
+/// taken as unsigned, words[1] the high.
+double pbf_wide_sum(const int32_t *words);
 /// A report's fluid_velocity and fluid_push from a collider's accumulators (`words`, its
 /// PBF_FORCE_WORDS: the 64-bit sums at 8..15) of a step of `substeps` at the force scale it
 /// had (units per N).

@@ -357,8 +357,8 @@ pbf_world *pbf_world_create(const pbf_world_def *def, char *err, size_t err_size
     w->nb_list = pbf_gpu_buffer(cap * (GLsizeiptr)w->max_neighbours * 4, "pbf.nb_list");
     w->nb_count = pbf_gpu_buffer(cap * 4, "pbf.nb_count");
     w->colliders = pbf_cpu_buffer(PBF_MAX_COLLIDERS * (GLsizeiptr)sizeof(pbf_gpu_collider), NULL, "pbf.colliders");
-    w->forces = pbf_gpu_buffer(PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4, "pbf.forces");
-    w->forces_ring = pbf_read_buffer((GLsizeiptr)RING * PBF_MAX_COLLIDERS * PBF_FORCE_WORDS * 4, "pbf.forces_ring");
+    w->forces = pbf_gpu_buffer(PBF_FORCES_BYTES, "pbf.forces");
+    w->forces_ring = pbf_read_buffer((GLsizeiptr)RING * PBF_FORCES_BYTES, "pbf.forces_ring");
     w->reduce = pbf_gpu_buffer(((cap + PBF_WG - 1) / PBF_WG) * (GLsizeiptr)sizeof(pbf_gpu_reduce), "pbf.reduce");
     // One record per step, written by one invocation of metrics_final: read by the CPU as is.
     w->metrics = pbf_read_buffer(RING * (GLsizeiptr)sizeof(pbf_gpu_metrics), "pbf.metrics");

@@ -241,13 +241,6 @@ static double share_rounding(mirror *m, uint32_t i)
     return sqrt((double)grad[0] * grad[0] + (double)grad[1] * grad[1] + (double)grad[2] * grad[2]) * SHARE_ROUNDING;
 }
 
-/// A 64-bit sum of the force accumulators (the water that pushes a body): words[0] the low
-/// half, unsigned, words[1] the high.
-static double wide(const int32_t *words)
-{
-    return (double)(int64_t)((uint64_t)(uint32_t)words[1] << 32 | (uint32_t)words[0]);
-}
-
 /// Bytes of the live part of a binding: the CPU reference's size (the same layout), but for
 /// the force accumulators, which it sizes at the start of its step.
 static size_t live_bytes(mirror *m, int binding)
@@ -515,17 +508,17 @@ static void compare(mirror *m, const snapshot *s, const output *o, const void *g
             double flips = fabs((double)gi[W * b + 3] - ci[W * b + 3]) + fabs((double)gi[W * b + 7] - ci[W * b + 7]);
             if (flips > 0.0 && counts == 0.0) counts_at = b;
             counts += flips;
-            double push = wide(gi + W * b + 14) / scale, units = 0.5 * (double)gi[W * b + 3], speed = 0.0;
-            for (int k = 0; k < 3; k++) speed += pow(wide(gi + W * b + 8 + 2 * k) / scale, 2.0);
+            double push = pbf_wide_sum(gi + W * b + 14) / scale, units = 0.5 * (double)gi[W * b + 3], speed = 0.0;
+            for (int k = 0; k < 3; k++) speed += pow(pbf_wide_sum(gi + W * b + 8 + 2 * k) / scale, 2.0);
             speed = push > 0.0 ? sqrt(speed) / push : 0.0; // the pushing water's mean speed
             double dv_bulk = checks[C_COLLIDE_X].tol * m->spacing / m->dt, dv_band = SWEEP_BAND * m->spacing / m->dt;
             double wa = fa + rel * push + units / scale;
             double va = wa * (speed + dv_band) + push * dv_bulk + units / scale;
             for (int k = 0; k < 3; k++) {
-                double d = fabs(wide(gi + W * b + 8 + 2 * k) - wide(ci + W * b + 8 + 2 * k)) / scale / va;
+                double d = fabs(pbf_wide_sum(gi + W * b + 8 + 2 * k) - pbf_wide_sum(ci + W * b + 8 + 2 * k)) / scale / va;
                 if (!(d <= water)) water = d, water_at = b;
             }
-            double dw = fabs(wide(gi + W * b + 14) - wide(ci + W * b + 14)) / scale / wa;
+            double dw = fabs(pbf_wide_sum(gi + W * b + 14) - pbf_wide_sum(ci + W * b + 14)) / scale / wa;
             if (!(dw <= water)) water = dw, water_at = b;
         }
         note(t, C_COLLIDE_WATER, water, step, sub, it, water_at);

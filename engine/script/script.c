@@ -319,12 +319,7 @@ static void budget_hook(lua_State *L, lua_Debug *ar)
     if (lua_gethookcount(L) != want || lua_gethookmask(L) != mask) lua_sethook(L, budget_hook, mask, want);
 }
 
-void scr_check_now(lua_State *L, eng_script *s)
-{
-    if (s->stop_kind != STOP_NONE) raise_stop(L, s);
-    s->ticks = 0;
-    check_limits(L, s);
-}
+void scr_check_now(lua_State *L, eng_script *s) { scr_tick(L, s, TICK_QUANTUM); }
 
 void scr_tick(lua_State *L, eng_script *s, size_t units)
 {

@@ -73,8 +73,9 @@ typedef struct cpl_def {
     /// against the force and add at most that acceleration times dt; 0 turns the bound off.
     /// Without it the one-step-late force (measured while a light body plunged in, applied
     /// after) throws light bodies out of the water faster than they hit it (docs/coupling.md).
-    /// The torque is not bounded. In zero gravity the bound lets the water stop a body but not
-    /// push it: set 0 there.
+    /// Beyond that, the water may bring a body up to the speed of the water that pushes it
+    /// (pbf_collider_report.fluid_velocity), once it has not been stopping the body for a few
+    /// steps: so water pushes bodies in zero gravity too. The torque is not bounded.
     float impulse_limit;
     /// Heave damping that cancels what the force's lag does to a floating body, as a
     /// multiple of that lag's negative damping, [0, 4]; default 1.5 (1 cancels it for small
