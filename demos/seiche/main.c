@@ -255,6 +255,7 @@ static int run_suite(const eng_app_options *base, bool dir, const char *junit, c
     run_outcome *shared = mmap(NULL, sizeof *shared, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     if (!runs || shared == MAP_FAILED) {
         free(runs);
+        if (shared != MAP_FAILED) munmap(shared, sizeof *shared);
         return bad("out of memory");
     }
     if (!dir) count = 1;
