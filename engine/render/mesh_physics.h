@@ -22,10 +22,11 @@
 // - A hull is built from at most `max_points` of the mesh's vertices (the most extreme ones,
 //   below), so it has at most 2 max_points - 4 faces: with ENG_MESH_HULL_MAX_POINTS that is
 //   PBF_MAX_HULL_PLANES, the most the fluid's hull collider takes.
-// - A static mesh coupled to the fluid is baked into a distance grid once, by brute force over
-//   its triangles (cells x triangles: at most 128^3 cells at cpl_def.mesh_cell), and is
-//   one-sided: fluid belongs on the side its triangles face (outside, for a closed mesh as
-//   loaded). Keep collision meshes to a few thousand triangles, or the bake takes seconds.
+// - A static mesh coupled to the fluid is baked into a distance grid once (at most 128^3
+//   samples at cpl_def.mesh_cell; the nearest triangle found through a hierarchy of boxes, so
+//   the cost grows with the samples and only slowly with the triangles: docs/meshes.md), and
+//   is one-sided: fluid belongs on the side its triangles face (outside, for a closed mesh as
+//   loaded).
 #ifndef ENG_MESH_PHYSICS_H
 #define ENG_MESH_PHYSICS_H
 
