@@ -34,6 +34,7 @@ eng_mesh_file_options eng_default_mesh_file_options(void)
     o.centre = ENG_MESH_KEEP_ORIGIN;
     o.timeout_s = ENG_MESH_FILE_DEFAULT_TIMEOUT_S;
     o.root = NULL;
+    o.memory_mb = ENG_MESH_FILE_DEFAULT_MEMORY_MB;
     return o;
 }
 
@@ -430,12 +431,15 @@ static void child_fail(int fd, const char *fmt, ...)
 
 // Why assimp could not read the file, with a word on the extension when assimp has no reader
 // for it, and on a file it refers to that guarded_open refused.
-static void child_assimp_failed(int fd, const char *path, const guarded_fs *fs)
+static void child_assimp_failed(int fd, const char *path, const guarded_fs *fs, double memory_mb)
 {
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(slash ? slash : path, '.');
     const char *why = aiGetErrorString();
     if (!why || !*why) why = "no reason given";
+    if (strstr(why, "bad_alloc"))
+        child_fail(fd, "mesh file '%s': the importer ran out of its memory (%g MiB, eng_mesh_file_options.memory_mb; a "
+                   "file can declare more vertices or faces than it holds): %s", path, memory_mb, why);
     if (!dot || !aiIsExtensionSupported(dot))
         child_fail(fd, "mesh file '%s' is not a mesh format assimp reads (extension '%s'; OBJ, glTF 2.0 .gltf/.glb and "
                    "the formats of aiGetExtensionList are): %s", path, dot ? dot : "", why);
@@ -447,6 +451,37 @@ static void child_assimp_failed(int fd, const char *path, const guarded_fs *fs)
         child_fail(fd, "mesh file '%s' could not be read: it refers to '%s', which is not a regular file: %s", path,
                    fs->refused, why);
     child_fail(fd, "mesh file '%s' could not be read: %s", path, why);
+}
+
+// The child's address space now, bytes (0 when it cannot be read): what it shares with the
+// parent, on top of which it may take the memory limit.
+static uint64_t child_address_space(void)
+{
+    char text[128];
+    int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return 0;
+    ssize_t n = read(fd, text, sizeof text - 1);
+    close(fd);
+    if (n <= 0) return 0;
+    text[n] = 0;
+    long page = sysconf(_SC_PAGESIZE);
+    return strtoull(text, NULL, 10) * (uint64_t)(page > 0 ? page : 4096);
+}
+
+// The child's memory limit: its address space as it was at the fork plus `mb` MiB (RLIMIT_AS,
+// never raised above a limit the caller already had). The bytes it may reach, or 0 when none
+// could be set.
+static uint64_t limit_child_memory(double mb)
+{
+    uint64_t now = child_address_space();
+    if (now == 0) return 0;
+    uint64_t reach = now + (uint64_t)(mb * 1048576.0);
+    struct rlimit as;
+    if (getrlimit(RLIMIT_AS, &as) != 0) return 0;
+    if (as.rlim_cur != RLIM_INFINITY && as.rlim_cur <= reach) return (uint64_t)as.rlim_cur;
+    as.rlim_cur = (rlim_t)reach;
+    if (as.rlim_max != RLIM_INFINITY && as.rlim_cur > as.rlim_max) as.rlim_cur = as.rlim_max;
+    return setrlimit(RLIMIT_AS, &as) == 0 ? (uint64_t)as.rlim_cur : 0;
 }
 
 // The child: imports, replies through fd, and ends. Never returns.
@@ -466,6 +501,9 @@ static void import_child(int fd, const char *path, const eng_mesh_file_options *
     struct rlimit no_core = { 0, 0 };
     setrlimit(RLIMIT_CORE, &no_core);
     alarm((unsigned)timeout_s + 2); // ends the child should the parent die and not kill it
+    if (limit_child_memory(o->memory_mb) == 0)
+        child_fail(fd, "mesh file '%s': cannot limit the importer's memory to %g MiB (RLIMIT_AS: %s)", path,
+                   o->memory_mb, strerror(errno));
 
     guarded_fs fs;
     memset(&fs, 0, sizeof fs);
@@ -477,7 +515,7 @@ static void import_child(int fd, const char *path, const eng_mesh_file_options *
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices |
                            aiProcess_ValidateDataStructure;
     const struct aiScene *scene = aiImportFileEx(path, flags, &io);
-    if (!scene) child_assimp_failed(fd, path, &fs);
+    if (!scene) child_assimp_failed(fd, path, &fs, o->memory_mb);
     if (scene->mNumMeshes == 0)
         child_fail(fd, "mesh file '%s' holds no meshes (assimp read it, but found no geometry in it)", path);
     uint64_t nv = 0, nt = 0;
@@ -699,6 +737,10 @@ bool eng_mesh_file_load(const char *path, const eng_mesh_file_options *options, 
                         ENG_MESH_FILE_MAX_TIMEOUT_S, o.timeout_s);
     if (o.root && !*o.root)
         return eng_fail(err, err_size, "mesh '%s': eng_mesh_file_options.root must be a folder or NULL (got \"\")", path);
+    if (!isfinite(o.memory_mb) || !(o.memory_mb >= ENG_MESH_FILE_MIN_MEMORY_MB) ||
+        o.memory_mb > ENG_MESH_FILE_MAX_MEMORY_MB)
+        return eng_fail(err, err_size, "mesh '%s': eng_mesh_file_options.memory_mb must be in [%.0f, %.0f] MiB (got %g)",
+                        path, ENG_MESH_FILE_MIN_MEMORY_MB, ENG_MESH_FILE_MAX_MEMORY_MB, o.memory_mb);
     char root_real[PATH_MAX];
     bool has_root;
     if (!probe_file(path, o.root, root_real, &has_root, err, err_size)) return false;

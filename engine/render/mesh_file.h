@@ -75,6 +75,13 @@ typedef struct eng_mesh_file_options {
     /// regular files whose real path (links followed) lies in root or below; others are refused
     /// as if missing, whether or not they exist. Not used by eng_mesh_data_from_arrays.
     const char *root;
+    /// MiB, in [ENG_MESH_FILE_MIN_MEMORY_MB, ENG_MESH_FILE_MAX_MEMORY_MB]: the most memory the
+    /// importer's child process may take on top of what it shares with the caller (its address
+    /// space, RLIMIT_AS): a file of a few hundred bytes can declare billions of vertices and
+    /// make assimp allocate until the machine runs out. Going over is refused as "the importer
+    /// ran out of its memory (N MiB ...)". Default ENG_MESH_FILE_DEFAULT_MEMORY_MB. Not used by
+    /// eng_mesh_data_from_arrays.
+    double memory_mb;
 } eng_mesh_file_options;
 
 /// The default eng_mesh_file_options.timeout_s, s: three times what the largest file allowed
@@ -82,8 +89,16 @@ typedef struct eng_mesh_file_options {
 #define ENG_MESH_FILE_DEFAULT_TIMEOUT_S 30.0
 /// The largest eng_mesh_file_options.timeout_s, s.
 #define ENG_MESH_FILE_MAX_TIMEOUT_S 3600.0
+/// The default eng_mesh_file_options.memory_mb, MiB: 1.6 times the address space the largest
+/// file allowed took (a 70 MB OBJ of 2^20 vertices and 2^21 triangles: 2.6 GB, 1.2 GB of it
+/// resident; a 40 MB binary PLY of the same needs under 1 GB).
+#define ENG_MESH_FILE_DEFAULT_MEMORY_MB 4096.0
+/// The range of eng_mesh_file_options.memory_mb, MiB.
+#define ENG_MESH_FILE_MIN_MEMORY_MB 64.0
+#define ENG_MESH_FILE_MAX_MEMORY_MB 1048576.0
 
-/// Defaults: scale 1, the file's origin kept, timeout ENG_MESH_FILE_DEFAULT_TIMEOUT_S, no root.
+/// Defaults: scale 1, the file's origin kept, timeout ENG_MESH_FILE_DEFAULT_TIMEOUT_S, no root,
+/// memory ENG_MESH_FILE_DEFAULT_MEMORY_MB.
 eng_mesh_file_options eng_default_mesh_file_options(void);
 
 /// A triangle mesh in memory (positions and indices; no GL). Owned: eng_mesh_data_free.
