@@ -131,13 +131,46 @@ typedef struct bake_tris {
 
 static double axis_of(v3 p, int k) { return k == 0 ? p.x : k == 1 ? p.y : p.z; }
 
+// Sorts ix[0, n) by key (heapsort: n log n whatever the order).
+static void sift_down(uint32_t *ix, size_t root, size_t n, const double *key)
+{
+    for (;;) {
+        size_t child = 2 * root + 1;
+        if (child >= n) return;
+        if (child + 1 < n && key[ix[child + 1]] > key[ix[child]]) child++;
+        if (!(key[ix[child]] > key[ix[root]])) return;
+        uint32_t t = ix[root];
+        ix[root] = ix[child];
+        ix[child] = t;
+        root = child;
+    }
+}
+
+static void sort_by_key(uint32_t *ix, size_t n, const double *key)
+{
+    for (size_t i = n / 2; i-- > 0;) sift_down(ix, i, n, key);
+    for (size_t end = n; end-- > 1;) {
+        uint32_t t = ix[0];
+        ix[0] = ix[end];
+        ix[end] = t;
+        sift_down(ix, 0, end, key);
+    }
+}
+
 // Puts the k-th smallest key of ix[0, n) at ix[k], smaller ones before it, larger after:
-// three-way partitions around pivots from a fixed sequence (no input makes it quadratic on
-// purpose, and equal keys cost nothing).
+// three-way partitions around pivots from a fixed pseudo-random sequence (linear time
+// expected, equal keys cost nothing), and should a mesh defeat the pivots, a sort of what is
+// left after 2 log2 n + 16 rounds (so never worse than n log n).
 static void select_kth(uint32_t *ix, size_t n, size_t k, const double *key, uint64_t *rng)
 {
     size_t lo = 0, hi = n;
+    int rounds = 16;
+    for (size_t m = n; m > 1; m /= 2) rounds += 2;
     while (hi - lo > 1) {
+        if (rounds-- == 0) {
+            sort_by_key(ix + lo, hi - lo, key);
+            return;
+        }
         *rng = *rng * 6364136223846793005ull + 1442695040888963407ull;
         const double pivot = key[ix[lo + (size_t)((*rng >> 33) % (hi - lo))]];
         size_t lt = lo, i = lo, gt = hi;
@@ -245,12 +278,9 @@ typedef struct nearest {
     uint32_t triangle;
 } nearest;
 
-// Where the search looks: every triangle within the tie margin of the nearest so far.
-#define EXACT_REACH (1.0 + 1e-9)
-
-// Not within reach of the nearest so far, or not a number (the closest point of a degenerate
-// triangle can be NaN): never taken.
-static bool beyond(double d2, const nearest *n, double reach) { return !(d2 <= n->best * reach + 1e-18); }
+// Farther than the nearest so far by more than the tie margin, or not a number (the closest
+// point of a degenerate triangle can be NaN): never taken.
+static bool beyond(double d2, const nearest *n) { return !(d2 <= n->best * (1.0 + 1e-9) + 1e-18); }
 
 static void consider(bake_tris *b, uint32_t t, v3 p, nearest *n)
 {
@@ -258,7 +288,7 @@ static void consider(bake_tris *b, uint32_t t, v3 p, nearest *n)
     b->tests++;
     v3 dv = vsub(p, closest_on_triangle(p, tr[0], tr[1], tr[2]));
     double d2 = vdot(dv, dv);
-    if (beyond(d2, n, EXACT_REACH)) return;
+    if (beyond(d2, n)) return;
     double d = sqrt(d2);
     double along = d > 0 ? vdot(dv, tr[3]) / d : 0.0;
     // An exact tie (duplicates, degenerate triangles) goes to the first triangle of the list,
@@ -272,11 +302,11 @@ static void consider(bake_tris *b, uint32_t t, v3 p, nearest *n)
     }
 }
 
-// The nearest triangle to p within sqrt(within2) (n.triangle UINT32_MAX: none), searched with
-// `reach`. With EXACT_REACH the same triangle, distance and side as testing every triangle in
-// the list's order. hint: a triangle near p (the last sample's nearest), tried first so that
-// most of the hierarchy is pruned at once.
-static nearest search(bake_tris *b, v3 p, uint32_t hint, double within2, double reach)
+// The nearest triangle to p within sqrt(within2) (n.triangle UINT32_MAX: none): the same
+// triangle, distance and side as testing every triangle in the list's order. hint: a triangle
+// near p (the last sample's nearest), tried first so that most of the hierarchy is pruned at
+// once.
+static nearest search(bake_tris *b, v3 p, uint32_t hint, double within2)
 {
     nearest n = { within2, 0.0, 1.0, UINT32_MAX };
     if (hint != UINT32_MAX) consider(b, hint, p, &n);
@@ -285,7 +315,7 @@ static nearest search(bake_tris *b, v3 p, uint32_t hint, double within2, double 
     stack[top++] = 0;
     while (top > 0) {
         const bvh_node *nd = &b->nodes[stack[--top]];
-        if (beyond(box_distance2(nd, p), &n, reach)) continue;
+        if (beyond(box_distance2(nd, p), &n)) continue;
         if (nd->count > 0) {
             for (uint32_t i = nd->first; i < nd->first + nd->count; i++) consider(b, b->order[i], p, &n);
             continue;
@@ -295,8 +325,8 @@ static nearest search(bake_tris *b, v3 p, uint32_t hint, double within2, double 
         bool first_nearer = d_first <= d_second;
         // The farther child is pushed first, so the nearer one is searched first.
         uint32_t near_child = first_nearer ? first : second, far_child = first_nearer ? second : first;
-        if (!beyond(first_nearer ? d_second : d_first, &n, reach)) stack[top++] = far_child;
-        if (!beyond(first_nearer ? d_first : d_second, &n, reach)) stack[top++] = near_child;
+        if (!beyond(first_nearer ? d_second : d_first, &n)) stack[top++] = far_child;
+        if (!beyond(first_nearer ? d_first : d_second, &n)) stack[top++] = near_child;
     }
     return n;
 }
@@ -446,7 +476,7 @@ bool cpl_bake_mesh(const phys_triangle_mesh *m, float h, float *cell_io, cpl_mes
             for (uint32_t x = 0; x < dims[0]; x++) {
                 v3 p = { origin.x + x * cell, origin.y + y * cell, origin.z + z * cell };
                 size_t i = x + dims[0] * ((size_t)y + dims[1] * (size_t)z);
-                nearest nn = search(&b, p, hint, band * band, EXACT_REACH);
+                nearest nn = search(&b, p, hint, band * band);
                 if (nn.triangle == UINT32_MAX) {
                     far[i] = 1;
                     values[i] = INFINITY;

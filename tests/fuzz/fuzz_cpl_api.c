@@ -123,7 +123,7 @@ static void make_body(state *s)
     if (s->body_count >= MAX_BODIES || s->shape_count >= MAX_BODIES) return;
     phys_shape_id shape;
     phys_result r;
-    int kind = fuzz_u8(in) % 7;
+    int kind = fuzz_u8(in) % 8;
     float size = 0.02f + (float)(fuzz_u8(in) % 64) / 512.0f;
     static const phys_vec3 tetra[4] = { { 0, 0, 0 }, { 0.1f, 0, 0 }, { 0, 0.1f, 0 }, { 0, 0, 0.1f } };
     static const uint32_t tris[12] = { 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3 };
@@ -145,15 +145,28 @@ static void make_body(state *s)
         r = phys_shape_create_compound(phys, &(phys_compound){ parts, 2 }, &shape);
         break;
     }
-    default:
+    case 6:
         r = phys_shape_create_triangle_mesh(phys, &(phys_triangle_mesh){ tetra, 4, tris, 4 }, &shape);
         break;
+    default: {
+        // A mesh from the input, its corners on a coarse grid so that repeated, collinear and
+        // degenerate triangles come often (the distance grid's bake: coupling_mesh.c).
+        phys_vec3 v[24];
+        uint32_t idx[3 * 32];
+        uint32_t nv = 3 + fuzz_u8(in) % 22, nt = 1 + fuzz_u8(in) % 32;
+        for (uint32_t i = 0; i < nv; i++)
+            v[i] = (phys_vec3){ (float)(fuzz_u8(in) % 16) / 64.0f, (float)(fuzz_u8(in) % 16) / 64.0f,
+                                (float)(fuzz_u8(in) % 16) / 64.0f };
+        for (uint32_t i = 0; i < 3 * nt; i++) idx[i] = fuzz_u8(in) % nv;
+        r = phys_shape_create_triangle_mesh(phys, &(phys_triangle_mesh){ v, nv, idx, nt }, &shape);
+        break;
+    }
     }
     if (r != PHYS_OK) return;
     s->shapes[s->shape_count++] = shape;
     phys_body_def d = phys_default_body_def();
     d.shape = shape;
-    d.type = kind == 6 || fuzz_u8(in) > 200 ? (fuzz_bool(in) ? PHYS_BODY_STATIC : PHYS_BODY_KINEMATIC) : PHYS_BODY_DYNAMIC;
+    d.type = kind >= 6 || fuzz_u8(in) > 200 ? (fuzz_bool(in) ? PHYS_BODY_STATIC : PHYS_BODY_KINEMATIC) : PHYS_BODY_DYNAMIC;
     d.position = vec(in);
     d.orientation = quat(in);
     d.density = fuzz_u8(in) < 128 ? 500.0f : 100.0f + 20.0f * (float)fuzz_u8(in);
