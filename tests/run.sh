@@ -7,6 +7,8 @@
 # `-- trusted: WHY` runs it with --trusted (every standard library: for tests that run a
 # shipped scene with dofile and add checks, docs/runner.md).
 # `-- needs: PROGRAM` (repeatable) skips the script when PROGRAM is not on the PATH.
+# `-- unsanitized: WHY` skips it in the sanitizer build's run (SEICHE_SANITIZER_REPORTS set),
+# e.g. a script whose importer must fail an allocation (AddressSanitizer reports one).
 # A cmocka test may skip itself (cmocka's skip(), with the reason printed first as a line
 # "SKIPPED: ..."), e.g. one that needs Mesa on another driver: it counts as skipped.
 # Then each libFuzzer harness of tests/fuzz/ for a few seconds (SEICHE_FUZZ_SECONDS).
@@ -115,6 +117,11 @@ for s in tests/scripts/*.lua; do
     if [ -n "$missing" ]; then
         skipped=$((skipped + 1))
         echo "skipped script $name: needs$missing on the PATH"
+        continue
+    fi
+    if [ -n "$reports" ] && grep -q '^-- unsanitized:' "$s"; then
+        skipped=$((skipped + 1))
+        echo "skipped script $name: $(sed -n 's/^-- unsanitized: *//p' "$s" | head -n 1)"
         continue
     fi
     start=$(date +%s)
