@@ -469,19 +469,18 @@ static uint64_t child_address_space(void)
 }
 
 // The child's memory limit: its address space as it was at the fork plus `mb` MiB (RLIMIT_AS,
-// never raised above a limit the caller already had). The bytes it may reach, or 0 when none
-// could be set.
-static uint64_t limit_child_memory(double mb)
+// never raised above a limit the caller already had). False when it could not be set.
+static bool limit_child_memory(double mb)
 {
     uint64_t now = child_address_space();
-    if (now == 0) return 0;
+    if (now == 0) return false;
     uint64_t reach = now + (uint64_t)(mb * 1048576.0);
     struct rlimit as;
-    if (getrlimit(RLIMIT_AS, &as) != 0) return 0;
-    if (as.rlim_cur != RLIM_INFINITY && as.rlim_cur <= reach) return (uint64_t)as.rlim_cur;
+    if (getrlimit(RLIMIT_AS, &as) != 0) return false;
+    if (as.rlim_cur != RLIM_INFINITY && as.rlim_cur <= reach) return true;
     as.rlim_cur = (rlim_t)reach;
     if (as.rlim_max != RLIM_INFINITY && as.rlim_cur > as.rlim_max) as.rlim_cur = as.rlim_max;
-    return setrlimit(RLIMIT_AS, &as) == 0 ? (uint64_t)as.rlim_cur : 0;
+    return setrlimit(RLIMIT_AS, &as) == 0;
 }
 
 // The child: imports, replies through fd, and ends. Never returns.
@@ -501,7 +500,7 @@ static void import_child(int fd, const char *path, const eng_mesh_file_options *
     struct rlimit no_core = { 0, 0 };
     setrlimit(RLIMIT_CORE, &no_core);
     alarm((unsigned)timeout_s + 2); // ends the child should the parent die and not kill it
-    if (limit_child_memory(o->memory_mb) == 0)
+    if (!limit_child_memory(o->memory_mb))
         child_fail(fd, "mesh file '%s': cannot limit the importer's memory to %g MiB (RLIMIT_AS: %s)", path,
                    o->memory_mb, strerror(errno));
 

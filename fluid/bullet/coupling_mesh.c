@@ -335,8 +335,8 @@ static nearest search(bake_tris *b, v3 p, uint32_t hint, double within2)
 // reads the grid within a kernel of the surface; a particle deep inside a solid is pushed out
 // along its gradient): the far samples take the chamfer distance from the band, the least
 // over paths of steps to the 26 neighbours (1, sqrt 2 or sqrt 3 cells) of a band sample's
-// distance plus the path's length. Never shorter than the true distance, at most about 8 %
-// longer, and O(samples) where the exact search would test every facet near the middle of a
+// distance plus the path's length. Never shorter than the true distance, at most 12.8 %
+// longer (a direction between the steps'), and O(samples) where the exact search would test every facet near the middle of a
 // round solid. Forward and backward raster sweeps until a sweep changes nothing (values only
 // fall, so it ends): five or six for the meshes tried, the last changing nothing (a sweep
 // passes values on along the 13 neighbours it has passed, so a path that turns against both
@@ -345,6 +345,8 @@ static nearest search(bake_tris *b, v3 p, uint32_t hint, double within2)
 static void chamfer_far_field(float *values, const uint8_t *far, const uint32_t dims[3], double cell)
 {
     const int64_t sx = 1, sy = dims[0], sz = (int64_t)dims[0] * dims[1];
+    // A step's length by its squared length in cells (1, 2 or 3).
+    const float step[4] = { 0.0f, (float)cell, (float)(cell * sqrt(2.0)), (float)(cell * sqrt(3.0)) };
     for (int sweep = 0;; sweep++) {
         bool changed = false;
         const int dir = sweep % 2 == 0 ? 1 : -1;
@@ -365,9 +367,8 @@ static void chamfer_far_field(float *values, const uint8_t *far, const uint32_t 
                                 int64_t qx = x + dir * dx, qy = y + dir * dy, qz = z + dir * dz;
                                 if (qx < 0 || qy < 0 || qz < 0 || qx >= dims[0] || qy >= dims[1] || qz >= dims[2])
                                     continue;
-                                float q = fabsf(values[qx * sx + qy * sy + qz * sz]);
-                                float step = (float)(cell * sqrt((double)(dx * dx + dy * dy + dz * dz)));
-                                if (q + step < best) best = q + step;
+                                float q = fabsf(values[qx * sx + qy * sy + qz * sz]) + step[dx * dx + dy * dy + dz * dz];
+                                if (q < best) best = q;
                             }
                     if (best < values[i]) {
                         values[i] = best;
@@ -407,6 +408,31 @@ static bool spread_sides(float *values, uint8_t *far, const uint32_t dims[3])
     return true;
 }
 
+// The samples within `band` of the mesh, exactly (far[i] set, and INFINITY, for the others).
+// shell: an open mesh's shell thickness, or negative for a closed mesh.
+static void bake_band(bake_tris *b, v3 origin, double cell, const uint32_t dims[3], double band, double shell,
+                      float *values, uint8_t *far)
+{
+    uint32_t hint = UINT32_MAX;
+    for (uint32_t z = 0; z < dims[2]; z++)
+        for (uint32_t y = 0; y < dims[1]; y++)
+            for (uint32_t x = 0; x < dims[0]; x++) {
+                v3 p = { origin.x + x * cell, origin.y + y * cell, origin.z + z * cell };
+                size_t i = x + dims[0] * ((size_t)y + dims[1] * (size_t)z);
+                nearest nn = search(b, p, hint, band * band);
+                if (nn.triangle == UINT32_MAX) {
+                    far[i] = 1;
+                    values[i] = INFINITY;
+                    continue;
+                }
+                hint = nn.triangle;
+                double sd = nn.sign * sqrt(nn.best);
+                // Behind an open mesh: inside its shell, then outside again past its back.
+                if (shell >= 0.0 && sd < 0.0) sd = fmax(sd, -shell - sd);
+                values[i] = (float)sd;
+            }
+}
+
 // ---- the grid --------------------------------------------------------------------------------
 
 bool cpl_bake_mesh(const phys_triangle_mesh *m, float h, float *cell_io, cpl_mesh_bake *out)
@@ -435,69 +461,37 @@ bool cpl_bake_mesh(const phys_triangle_mesh *m, float h, float *cell_io, cpl_mes
     v3 *tri = malloc(tc * 4 * sizeof *tri); // corners and unit normal, gathered once
     bvh_node *nodes = malloc(2 * tc * sizeof *nodes);
     uint32_t *order = malloc(tc * sizeof *order);
-    if (!values || !tri || !nodes || !order) {
-        free(values);
-        free(tri);
-        free(nodes);
-        free(order);
-        return false;
-    }
+    uint8_t *far = calloc(n, 1); // 1: a sample beyond the band
+    bool ok = values && tri && nodes && order && far;
     v3 origin = { lo.x - margin, lo.y - margin, lo.z - margin };
-    for (size_t t = 0; t < tc; t++) {
-        v3 a = from_phys(m->vertices[m->indices[3 * t]]);
-        v3 b = from_phys(m->vertices[m->indices[3 * t + 1]]);
-        v3 cc = from_phys(m->vertices[m->indices[3 * t + 2]]);
-        v3 nrm = vcross(vsub(b, a), vsub(cc, a));
-        double l = sqrt(vdot(nrm, nrm));
-        tri[4 * t] = a;
-        tri[4 * t + 1] = b;
-        tri[4 * t + 2] = cc;
-        tri[4 * t + 3] = l > 0 ? vmul(nrm, 1.0 / l) : (v3){ 0, 0, 0 };
-    }
-    if (!bvh_build(tri, (uint32_t)tc, nodes, order)) {
-        free(values);
-        free(tri);
-        free(nodes);
-        free(order);
-        return false;
+    if (ok) {
+        for (size_t t = 0; t < tc; t++) {
+            v3 a = from_phys(m->vertices[m->indices[3 * t]]);
+            v3 b = from_phys(m->vertices[m->indices[3 * t + 1]]);
+            v3 cc = from_phys(m->vertices[m->indices[3 * t + 2]]);
+            v3 nrm = vcross(vsub(b, a), vsub(cc, a));
+            double l = sqrt(vdot(nrm, nrm));
+            tri[4 * t] = a;
+            tri[4 * t + 1] = b;
+            tri[4 * t + 2] = cc;
+            tri[4 * t + 3] = l > 0 ? vmul(nrm, 1.0 / l) : (v3){ 0, 0, 0 };
+        }
+        ok = bvh_build(tri, (uint32_t)tc, nodes, order);
     }
     bake_tris b = { tri, nodes, order, 0 };
-    // Exact within the band the fluid reads (a kernel past the surface, or past an open
-    // mesh's shell, and two of the grid's cells for the interpolation), roughly beyond it.
-    const double band = (closed ? h : shell + h) + 2.0 * cell;
-    uint8_t *far = calloc(n, 1);
-    if (!far) {
-        free(values);
-        free(tri);
-        free(nodes);
-        free(order);
-        return false;
+    if (ok) {
+        // Exact within the band the fluid reads (a kernel past the surface, or past an open
+        // mesh's shell, and two of the grid's cells for the interpolation), roughly beyond it.
+        const double band = (closed ? h : shell + h) + 2.0 * cell;
+        bake_band(&b, origin, cell, dims, band, closed ? -1.0 : shell, values, far);
+        chamfer_far_field(values, far, dims, cell);
+        ok = !closed || spread_sides(values, far, dims);
     }
-    uint32_t hint = UINT32_MAX;
-    for (uint32_t z = 0; z < dims[2]; z++)
-        for (uint32_t y = 0; y < dims[1]; y++)
-            for (uint32_t x = 0; x < dims[0]; x++) {
-                v3 p = { origin.x + x * cell, origin.y + y * cell, origin.z + z * cell };
-                size_t i = x + dims[0] * ((size_t)y + dims[1] * (size_t)z);
-                nearest nn = search(&b, p, hint, band * band);
-                if (nn.triangle == UINT32_MAX) {
-                    far[i] = 1;
-                    values[i] = INFINITY;
-                    continue;
-                }
-                hint = nn.triangle;
-                double sd = nn.sign * sqrt(nn.best);
-                // Behind an open mesh: inside its shell, then outside again past its back.
-                if (!closed && sd < 0.0) sd = fmax(sd, -shell - sd);
-                values[i] = (float)sd;
-            }
-    chamfer_far_field(values, far, dims, cell);
-    bool sided = !closed || spread_sides(values, far, dims);
     free(far);
     free(tri);
     free(nodes);
     free(order);
-    if (!sided) {
+    if (!ok) {
         free(values);
         return false;
     }
