@@ -64,9 +64,9 @@ extern "C" {
 /// pkg-config file, the shared library's soname, `seiche --version` and `seiche.version`
 /// in Lua all read it from these lines.
 #define PBF_VERSION_MAJOR 0
-#define PBF_VERSION_MINOR 20
-#define PBF_VERSION_PATCH 1
-#define PBF_VERSION_STRING "0.20.1"
+#define PBF_VERSION_MINOR 21
+#define PBF_VERSION_PATCH 0
+#define PBF_VERSION_STRING "0.21.0"
 
 /// PBF_VERSION_STRING of the library actually linked (a host built against one header
 /// and run with another shared library can tell).

@@ -333,18 +333,27 @@ void pbf_cpu_velocity(pbf_cpu_world *w, const pbf_gpu_params *P)
     }
 }
 
-/// vorticity.comp: omega_i = sum_j V_j grad_i W_ij x (v_j - v_i), V_j in vel[j].w; w = |omega_i|.
+/// vorticity.comp: omega_i, the curl of the corrected velocity gradient (corrected_curl), V_j
+/// in vel[j].w; w = |omega_i|.
 void pbf_cpu_vorticity(pbf_cpu_world *w, const pbf_gpu_params *P)
 {
     for (uint32_t i = 0; i < w->count; i++) {
         pbf_vec3 xi = pbf_xyz(w->pos[i]), vi = pbf_xyz(w->vel[i]);
-        pbf_vec3 o = { 0.0f, 0.0f, 0.0f };
+        pbf_vec3 bx = { 0.0f, 0.0f, 0.0f }, by = bx, bz = bx, ad = bx, ao = bx;
         const uint32_t *nb = nb_of(w, i);
         for (uint32_t q = 0, nn = nb_len(w, i); q < nn; q++) {
             uint32_t j = nb[q];
             pbf_float4 vj = w->vel[j];
-            o = pbf_add(o, pbf_scale(vj.w, pbf_cross(grad_spiky(P, pbf_sub(xi, pbf_xyz(w->pos[j]))), pbf_sub(pbf_xyz(vj), vi))));
+            pbf_vec3 dx = pbf_sub(pbf_xyz(w->pos[j]), xi);
+            pbf_vec3 g = pbf_scale(vj.w, grad_spiky(P, pbf_neg(dx)));
+            pbf_vec3 dv = pbf_sub(pbf_xyz(vj), vi);
+            bx = pbf_add(bx, pbf_scale(dv.x, g));
+            by = pbf_add(by, pbf_scale(dv.y, g));
+            bz = pbf_add(bz, pbf_scale(dv.z, g));
+            ad = pbf_add(ad, (pbf_vec3){ dx.x * g.x, dx.y * g.y, dx.z * g.z });
+            ao = pbf_add(ao, (pbf_vec3){ dx.x * g.y, dx.x * g.z, dx.y * g.z });
         }
+        pbf_vec3 o = corrected_curl(bx, by, bz, ad, ao);
         w->omega[i] = (pbf_float4){ o.x, o.y, o.z, pbf_length(o) };
     }
 }
@@ -369,8 +378,7 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
                 eta = pbf_add(eta, pbf_scale(vj.w * (w->omega[j].w - wi), grad_spiky(P, r)));
                 xsph = pbf_add(xsph, pbf_scale(w_poly6(P, pbf_dot(r, r)), pbf_scale(vj.w, pbf_sub(pbf_xyz(vj), vi))));
             }
-            float le = pbf_length(eta);
-            if (le > 1e-9f) v = pbf_add(v, pbf_scale(P->dt * P->vorticity, pbf_cross(pbf_div(eta, le), pbf_xyz(w->omega[i]))));
+            v = pbf_add(v, confinement_dv(P, eta, pbf_xyz(w->omega[i])));
         } else {
             for (uint32_t q = 0; q < nn; q++) {
                 uint32_t j = nb[q];

@@ -138,6 +138,9 @@ typedef struct pbf_int4 { int32_t x, y, z, w; } pbf_int4;
 // 11-12 % less), the factor that also balanced the container's wall strips when they took
 // this share (docs/validation.md, "Volume and walls").
 #define PBF_BODY_SHARE 1.2f
+// The vorticity's corrected gradient inverts (A + d I) / (1 + d) (corrected_curl,
+// pbf_kernels.h): a neighbourhood's A reads 1 inside, about 0.5 across a free surface.
+#define PBF_CURL_REGULARISATION 0.05f
 // Storage of hull planes and distance grids (float[]), see PBF_COLLIDER_HULL / _GRID.
 #define PBF_B_COLLIDER_DATA 31 // (kept apart from the fluid's bindings, which count up from 0)
 

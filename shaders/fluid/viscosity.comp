@@ -1,5 +1,6 @@
 #version 430
-// Stage viscosity: vorticity confinement f = eps (N x omega), N = grad|omega| / |grad|omega||,
+// Stage viscosity: vorticity confinement f = eps (N x omega), N = grad|omega| / |grad|omega||
+// where |omega| varies at the kernel's scale (confinement_dv, pbf_kernels.h),
 // and XSPH viscosity v += c sum_j (m / rho_j) (v_j - v_i) W_ij. Writes vel_out. Walking the
 // list over the step's final positions anyway, it also sums their density (fluid and the
 // walls' images: what metrics.comp would sum again) into lambda_rho[i].y, free after the
@@ -37,8 +38,7 @@ void main()
             xsph += vj.w * (vj.xyz - vi) * w_poly6(dot(r, r));
             sum_w += w_spiky(length(r));
         }
-        float le = length(eta);
-        if (le > 1e-9) v += P.dt * P.vorticity * cross(eta / le, omega[i].xyz);
+        v += confinement_dv(eta, omega[i].xyz);
     } else {
         // Four neighbours per trip, loads first (as density.comp and delta.comp); the sums
         // still in list order.
