@@ -64,6 +64,33 @@ static double spin_about_z(const float *x, const float *v, uint32_t n)
     return l / n;
 }
 
+/// The sites of the lattice (spacing SPACING, one on the origin) within `cells` spacings of the
+/// origin, into *pos (xyz), with velocities into *vel: thrown apart at `speed` and turning
+/// about z at `spin` m/s at the radius. Both malloc'd; returns the count.
+static uint32_t lattice_ball(float cells, float speed, float spin, float **pos_out, float **vel_out)
+{
+    double R = cells * SPACING;
+    int reach = (int)ceil(cells) + 1;
+    size_t most = (size_t)(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1);
+    float *pos = malloc(most * 3 * sizeof(float)), *vel = malloc(most * 3 * sizeof(float));
+    assert_non_null(pos);
+    assert_non_null(vel);
+    uint32_t n = 0;
+    for (int i = -reach; i <= reach; i++)
+        for (int j = -reach; j <= reach; j++)
+            for (int k = -reach; k <= reach; k++) {
+                double x = i * SPACING, y = j * SPACING, z = k * SPACING;
+                if (x * x + y * y + z * z > R * R) continue;
+                pos[3 * n] = (float)x, pos[3 * n + 1] = (float)y, pos[3 * n + 2] = (float)z;
+                vel[3 * n] = (float)((speed * x - spin * y) / R), vel[3 * n + 1] = (float)((speed * y + spin * x) / R);
+                vel[3 * n + 2] = (float)(speed * z / R);
+                n++;
+            }
+    *pos_out = pos;
+    *vel_out = vel;
+    return n;
+}
+
 /// A lattice ball of `cells` spacings' radius in zero gravity, thrown apart from its centre at
 /// `speed` m/s at its surface (v = speed r / R) and turning about z at `spin` m/s there, run
 /// for `seconds` at `sigma` N/m, with 4 iterations and the default kernel unless `iterations`
@@ -86,23 +113,8 @@ static burst run_burst_with(float cells, float speed, float spin, float sigma, f
     }
     float half = cells * SPACING + (speed + spin) * seconds + 0.2f;
     for (int k = 0; k < 3; k++) def.domain_min[k] = -half, def.domain_max[k] = half;
-    double R = cells * SPACING;
-    int reach = (int)ceil(cells) + 1;
-    size_t most = (size_t)(2 * reach + 1) * (2 * reach + 1) * (2 * reach + 1);
-    float *pos = malloc(most * 3 * sizeof(float)), *vel = malloc(most * 3 * sizeof(float));
-    assert_non_null(pos);
-    assert_non_null(vel);
-    uint32_t n = 0;
-    for (int i = -reach; i <= reach; i++)
-        for (int j = -reach; j <= reach; j++)
-            for (int k = -reach; k <= reach; k++) {
-                double x = i * SPACING, y = j * SPACING, z = k * SPACING;
-                if (x * x + y * y + z * z > R * R) continue;
-                pos[3 * n] = (float)x, pos[3 * n + 1] = (float)y, pos[3 * n + 2] = (float)z;
-                vel[3 * n] = (float)((speed * x - spin * y) / R), vel[3 * n + 1] = (float)((speed * y + spin * x) / R);
-                vel[3 * n + 2] = (float)(speed * z / R);
-                n++;
-            }
+    float *pos, *vel;
+    uint32_t n = lattice_ball(cells, speed, spin, &pos, &vel);
     def.capacity = n;
     char err[512];
     pbf_world *w = pbf_world_create(&def, err, sizeof err);
@@ -227,29 +239,17 @@ static double turning_droplet(float eps, float omega, float seconds, double *rms
     def.params.vorticity = 0.0f;
     def.max_neighbours = pbf_suggest_max_neighbours(&def.params);
     for (int k = 0; k < 3; k++) def.domain_min[k] = -0.6f, def.domain_max[k] = 0.6f;
-    int reach = 7;
-    double R = 6.0 * SPACING;
-    float *pos = malloc(15 * 15 * 15 * 3 * sizeof(float));
-    assert_non_null(pos);
-    uint32_t n = 0;
-    for (int i = -reach; i <= reach; i++)
-        for (int j = -reach; j <= reach; j++)
-            for (int k = -reach; k <= reach; k++) {
-                double x = i * SPACING, y = j * SPACING, z = k * SPACING;
-                if (x * x + y * y + z * z > R * R) continue;
-                pos[3 * n] = (float)x, pos[3 * n + 1] = (float)y, pos[3 * n + 2] = (float)z;
-                n++;
-            }
+    float *pos, *u;
+    uint32_t n = lattice_ball(6.0f, 0.0f, 0.0f, &pos, &u);
     def.capacity = n;
     char err[512];
     pbf_world *w = pbf_world_create(&def, err, sizeof err);
     if (!w) fail_msg("%s", err);
     assert_int_equal(pbf_world_add_particles(w, pos, NULL, n), PBF_OK);
     for (int s = 0; s < (int)(1.5f / DT + 0.5f); s++) assert_int_equal(pbf_world_step(w, DT), PBF_OK);
-    float *x = malloc((size_t)n * 16), *v = malloc((size_t)n * 16), *u = malloc((size_t)n * 12);
+    float *x = malloc((size_t)n * 16), *v = malloc((size_t)n * 16);
     assert_non_null(x);
     assert_non_null(v);
-    assert_non_null(u);
     assert_int_equal(pbf_world_read_particles(w, x, v, NULL, n), n);
     double c[3] = { 0, 0, 0 };
     for (uint32_t i = 0; i < n; i++)
