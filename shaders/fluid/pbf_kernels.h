@@ -187,13 +187,12 @@ PBF_FN pbf_vec3 grad_spiky(PBF_P_ARG pbf_vec3 r)
 // droplet turning as a rigid body reads less vorticity in its skin than inside, and the
 // confinement, pushing along grad|omega| x omega, spun it up (13 % more angular momentum
 // after 2 s at the default epsilon than without it; docs/solver.md, "Departures from the
-// paper"). The corrected
-// gradient G = B A^-1, B = sum_j V_j (v_j - v_i) (x) grad W_ij, is exact for any linear field
-// whatever the neighbourhood (Bonet and Lok 1999); its curl is the vorticity. A is symmetric
-// (grad W_ij lies along x_i - x_j) and positive semi-definite; it is inverted as
-// (A + d I) / (1 + d), d = PBF_CURL_REGULARISATION (pbf_shared.h), so a particle with one or
-// two neighbours (A singular) is amplified at most (1 + d) / d times, and a full
-// neighbourhood is unchanged.
+// paper"). The corrected gradient G = B A^-1, B = sum_j V_j (v_j - v_i) (x) grad W_ij, is
+// exact for any linear field whatever the neighbourhood (Bonet and Lok 1999); its curl is the
+// vorticity. A is symmetric (grad W_ij lies along x_i - x_j) and positive semi-definite; it
+// is inverted as (A + d I) / (1 + d), d = PBF_CURL_REGULARISATION (pbf_shared.h), so a
+// particle with one or two neighbours (A singular) is amplified at most (1 + d) / d times,
+// and a full neighbourhood reads 0.998 of the curl.
 
 /// The curl of G = B (A + d I)^-1 (1 + d): B by its rows bx, by, bz (row a: sum_j V_j
 /// (v_j - v_i)_a grad W_ij), A by its diagonal ad and its off-diagonal ao = (A_xy, A_xz, A_yz).
