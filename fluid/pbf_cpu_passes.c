@@ -378,7 +378,7 @@ void pbf_cpu_viscosity(pbf_cpu_world *w, const pbf_gpu_params *P)
                 eta = pbf_add(eta, pbf_scale(vj.w * (w->omega[j].w - wi), grad_spiky(P, r)));
                 xsph = pbf_add(xsph, pbf_scale(w_poly6(P, pbf_dot(r, r)), pbf_scale(vj.w, pbf_sub(pbf_xyz(vj), vi))));
             }
-            v = pbf_add(v, confinement_dv(P, eta, pbf_xyz(w->omega[i])));
+            v = pbf_add(v, confinement_dv(P, eta, pbf_xyz(w->omega[i]), wi));
         } else {
             for (uint32_t q = 0; q < nn; q++) {
                 uint32_t j = nb[q];

@@ -218,9 +218,10 @@ PBF_FN pbf_vec3 corrected_curl(pbf_vec3 bx, pbf_vec3 by, pbf_vec3 bz, pbf_vec3 a
 /// |omega_i| or more over a kernel radius (a vortex the kernel resolves), and scaled down by
 /// |eta| h / |omega_i| where it changes less: the paper's unit N turns the rounding of a uniform
 /// |omega| (a body of water turning rigidly) into a push of full strength in any direction.
-PBF_FN pbf_vec3 confinement_dv(PBF_P_ARG pbf_vec3 eta, pbf_vec3 omega_i)
+/// `omega_len` is |omega_i|, which the vorticity pass stores beside it.
+PBF_FN pbf_vec3 confinement_dv(PBF_P_ARG pbf_vec3 eta, pbf_vec3 omega_i, float omega_len)
 {
-    float scale = pbf_max(pbf_length(eta), pbf_length(omega_i) / P.h);
+    float scale = pbf_max(pbf_length(eta), omega_len / P.h);
     if (scale <= 0.0f) return pbf_v3(0.0f, 0.0f, 0.0f);
     return pbf_scale(P.dt * P.vorticity / scale, pbf_cross(eta, omega_i));
 }

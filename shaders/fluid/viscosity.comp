@@ -38,7 +38,7 @@ void main()
             xsph += vj.w * (vj.xyz - vi) * w_poly6(dot(r, r));
             sum_w += w_spiky(length(r));
         }
-        v += confinement_dv(eta, omega[i].xyz);
+        v += confinement_dv(eta, omega[i].xyz, wi);
     } else {
         // Four neighbours per trip, loads first (as density.comp and delta.comp); the sums
         // still in list order.
